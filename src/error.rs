@@ -1,0 +1,53 @@
+//! Errors and their exit codes: 2 for bad input (naming the field), 1 for a runtime failure.
+
+use std::fmt;
+
+/// Everything that can stop vibrobed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// The scenario or the command line is wrong. `field` is the dotted path of the culprit.
+    Input {
+        /// Dotted path of the offending field (e.g. `particles.radius`), or the argument name.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The simulation failed while running (e.g. an invariant check fired).
+    Runtime(String),
+    /// Reading or writing a file failed.
+    Io(String),
+}
+
+impl Error {
+    /// A bad-input error about `field`.
+    pub fn input(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Input {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+
+    /// The process exit code for this error: 2 for bad input, 1 otherwise.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Input { .. } => 2,
+            Error::Runtime(_) | Error::Io(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Input { field, message } if field.is_empty() => write!(f, "{message}"),
+            Error::Input { field, message } => write!(f, "{field}: {message}"),
+            Error::Runtime(m) => write!(f, "runtime failure: {m}"),
+            Error::Io(m) => write!(f, "i/o error: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Shorthand for results in this crate.
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,296 @@
+//! EEPGM, Isobe's Extended Exclusive Particle Grid Method: square-ish cells small enough that a
+//! cell holds at most one disk (`σ < l_g < √2 σ`, σ the smallest radius), stored as arrays of
+//! disk numbers — no linked lists.
+//!
+//! Two storages share one geometry:
+//! - [`DenseCells`]: one slot per cell, for closed domains (lid or periodic y).
+//! - [`SparseCells`]: Isobe's compressed virtual array for an open top (his §6): the occupied
+//!   cells only, as arrays `A` (disk numbers), `BX`, `BY` (their cell indices), grouped by the
+//!   bucket `k = ⌊N_G / L⌋ mod M` of their serial number `N_G = n_x·j + i`, with `C(k)` where
+//!   bucket k starts in A and `D(k)` how many entries it holds. Isobe's direct bucket index needs
+//!   `N_Gmax/L` buckets, which grows with the height of the highest disk; folding it modulo
+//!   `M` (a power of two ≈ N/2) keeps memory O(N) whatever the height, at the price of buckets
+//!   that may mix far-apart rows (a look-up still checks BX and BY).
+
+use crate::error::{Error, Result};
+
+/// Cell side as a fraction of the smallest radius: `l_g ≤ 1.35 σ`, so the cell diagonal
+/// (≤ 1.91 σ) is below the closest centre distance 2σ.
+pub const CELL_PER_RADIUS: f64 = 1.35;
+
+/// Cells per bucket in the open-top hashing (Isobe's L, 5–10).
+pub const BUCKET_CELLS: u64 = 8;
+
+/// Where the cells are and how they wrap.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridGeometry {
+    /// Cell side in x.
+    pub lx: f64,
+    /// Cell side in y.
+    pub ly: f64,
+    /// Number of cells in x.
+    pub nx: u32,
+    /// Number of cells in y; `None` for an open top (unbounded).
+    pub ny: Option<u32>,
+    /// Bottom of the grid (the floor's lowest position, or 0).
+    pub y0: f64,
+    /// Periodic in x.
+    pub x_periodic: bool,
+    /// Periodic in y.
+    pub y_periodic: bool,
+}
+
+impl GridGeometry {
+    /// Cells for disks of smallest radius `a_min` in a domain of `width`, `x_periodic`; `y_span`
+    /// is `Some((bottom, top))` for a closed domain, `None` for an open top above `bottom`.
+    pub fn new(
+        a_min: f64,
+        width: f64,
+        x_periodic: bool,
+        bottom: f64,
+        top: Option<f64>,
+        y_periodic: bool,
+    ) -> GridGeometry {
+        let target = CELL_PER_RADIUS * a_min;
+        let nx = (width / target).ceil().max(1.0) as u32;
+        let lx = if x_periodic { width / nx as f64 } else { target };
+        let (ny, ly) = match top {
+            Some(top) => {
+                let n = ((top - bottom) / target).ceil().max(1.0) as u32;
+                let ly = if y_periodic {
+                    (top - bottom) / n as f64
+                } else {
+                    target
+                };
+                (Some(n), ly)
+            }
+            None => (None, target),
+        };
+        GridGeometry {
+            lx,
+            ly,
+            nx,
+            ny,
+            y0: bottom,
+            x_periodic,
+            y_periodic,
+        }
+    }
+
+    /// The smaller cell side (what mask reaches are measured in).
+    pub fn cell(&self) -> f64 {
+        self.lx.min(self.ly)
+    }
+
+    /// Cell indices of a point (clamped into the grid: round-off never maps outside).
+    #[inline]
+    pub fn cell_of(&self, x: f64, y: f64) -> (u32, u32) {
+        let ix = ((x / self.lx).floor().max(0.0) as u32).min(self.nx - 1);
+        let fy = ((y - self.y0) / self.ly).floor().max(0.0);
+        let iy = match self.ny {
+            Some(ny) => (fy as u32).min(ny - 1),
+            None => fy.min(u32::MAX as f64 - 1.0) as u32,
+        };
+        (ix, iy)
+    }
+
+    /// The cell at offset `(dx, dy)` from `(ix, iy)`, wrapped where periodic; `None` if it falls
+    /// outside the grid.
+    #[inline(always)]
+    pub fn offset(&self, ix: u32, iy: u32, dx: i32, dy: i32) -> Option<(u32, u32)> {
+        let mut x = ix as i64 + dx as i64;
+        let nx = self.nx as i64;
+        if x < 0 || x >= nx {
+            if !self.x_periodic {
+                return None;
+            }
+            x = x.rem_euclid(nx);
+        }
+        let mut y = iy as i64 + dy as i64;
+        if y < 0 {
+            if !self.y_periodic {
+                return None;
+            }
+            y = y.rem_euclid(self.ny.unwrap_or(1) as i64);
+        }
+        if let Some(ny) = self.ny {
+            if y >= ny as i64 {
+                if !self.y_periodic {
+                    return None;
+                }
+                y = y.rem_euclid(ny as i64);
+            }
+        }
+        Some((x as u32, y as u32))
+    }
+
+    /// Checks that a mask of half-width `h` does not wrap onto itself in periodic directions.
+    pub fn check_mask_fits(&self, h: i32) -> Result<()> {
+        let need = 2 * h as u32 + 1;
+        if self.x_periodic && self.nx < need {
+            return Err(Error::input(
+                "domain.width",
+                format!(
+                    "too narrow for a periodic grid: {} cells across, the neighbour mask needs {need}",
+                    self.nx
+                ),
+            ));
+        }
+        if let (true, Some(ny)) = (self.y_periodic, self.ny) {
+            if ny < need {
+                return Err(Error::input(
+                    "domain.height",
+                    format!(
+                        "too low for a periodic grid: {ny} cells high, the neighbour mask needs {need}"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Where disks are: a map from cell to the (at most one) disk in it.
+pub trait CellMap {
+    /// Re-maps: `cells[i]` is the cell of disk i. Fails if two disks share a cell (overlap).
+    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()>;
+    /// The disk in cell `(ix, iy)`, if any.
+    fn disk_at(&self, ix: u32, iy: u32) -> Option<u32>;
+    /// Bytes held.
+    fn bytes(&self) -> usize;
+}
+
+fn shared_cell(i: u32, j: u32) -> Error {
+    Error::Runtime(format!(
+        "disks {i} and {j} share a grid cell: they overlap beyond the tolerance of the grid"
+    ))
+}
+
+/// One slot per cell (0 = empty, else disk number + 1).
+#[derive(Debug, Clone, Default)]
+pub struct DenseCells {
+    nx: u32,
+    slots: Vec<u32>,
+}
+
+impl CellMap for DenseCells {
+    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()> {
+        let ny = geometry.ny.expect("a dense grid needs a bounded height");
+        self.nx = geometry.nx;
+        let n = geometry.nx as usize * ny as usize;
+        if self.slots.len() != n {
+            self.slots = vec![0; n];
+        } else {
+            self.slots.fill(0);
+        }
+        for (i, &(ix, iy)) in cells.iter().enumerate() {
+            let slot = &mut self.slots[iy as usize * self.nx as usize + ix as usize];
+            if *slot != 0 {
+                return Err(shared_cell(*slot - 1, i as u32));
+            }
+            *slot = i as u32 + 1;
+        }
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn disk_at(&self, ix: u32, iy: u32) -> Option<u32> {
+        let s = self.slots[iy as usize * self.nx as usize + ix as usize];
+        (s != 0).then(|| s - 1)
+    }
+
+    fn bytes(&self) -> usize {
+        self.slots.capacity() * 4
+    }
+}
+
+/// Isobe's compressed virtual array with bucketed hashing (arrays A, BX, BY, C, D).
+#[derive(Debug, Clone, Default)]
+pub struct SparseCells {
+    nx: u64,
+    /// Buckets − 1 (a power of two minus one).
+    fold: u64,
+    /// Disk numbers grouped by bucket.
+    a: Vec<u32>,
+    /// Cell x index of each entry of A.
+    bx: Vec<u32>,
+    /// Cell y index of each entry of A.
+    by: Vec<u32>,
+    /// Where bucket k starts in A.
+    c: Vec<u32>,
+    /// How many entries bucket k holds.
+    d: Vec<u32>,
+}
+
+impl SparseCells {
+    #[inline(always)]
+    fn bucket(&self, ix: u32, iy: u32) -> usize {
+        let serial = self.nx * iy as u64 + ix as u64; // N_G − 1
+        ((serial / BUCKET_CELLS) & self.fold) as usize
+    }
+
+    /// Number of buckets (M).
+    pub fn buckets(&self) -> usize {
+        self.c.len()
+    }
+}
+
+impl CellMap for SparseCells {
+    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()> {
+        let n = cells.len();
+        self.nx = geometry.nx as u64;
+        let m = (n / 2).max(1).next_power_of_two();
+        self.fold = m as u64 - 1;
+        self.d.clear();
+        self.d.resize(m, 0);
+        self.c.clear();
+        self.c.resize(m, 0);
+        for &(ix, iy) in cells {
+            let k = self.bucket(ix, iy);
+            self.d[k] += 1;
+        }
+        let mut start = 0u32;
+        for k in 0..m {
+            self.c[k] = start;
+            start += self.d[k];
+        }
+        self.a.resize(n, 0);
+        self.bx.resize(n, 0);
+        self.by.resize(n, 0);
+        // Counting sort: D doubles as the fill cursor, then is restored.
+        self.d.fill(0);
+        for (i, &(ix, iy)) in cells.iter().enumerate() {
+            let k = self.bucket(ix, iy);
+            let at = (self.c[k] + self.d[k]) as usize;
+            self.d[k] += 1;
+            self.a[at] = i as u32;
+            self.bx[at] = ix;
+            self.by[at] = iy;
+        }
+        for (i, &(ix, iy)) in cells.iter().enumerate() {
+            let found = self.disk_at(ix, iy).expect("a disk just mapped is found");
+            if found != i as u32 {
+                return Err(shared_cell(found, i as u32));
+            }
+        }
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn disk_at(&self, ix: u32, iy: u32) -> Option<u32> {
+        let k = self.bucket(ix, iy);
+        let start = self.c[k] as usize;
+        let end = start + self.d[k] as usize;
+        (start..end)
+            .find(|&e| self.bx[e] == ix && self.by[e] == iy)
+            .map(|e| self.a[e])
+    }
+
+    fn bytes(&self) -> usize {
+        4 * (self.a.capacity()
+            + self.bx.capacity()
+            + self.by.capacity()
+            + self.c.capacity()
+            + self.d.capacity())
+    }
+}

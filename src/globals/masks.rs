@@ -1,0 +1,124 @@
+//! Isobe's masks: the cells searched around a disk's cell.
+//!
+//! A mask of "radius" `D` holds every cell whose distance to the centre cell (the gap between
+//! the two squares, in units of the cell side `l_g`) is strictly below `D`. Then any disk outside
+//! the mask is at least `D·l_g` from the centre disk, which is what DUTC needs. With Isobe's
+//! Table 1 distances this rule reproduces his masks exactly (MIN: 24 cells, R3: 36, R4: 68, …).
+
+use crate::scenario::MaskChoice;
+
+/// One mask: its offsets and the guaranteed distance to its outside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mask {
+    /// Name in Isobe's paper (`MIN`, `R3`, …).
+    pub name: &'static str,
+    /// `(dx, dy)` cell offsets, centre excluded, in row-major order.
+    pub offsets: Vec<(i32, i32)>,
+    /// Squared minimum distance (in cell sides) from the centre cell to any cell outside.
+    pub reach_sq: u32,
+    /// Largest |dx| or |dy| in the mask.
+    pub half_width: i32,
+}
+
+/// Isobe's Table 1: name, squared minimum distance to the outside, number of cells.
+pub const TABLE_1: [(&str, u32, usize); 9] = [
+    ("MIN", 4, 24),
+    ("R3", 5, 36),
+    ("R4", 13, 68),
+    ("R5", 18, 96),
+    ("R6", 29, 136),
+    ("R7", 40, 176),
+    ("R8", 52, 224),
+    ("R9", 72, 292),
+    ("R10", 85, 348),
+];
+
+impl Mask {
+    /// Builds the mask whose cells lie strictly closer than `√reach_sq` cell sides.
+    pub fn with_reach(name: &'static str, reach_sq: u32) -> Mask {
+        let gap = |d: i32| (d.abs() - 1).max(0) as u32;
+        let half = (reach_sq as f64).sqrt().ceil() as i32 + 1;
+        let mut offsets = Vec::new();
+        for dy in -half..=half {
+            for dx in -half..=half {
+                if (dx, dy) != (0, 0) && gap(dx).pow(2) + gap(dy).pow(2) < reach_sq {
+                    offsets.push((dx, dy));
+                }
+            }
+        }
+        let half_width = offsets.iter().map(|&(a, b)| a.abs().max(b.abs())).max().unwrap_or(0);
+        Mask {
+            name,
+            offsets,
+            reach_sq,
+            half_width,
+        }
+    }
+
+    /// Guaranteed distance from the centre cell to the outside, in cell sides.
+    pub fn reach(&self) -> f64 {
+        (self.reach_sq as f64).sqrt()
+    }
+
+    /// Isobe's mask number `k` of Table 1 (0 = MIN, 1 = R3, …, 8 = R10).
+    pub fn table(k: usize) -> Mask {
+        let (name, reach_sq, _) = TABLE_1[k];
+        Mask::with_reach(name, reach_sq)
+    }
+
+    /// The mask a scenario asks for. `Auto` takes the smallest mask whose neighbour-list margin
+    /// `reach·l_g − 2 a_max` is at least `0.5 a_min` (so DUTC intervals stay useful).
+    pub fn choose(choice: MaskChoice, cell: f64, a_min: f64, a_max: f64) -> Option<Mask> {
+        let fits = |m: &Mask| m.reach() * cell - 2.0 * a_max > 0.0;
+        let index = match choice {
+            MaskChoice::Auto => {
+                return (0..TABLE_1.len())
+                    .map(Mask::table)
+                    .find(|m| m.reach() * cell - 2.0 * a_max >= 0.5 * a_min);
+            }
+            MaskChoice::Min => 0,
+            MaskChoice::R3 => 1,
+            MaskChoice::R4 => 2,
+            MaskChoice::R5 => 3,
+            MaskChoice::R6 => 4,
+            MaskChoice::R7 => 5,
+            MaskChoice::R8 => 6,
+            MaskChoice::R9 => 7,
+            MaskChoice::R10 => 8,
+        };
+        Some(Mask::table(index)).filter(fits)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reproduces_isobe_table_1() {
+        for (k, &(name, reach_sq, cells)) in TABLE_1.iter().enumerate() {
+            let m = Mask::table(k);
+            assert_eq!(m.offsets.len(), cells, "{name}: cell count");
+            // The stated distance is attained by some cell just outside the mask.
+            let gap = |d: i32| (d.abs() - 1).max(0) as u32;
+            let h = m.half_width + 2;
+            let outside_min = (-h..=h)
+                .flat_map(|dy| (-h..=h).map(move |dx| (dx, dy)))
+                .filter(|&(dx, dy)| (dx, dy) != (0, 0) && !m.offsets.contains(&(dx, dy)))
+                .map(|(dx, dy)| gap(dx).pow(2) + gap(dy).pow(2))
+                .min()
+                .unwrap();
+            assert_eq!(outside_min, reach_sq, "{name}: distance to the outside");
+        }
+    }
+
+    #[test]
+    fn masks_are_symmetric() {
+        for k in 0..TABLE_1.len() {
+            let m = Mask::table(k);
+            for &(dx, dy) in &m.offsets {
+                assert!(m.offsets.contains(&(-dx, -dy)));
+            }
+        }
+    }
+}

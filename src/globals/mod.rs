@@ -1,0 +1,62 @@
+//! Globals: structures over all disks that find who can meet whom — the EEPGM grid, Isobe's
+//! masks, and the neighbour lists taken from the mask at each mapping.
+
+pub mod grid;
+pub mod masks;
+pub mod neighbours;
+
+pub use grid::{CellMap, DenseCells, GridGeometry, SparseCells};
+pub use masks::Mask;
+pub use neighbours::NeighbourLists;
+
+use crate::error::Result;
+
+/// The grid storage a scene uses: dense for closed domains, Isobe's compressed array for an
+/// open top.
+#[derive(Debug, Clone)]
+pub enum Cells {
+    /// One slot per cell.
+    Dense(DenseCells),
+    /// Occupied cells only (open top).
+    Sparse(SparseCells),
+}
+
+impl Cells {
+    /// The storage suited to `geometry` (sparse exactly when the height is unbounded).
+    pub fn for_geometry(geometry: &GridGeometry) -> Cells {
+        if geometry.ny.is_some() {
+            Cells::Dense(DenseCells::default())
+        } else {
+            Cells::Sparse(SparseCells::default())
+        }
+    }
+
+    /// Re-maps the disks and rebuilds the neighbour lists from `mask`.
+    pub fn rebuild(
+        &mut self,
+        geometry: &GridGeometry,
+        mask: &Mask,
+        cells: &[(u32, u32)],
+        lists: &mut NeighbourLists,
+    ) -> Result<()> {
+        match self {
+            Cells::Dense(d) => {
+                d.map(geometry, cells)?;
+                lists.build(geometry, mask, cells, d);
+            }
+            Cells::Sparse(s) => {
+                s.map(geometry, cells)?;
+                lists.build(geometry, mask, cells, s);
+            }
+        }
+        Ok(())
+    }
+
+    /// Bytes held by the cell storage.
+    pub fn bytes(&self) -> usize {
+        match self {
+            Cells::Dense(d) => d.bytes(),
+            Cells::Sparse(s) => s.bytes(),
+        }
+    }
+}

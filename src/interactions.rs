@@ -1,0 +1,124 @@
+//! Pair interactions of smooth hard disks: when two disks touch, and what a collision does.
+//!
+//! Gravity acts equally on both disks, so their relative motion is straight:
+//! `Δr(t) = Δr + Δv t`. With `b = Δr·Δv < 0`, `disc = b² − Δv²(Δr² − s²)` and `s = a_i + a_j`,
+//! the contact time is `t = (Δr² − s²)/(−b + √disc)`, a form that keeps full precision for grazing
+//! and near-contact pairs (no cancellation between `−b` and `√disc`).
+
+/// Earliest `t ≥ 0` at which two disks at separation `(dx, dy)` with relative velocity
+/// `(dvx, dvy)` reach centre distance `s`; `None` if they recede or miss.
+///
+/// Receding pairs (`b ≥ 0`) are rejected before any square root. A pair that already overlaps
+/// by round-off while approaching collides now (`Some(0)`), never in the past.
+#[inline(always)]
+pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> Option<f64> {
+    let b = dx * dvx + dy * dvy;
+    if b >= 0.0 {
+        return None;
+    }
+    let dv2 = dvx * dvx + dvy * dvy;
+    let c = dx * dx + dy * dy - s * s;
+    let disc = b * b - dv2 * c;
+    if disc < 0.0 {
+        return None;
+    }
+    Some((c / (-b + disc.sqrt())).max(0.0))
+}
+
+/// Outcome of one pair collision.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impulse {
+    /// Velocity change of disk i; disk j changes by `−Δv_i·m_i/m_j`.
+    pub dvx_i: f64,
+    /// See `dvx_i`.
+    pub dvy_i: f64,
+    /// Velocity change of disk j.
+    pub dvx_j: f64,
+    /// See `dvx_j`.
+    pub dvy_j: f64,
+    /// Kinetic energy lost, `½ μ (1 − e²) u²`.
+    pub energy_lost: f64,
+    /// Magnitude of the momentum exchanged, `(1 + e) μ |u|`.
+    pub momentum: f64,
+    /// Normal approach speed `|u|` before the collision.
+    pub normal_speed: f64,
+    /// Centre distance at contact.
+    pub distance: f64,
+}
+
+/// Collides smooth disks i and j with normal restitution `e`.
+///
+/// `(dx, dy) = r_i − r_j` and `(dvx, dvy) = v_i − v_j` at contact; `n = Δr/|Δr|`, `u = Δv·n`,
+/// `v_i += −(1+e) μ u n / m_i`, `v_j −= −(1+e) μ u n / m_j` with `μ = m_i m_j/(m_i + m_j)`.
+/// A pair that is not approaching (`u ≥ 0`, possible only by round-off) exchanges nothing.
+#[inline(always)]
+pub fn collide(dx: f64, dy: f64, dvx: f64, dvy: f64, m_i: f64, m_j: f64, e: f64) -> Impulse {
+    let distance = (dx * dx + dy * dy).sqrt();
+    let (nx, ny) = (dx / distance, dy / distance);
+    let u = dvx * nx + dvy * ny;
+    let mu = m_i * m_j / (m_i + m_j);
+    if u >= 0.0 {
+        return Impulse {
+            dvx_i: 0.0,
+            dvy_i: 0.0,
+            dvx_j: 0.0,
+            dvy_j: 0.0,
+            energy_lost: 0.0,
+            momentum: 0.0,
+            normal_speed: 0.0,
+            distance,
+        };
+    }
+    let p = -(1.0 + e) * mu * u; // > 0: impulse on i along +n
+    Impulse {
+        dvx_i: p * nx / m_i,
+        dvy_i: p * ny / m_i,
+        dvx_j: -p * nx / m_j,
+        dvy_j: -p * ny / m_j,
+        energy_lost: 0.5 * mu * (1.0 - e * e) * u * u,
+        momentum: p,
+        normal_speed: -u,
+        distance,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn head_on_contact_time() {
+        // Two unit-radius disks 10 apart closing at speed 2: contact after (10 − 2)/2 = 4.
+        let t = contact_time(-10.0, 0.0, 2.0, 0.0, 2.0).unwrap();
+        assert!((t - 4.0).abs() < 1e-15);
+        assert_eq!(contact_time(10.0, 0.0, 2.0, 0.0, 2.0), None, "receding");
+        assert_eq!(contact_time(-10.0, 5.0, 2.0, 0.0, 2.0), None, "miss");
+        assert_eq!(contact_time(-1.999, 0.0, 1.0, 0.0, 2.0), Some(0.0), "overlap");
+    }
+
+    #[test]
+    fn elastic_collision_conserves_momentum_and_energy() {
+        let (mi, mj) = (1.0, 3.0);
+        let (vi, vj) = ((1.0, 0.3), (-0.5, 0.2));
+        let imp = collide(-0.8, -0.6, vi.0 - vj.0, vi.1 - vj.1, mi, mj, 1.0);
+        let vi2 = (vi.0 + imp.dvx_i, vi.1 + imp.dvy_i);
+        let vj2 = (vj.0 + imp.dvx_j, vj.1 + imp.dvy_j);
+        let p0 = (mi * vi.0 + mj * vj.0, mi * vi.1 + mj * vj.1);
+        let p1 = (mi * vi2.0 + mj * vj2.0, mi * vi2.1 + mj * vj2.1);
+        assert!((p0.0 - p1.0).abs() < 1e-15 && (p0.1 - p1.1).abs() < 1e-15);
+        let ke = |a: (f64, f64), b: (f64, f64)| {
+            0.5 * mi * (a.0 * a.0 + a.1 * a.1) + 0.5 * mj * (b.0 * b.0 + b.1 * b.1)
+        };
+        assert!((ke(vi, vj) - ke(vi2, vj2)).abs() < 1e-15);
+        assert_eq!(imp.energy_lost, 0.0);
+    }
+
+    #[test]
+    fn inelastic_collision_loses_the_stated_energy() {
+        let imp = collide(-1.0, 0.0, 2.0, 0.0, 1.0, 1.0, 0.5);
+        // u = −2, μ = ½: lost ½·½·(1 − ¼)·4 = 0.75; relative normal speed after = e·2 = 1.
+        assert!((imp.energy_lost - 0.75).abs() < 1e-15);
+        let u_after = (2.0 + imp.dvx_i - imp.dvx_j) * -1.0;
+        assert!((u_after - 1.0).abs() < 1e-15);
+    }
+}

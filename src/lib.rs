@@ -1,0 +1,33 @@
+//! vibrobed: exact event-driven simulation of hard disks in 2D under gravity, on a vibrating
+//! floor, with an open top — Isobe's (1999) algorithm extended to infinite height.
+//!
+//! The code is organised after the physics (see DESIGN.md §6):
+//! - [`dynamics`]: how disks fly between collisions;
+//! - [`interactions`]: when two disks touch and what their collision does;
+//! - [`locals`]: what a single disk hits (walls, lid, floor);
+//! - [`globals`]: the grid, masks and neighbour lists;
+//! - [`scheduler`]: the event sorter (complete binary tree);
+//! - [`simulation`]: the event loop, re-mapping (DUTC) and the scene set-up;
+//! - [`measure`], [`summary`], [`output`]: what is measured and written;
+//! - [`scenario`], [`placement`]: the scene description and the initial state;
+//! - [`reference`]: a brute-force engine for tests.
+
+pub mod cli;
+pub mod disks;
+pub mod dynamics;
+pub mod error;
+pub mod globals;
+pub mod interactions;
+pub mod locals;
+pub mod measure;
+pub mod output;
+pub mod placement;
+pub mod reference;
+pub mod run;
+pub mod scenario;
+pub mod scheduler;
+pub mod simulation;
+pub mod summary;
+
+pub use error::{Error, Result};
+pub use scenario::Scenario;

@@ -1,0 +1,351 @@
+//! The floor at mean height y = 0: static, or vibrating as `h(t) = A·w(ωt + φ0)`.
+//!
+//! A disk of radius `a` hits the floor at the first root of `f(t) = y(t) − a − h(t)` after the
+//! present. For the sine this is transcendental; since `|f''| ≤ g + Aω² = K`, the parabola
+//! `f + f' s − ½ K s²` is a lower bound of `f` over the step `s`, and stepping to its first root
+//! never passes the first root of `f` (a safe-step Newton iteration that converges from below).
+//! Piecewise-linear waveforms make `f` a quadratic on each linear piece: exact roots.
+//!
+//! The phase `ωt + φ0` is kept reduced modulo 2π and re-based together with the engine's clock,
+//! so long runs keep full precision.
+
+use crate::dynamics::time_to_fall;
+use crate::scenario::{FloorModel, Waveform};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// The floor: its motion and restitution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Floor {
+    /// Normal restitution of impacts (relative to the floor).
+    pub restitution: f64,
+    /// Amplitude A (0 for a static floor).
+    pub amplitude: f64,
+    /// Angular frequency ω = 2π·frequency.
+    pub omega: f64,
+    /// Shape of the vibration.
+    pub waveform: Waveform,
+    /// How impacts are located.
+    pub model: FloorModel,
+    /// Phase at the engine's local time 0, in [0, 2π).
+    phase0: f64,
+}
+
+/// What the floor predicts for one disk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FloorEvent {
+    /// The disk hits the floor at this (local) time.
+    Impact(f64),
+    /// Look again at this time: the root search made progress but did not conclude within its
+    /// iteration budget (a disk skimming the floor). Nothing happens to the disk then.
+    Recheck(f64),
+}
+
+impl FloorEvent {
+    /// The time of the event.
+    pub fn time(&self) -> f64 {
+        match *self {
+            FloorEvent::Impact(t) | FloorEvent::Recheck(t) => t,
+        }
+    }
+}
+
+/// Iterations of the safe-step search before a [`FloorEvent::Recheck`] is returned.
+const MAX_STEPS: usize = 200;
+
+impl Floor {
+    /// A floor with amplitude `amplitude`, angular frequency `omega` and initial phase `phase`.
+    pub fn new(
+        restitution: f64,
+        amplitude: f64,
+        omega: f64,
+        phase: f64,
+        waveform: Waveform,
+        model: FloorModel,
+    ) -> Floor {
+        Floor {
+            restitution,
+            amplitude,
+            omega,
+            waveform,
+            model,
+            phase0: phase.rem_euclid(TAU),
+        }
+    }
+
+    /// `true` when the floor does not move.
+    pub fn is_static(&self) -> bool {
+        self.amplitude == 0.0 || self.omega == 0.0
+    }
+
+    /// Lowest height the floor reaches (−A).
+    pub fn lowest(&self) -> f64 {
+        -self.amplitude
+    }
+
+    /// Phase at local time `t`.
+    #[inline]
+    pub fn phase(&self, t: f64) -> f64 {
+        self.phase0 + self.omega * t
+    }
+
+    /// Moves the local time origin forward by `dt` (the engine re-bases its clock).
+    pub fn rebase(&mut self, dt: f64) {
+        self.phase0 = (self.phase0 + self.omega * dt).rem_euclid(TAU);
+    }
+
+    /// Floor height at local time `t`.
+    #[inline]
+    pub fn height(&self, t: f64) -> f64 {
+        if self.is_static() {
+            return 0.0;
+        }
+        let th = self.phase(t);
+        self.amplitude
+            * match self.waveform {
+                Waveform::Sine => th.sin(),
+                Waveform::Triangle => triangle(th),
+                Waveform::Sawtooth => th.rem_euclid(TAU) / PI - 1.0,
+            }
+    }
+
+    /// Floor velocity at local time `t` (at a kink, the slope of the piece that starts there).
+    #[inline]
+    pub fn velocity(&self, t: f64) -> f64 {
+        if self.is_static() {
+            return 0.0;
+        }
+        let th = self.phase(t);
+        self.amplitude
+            * self.omega
+            * match self.waveform {
+                Waveform::Sine => th.cos(),
+                Waveform::Triangle => triangle_slope(th),
+                Waveform::Sawtooth => 1.0 / PI,
+            }
+    }
+
+    /// Next impact of a disk (radius `a`, at height `y` moving with `vy` at local time `now`,
+    /// gravity `g`) no later than `limit`; `None` if there is none by then.
+    pub fn next_event(
+        &self,
+        y: f64,
+        vy: f64,
+        a: f64,
+        g: f64,
+        now: f64,
+        limit: f64,
+    ) -> Option<FloorEvent> {
+        if self.is_static() || self.model == FloorModel::FixedPosition {
+            let t = now + time_to_fall(y - a, vy, g)?;
+            return (t <= limit).then_some(FloorEvent::Impact(t));
+        }
+        match self.waveform {
+            Waveform::Sine => self.sine_impact(y, vy, a, g, now, limit),
+            Waveform::Triangle | Waveform::Sawtooth => {
+                self.piecewise_impact(y, vy, a, g, now, limit)
+            }
+        }
+    }
+
+    /// Vertical velocity after an impact at local time `t`: `v' = h' − e (v − h')` when the disk
+    /// approaches the floor. In the fixed-position model a floor receding faster than the disk
+    /// reflects it like a static floor (the disk must not pass y = 0).
+    #[inline]
+    pub fn bounce(&self, vy: f64, t: f64) -> f64 {
+        let hd = self.velocity(t);
+        let e = self.restitution;
+        let moving = hd - e * (vy - hd).min(0.0);
+        match self.model {
+            FloorModel::Exact => moving,
+            FloorModel::FixedPosition => moving.max(-e * vy).max(0.0),
+        }
+    }
+
+    fn tolerance(&self, a: f64, y: f64) -> f64 {
+        1e-13 * (a + self.amplitude + y.abs())
+    }
+
+    /// Exact impact on the sine floor by safe stepping from below.
+    fn sine_impact(
+        &self,
+        y: f64,
+        vy: f64,
+        a: f64,
+        g: f64,
+        now: f64,
+        limit: f64,
+    ) -> Option<FloorEvent> {
+        let amp = self.amplitude;
+        let k = g + amp * self.omega * self.omega;
+        // Above the floor's reach, fall exactly into the envelope y − a ≤ A first.
+        let mut tau = if y - a > amp {
+            time_to_fall(y - a - amp, vy, g)?
+        } else {
+            0.0
+        };
+        for _ in 0..MAX_STEPS {
+            let t = now + tau;
+            if t > limit {
+                return None;
+            }
+            let yy = y + (vy - 0.5 * g * tau) * tau;
+            let vv = vy - g * tau;
+            let th = self.phase(t);
+            let (s, c) = th.sin_cos();
+            let f = yy - a - amp * s;
+            let fd = vv - amp * self.omega * c;
+            if f <= self.tolerance(a, yy) {
+                if fd <= 0.0 {
+                    return Some(FloorEvent::Impact(t));
+                }
+                // Touching but separating: the lower bound stays ≥ f for 2 f'/K.
+                tau += 2.0 * fd / k;
+                continue;
+            }
+            if yy - a > amp && vv > 0.0 {
+                // Left the envelope upwards: come back into it exactly.
+                tau += time_to_fall(yy - a - amp, vv, g)?;
+                continue;
+            }
+            let root = (fd * fd + 2.0 * k * f).sqrt();
+            tau += if fd >= 0.0 {
+                (fd + root) / k
+            } else {
+                2.0 * f / (root - fd)
+            };
+        }
+        let t = now + tau;
+        (t <= limit).then_some(FloorEvent::Recheck(t))
+    }
+
+    /// Exact impact on a piecewise-linear floor: a quadratic on each piece.
+    fn piecewise_impact(
+        &self,
+        y: f64,
+        vy: f64,
+        a: f64,
+        g: f64,
+        now: f64,
+        limit: f64,
+    ) -> Option<FloorEvent> {
+        let amp = self.amplitude;
+        let w = self.omega;
+        let mut tau = if y - a > amp {
+            time_to_fall(y - a - amp, vy, g)?
+        } else {
+            0.0
+        };
+        for _ in 0..MAX_STEPS {
+            let t = now + tau;
+            if t > limit {
+                return None;
+            }
+            let th = self.phase(t);
+            // End of the current linear piece, in phase and then in time.
+            let piece_end = match self.waveform {
+                Waveform::Triangle => ((th - FRAC_PI_2) / PI).floor() * PI + FRAC_PI_2 + PI,
+                _ => (th / TAU).floor() * TAU + TAU,
+            };
+            let tau_end = tau + (piece_end - th) / w;
+            let yy = y + (vy - 0.5 * g * tau) * tau;
+            let vv = vy - g * tau;
+            let f = yy - a - self.height(t);
+            let fd = vv - self.velocity(t);
+            if f <= self.tolerance(a, yy) && fd <= 0.0 {
+                return Some(FloorEvent::Impact(t));
+            }
+            if yy - a > amp && vv > 0.0 {
+                tau += time_to_fall(yy - a - amp, vv, g)?;
+                continue;
+            }
+            // On this piece f(s) = f + f' s − ½ g s² exactly.
+            match time_to_fall(f.max(0.0), fd, g) {
+                Some(s) if tau + s <= tau_end => {
+                    let t_hit = now + tau + s;
+                    return (t_hit <= limit).then_some(FloorEvent::Impact(t_hit));
+                }
+                _ => tau = tau_end.max(tau + f64::EPSILON * tau.abs().max(1.0)),
+            }
+        }
+        let t = now + tau;
+        (t <= limit).then_some(FloorEvent::Recheck(t))
+    }
+}
+
+/// Triangle wave with the sine's peaks: `(2/π) asin(sin θ)`.
+#[inline]
+fn triangle(th: f64) -> f64 {
+    // Phase measured from the trough at −π/2, in [0, 2π).
+    let p = (th + FRAC_PI_2).rem_euclid(TAU);
+    if p < PI {
+        -1.0 + 2.0 * p / PI
+    } else {
+        3.0 - 2.0 * p / PI
+    }
+}
+
+/// dw/dθ of [`triangle`]: +2/π on the rising piece, −2/π on the falling one.
+#[inline]
+fn triangle_slope(th: f64) -> f64 {
+    let p = (th + FRAC_PI_2).rem_euclid(TAU);
+    if p < PI {
+        2.0 / PI
+    } else {
+        -2.0 / PI
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sine(a: f64, f: f64, e: f64) -> Floor {
+        Floor::new(e, a, TAU * f, 0.0, Waveform::Sine, FloorModel::Exact)
+    }
+
+    #[test]
+    fn triangle_matches_sine_at_peaks_and_is_continuous() {
+        for k in -3..4 {
+            let th = FRAC_PI_2 + k as f64 * PI;
+            assert!((triangle(th) - th.sin()).abs() < 1e-12);
+        }
+        let mut prev = triangle(-10.0);
+        for i in 1..20_000 {
+            let th = -10.0 + i as f64 * 1e-3;
+            let v = triangle(th);
+            assert!((v - prev).abs() < 1e-3 * 2.0 / PI + 1e-12);
+            prev = v;
+        }
+    }
+
+    #[test]
+    fn static_floor_impact_is_the_parabola_root() {
+        let fl = sine(0.0, 1.0, 1.0);
+        let ev = fl.next_event(5.5, 0.0, 0.5, 2.0, 1.0, f64::INFINITY).unwrap();
+        // Falls 5 under g = 2: t = √5.
+        assert!((ev.time() - 1.0 - 5f64.sqrt()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn sine_impact_is_a_root_and_the_floor_is_not_crossed_before() {
+        let fl = sine(0.1, 2.0, 0.9);
+        let (y, vy, a, g) = (3.0, 1.0, 0.5, 1.0);
+        let FloorEvent::Impact(t) = fl.next_event(y, vy, a, g, 0.0, f64::INFINITY).unwrap() else {
+            panic!("expected an impact")
+        };
+        let f = |t: f64| y + vy * t - 0.5 * g * t * t - a - fl.height(t);
+        assert!(f(t).abs() < 1e-12, "f(t) = {}", f(t));
+        let n = 100_000;
+        for i in 0..n {
+            assert!(f(t * i as f64 / n as f64) > -1e-12);
+        }
+    }
+
+    #[test]
+    fn rebase_keeps_the_floor_where_it_was() {
+        let mut fl = sine(0.3, 1.7, 1.0);
+        let h = fl.height(123.456);
+        fl.rebase(123.0);
+        assert!((fl.height(0.456) - h).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,116 @@
+//! Locals: things a single disk hits — side walls, the lid, the floor.
+
+pub mod floor;
+
+use crate::dynamics::{time_to_fall, time_to_rise};
+
+/// What bounds the domain in x.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SideBounds {
+    /// Hard walls at x = 0 and x = `width`, with restitution `e`.
+    Walls {
+        /// Distance between the walls.
+        width: f64,
+        /// Normal restitution of the walls.
+        e: f64,
+    },
+    /// Periodic in x with period `width`.
+    Periodic {
+        /// The period.
+        width: f64,
+    },
+}
+
+/// Which side wall a disk hits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// The wall at x = 0.
+    Left,
+    /// The wall at x = width.
+    Right,
+}
+
+impl SideBounds {
+    /// Width of the domain.
+    pub fn width(&self) -> f64 {
+        match *self {
+            SideBounds::Walls { width, .. } | SideBounds::Periodic { width } => width,
+        }
+    }
+
+    /// Time until a disk of radius `a` at `x` moving with `vx` hits a side wall, if any.
+    #[inline(always)]
+    pub fn impact(&self, x: f64, vx: f64, a: f64) -> Option<(f64, Side)> {
+        match *self {
+            SideBounds::Periodic { .. } => None,
+            SideBounds::Walls { width, .. } => {
+                if vx < 0.0 {
+                    Some((((x - a) / -vx).max(0.0), Side::Left))
+                } else if vx > 0.0 {
+                    Some((((width - a - x) / vx).max(0.0), Side::Right))
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
+    /// Velocity after hitting a side wall (never pointing into the wall).
+    #[inline]
+    pub fn bounce(&self, vx: f64, side: Side) -> f64 {
+        let e = match *self {
+            SideBounds::Walls { e, .. } => e,
+            SideBounds::Periodic { .. } => 1.0,
+        };
+        match side {
+            Side::Left => (-e * vx).max(0.0),
+            Side::Right => (-e * vx).min(0.0),
+        }
+    }
+}
+
+/// What bounds the domain at the top.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Top {
+    /// No ceiling.
+    Open,
+    /// A hard wall at y = `height` with restitution `e`.
+    Lid {
+        /// Height of the lid.
+        height: f64,
+        /// Normal restitution of the lid.
+        e: f64,
+    },
+    /// Periodic in y with period `height` (no floor).
+    Periodic {
+        /// The period.
+        height: f64,
+    },
+}
+
+impl Top {
+    /// Time until a disk of radius `a` at height `y`, vertical speed `vy`, gravity `g`, hits the
+    /// lid, if there is one and it gets there.
+    #[inline(always)]
+    pub fn impact(&self, y: f64, vy: f64, a: f64, g: f64) -> Option<f64> {
+        match *self {
+            Top::Lid { height, .. } => time_to_rise(height - a - y, vy, g),
+            _ => None,
+        }
+    }
+
+    /// Vertical velocity after hitting the lid.
+    #[inline]
+    pub fn bounce(&self, vy: f64) -> f64 {
+        match *self {
+            Top::Lid { e, .. } => (-e * vy).min(0.0),
+            _ => vy,
+        }
+    }
+}
+
+/// Time for a disk to fall onto a static plane `h` below it (exported for the reference engine).
+#[inline]
+pub fn static_floor_impact(y: f64, vy: f64, a: f64, g: f64) -> Option<f64> {
+    time_to_fall(y - a, vy, g)
+}

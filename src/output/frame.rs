@@ -1,0 +1,57 @@
+//! What a frame holds: the state of every disk at one exact simulated time, plus the scene's
+//! moving parts and the scalar time series. Output sinks (the Rerun recorder, tests) read frames;
+//! they never touch the engine.
+
+/// The fixed geometry of a scene, known before the first frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneLayout {
+    /// Scene name (from the scenario file).
+    pub name: String,
+    /// Width of the domain in x (from 0 to `width`).
+    pub width: f64,
+    /// `true` when x is periodic, `false` for hard walls at x = 0 and x = width.
+    pub x_periodic: bool,
+    /// Height of the lid (or of the periodic cell in y); `None` for an open top.
+    pub top: Option<f64>,
+    /// `true` when y is periodic (then `top` is the period).
+    pub y_periodic: bool,
+    /// `true` when the scene has a floor (static or vibrating) whose mean height is y = 0.
+    pub floor: bool,
+    /// Number of species (distinct radius classes) for colouring by species.
+    pub species: usize,
+}
+
+/// How disks are coloured in a recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ColorBy {
+    /// By speed |v| (blue slow → red fast), scaled per frame.
+    #[default]
+    Speed,
+    /// By species index.
+    Species,
+}
+
+/// One frame: every disk advanced to `time` (not the time of its last event).
+#[derive(Debug, Clone, Copy)]
+pub struct FrameView<'a> {
+    /// Frame number, 0, 1, 2, … .
+    pub index: u64,
+    /// Simulated time of the frame.
+    pub time: f64,
+    /// Disk centres, x.
+    pub x: &'a [f64],
+    /// Disk centres, y.
+    pub y: &'a [f64],
+    /// Velocities, x.
+    pub vx: &'a [f64],
+    /// Velocities, y.
+    pub vy: &'a [f64],
+    /// Disk radii.
+    pub radius: &'a [f64],
+    /// Species index of each disk.
+    pub species: &'a [u32],
+    /// Height of the floor at `time` (`None` without a floor).
+    pub floor_height: Option<f64>,
+    /// Scalar time series sampled at this frame: (name, value), e.g. ("energy/kinetic", 12.5).
+    pub series: &'a [(&'static str, f64)],
+}

@@ -1,0 +1,379 @@
+//! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
+//! the next, measure, record, and summarise.
+
+use crate::dynamics::{Ballistic, Flight, Straight};
+use crate::error::{Error, Result};
+use crate::measure::{henderson_z, Observables, Profiles};
+use crate::output::frame::FrameView;
+use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
+use crate::simulation::{Progress, Scene, Simulation, Snapshot};
+use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary, Temperature};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// Where frames go (the Rerun recorder, or a test's collector).
+pub trait FrameSink {
+    /// Takes one frame.
+    fn frame(&mut self, frame: &FrameView) -> Result<()>;
+    /// Logs a line of text at simulated time `time` (`level`: "INFO", "WARN", …).
+    fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()>;
+    /// Closes the output (writes footers).
+    fn finish(self: Box<Self>) -> Result<()>;
+}
+
+/// How to run.
+#[derive(Default)]
+pub struct RunOptions {
+    /// Record frames to this .rrd file (overrides `output.rrd`).
+    pub rrd: Option<PathBuf>,
+    /// Frame sink to use instead of a recording (tests).
+    pub sink: Option<Box<dyn FrameSink>>,
+    /// Stop at the next event once this flag is set.
+    pub interrupt: Option<&'static AtomicBool>,
+    /// Show a progress bar on stderr (hidden when stderr is not a terminal).
+    pub progress: bool,
+}
+
+/// Runs a validated scenario and returns its summary.
+pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
+    let (scene, disks) = Scene::build(s)?;
+    let rrd = opts.rrd.clone().or_else(|| s.output.rrd.as_ref().map(PathBuf::from));
+    let sink = match (opts.sink.take(), rrd) {
+        (Some(sink), _) => Some(sink),
+        (None, Some(path)) => Some(open_recording(&path, s, &disks)?),
+        (None, None) => None,
+    };
+    match scene.gravity {
+        Some(g) => drive(Ballistic { g }, s, &scene, disks, sink, &opts),
+        None => drive(Straight, s, &scene, disks, sink, &opts),
+    }
+}
+
+#[cfg(feature = "record")]
+fn open_recording(
+    path: &std::path::Path,
+    s: &Scenario,
+    disks: &crate::disks::Disks,
+) -> Result<Box<dyn FrameSink>> {
+    use crate::output::frame::{ColorBy, SceneLayout};
+    use crate::output::recording::RerunRecorder;
+    use crate::scenario::{ColorChoice, XBoundary};
+
+    struct Sink(RerunRecorder);
+    impl FrameSink for Sink {
+        fn frame(&mut self, frame: &FrameView) -> Result<()> {
+            self.0.frame(frame).map_err(Error::Io)
+        }
+        fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()> {
+            self.0.log_text(time, level, text).map_err(Error::Io)
+        }
+        fn finish(self: Box<Self>) -> Result<()> {
+            self.0.finish().map_err(Error::Io)
+        }
+    }
+
+    let layout = SceneLayout {
+        name: s.name.clone(),
+        width: s.domain.width,
+        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+        top: match s.domain.y_boundary {
+            YBoundary::Open => None,
+            _ => s.domain.height,
+        },
+        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
+        floor: s.floor.is_some(),
+        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
+    };
+    let color = match s.output.color_by {
+        ColorChoice::Speed => ColorBy::Speed,
+        ColorChoice::Species => ColorBy::Species,
+    };
+    let rec = RerunRecorder::create(path, &layout, color)
+        .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;
+    Ok(Box::new(Sink(rec)))
+}
+
+#[cfg(not(feature = "record"))]
+fn open_recording(
+    _path: &std::path::Path,
+    _s: &Scenario,
+    _disks: &crate::disks::Disks,
+) -> Result<Box<dyn FrameSink>> {
+    Err(Error::input(
+        "--rrd",
+        "this build of vibrobed has no recording (build with the `record` feature)",
+    ))
+}
+
+/// The window over which averages are taken (from the end of the warm-up).
+struct Window {
+    time: f64,
+    virial: f64,
+    floor_impacts: u64,
+}
+
+fn drive<F: Flight>(
+    flight: F,
+    s: &Scenario,
+    scene: &Scene,
+    disks: crate::disks::Disks,
+    mut sink: Option<Box<dyn FrameSink>>,
+    opts: &RunOptions,
+) -> Result<Summary> {
+    let mut sim = Simulation::new(flight, scene, disks)?;
+    if let Some(flag) = opts.interrupt {
+        sim.set_interrupt(flag);
+    }
+    let g = scene.gravity.unwrap_or(0.0);
+    let n = sim.disks().len();
+    let duration = s.run.duration;
+    let warmup = s.run.warmup;
+    let default_dt = duration / 200.0;
+    let frame_dt = s.output.frame_interval.unwrap_or(default_dt);
+    let sample_dt = s
+        .output
+        .sample_interval
+        .or(s.output.frame_interval)
+        .unwrap_or(default_dt);
+    let mut snap = Snapshot::default();
+    sim.snapshot_into(0.0, &mut snap);
+    let initial = Observables::of(&snap, sim.disks(), g);
+    let mut profiles = scene.gravity.map(|_| {
+        let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
+        let top = s.output.profile_height.unwrap_or_else(|| {
+            let highest = (0..n)
+                .map(|i| snap.y[i] + sim.disks().radius[i])
+                .fold(0.0, f64::max);
+            2.0 * highest.max(bottom + 1.0)
+        });
+        Profiles::new(s.output.profile_bins, bottom, top, s.domain.width)
+    });
+    let bar = opts.progress.then(|| {
+        let bar = indicatif::ProgressBar::new(1000);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:40} {percent}% sim time {msg}",
+            )
+            .expect("valid template"),
+        );
+        bar
+    });
+    if let Some(sink) = sink.as_mut() {
+        sink.log_text(0.0, "INFO", &format!("start: {} disks, scene {}", n, s.name))?;
+    }
+    let (mut k_sample, mut k_frame) = (0u64, 0u64);
+    let mut window: Option<Window> = None;
+    let (mut t_sum, mut com_sum, mut samples) = ([0.0f64; 2], 0.0, 0usize);
+    let mut last_frame_collisions = 0u64;
+    let clock = Instant::now();
+    let ending = loop {
+        let t_sample = k_sample as f64 * sample_dt;
+        let t_frame = if sink.is_some() {
+            k_frame as f64 * frame_dt
+        } else {
+            f64::INFINITY
+        };
+        let t_window = if window.is_none() { warmup } else { f64::INFINITY };
+        let t = t_sample.min(t_frame).min(t_window).min(duration);
+        match sim.advance_to(t)? {
+            Progress::Reached => {}
+            Progress::EventLimit => break Ending::EventLimit,
+            Progress::Interrupted => break Ending::Interrupted,
+        }
+        sim.snapshot_into(t, &mut snap);
+        if t == t_window {
+            window = Some(Window {
+                time: t,
+                virial: sim.virial(),
+                floor_impacts: sim.counts().floor,
+            });
+            if let (Some(sink), true) = (sink.as_mut(), warmup > 0.0) {
+                sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
+            }
+        }
+        if t == t_sample {
+            k_sample += 1;
+            if window.is_some() {
+                let o = Observables::of(&snap, sim.disks(), g);
+                t_sum[0] += o.temperature[0];
+                t_sum[1] += o.temperature[1];
+                com_sum += o.com_height;
+                samples += 1;
+                if let Some(p) = profiles.as_mut() {
+                    p.add(&snap, sim.disks());
+                }
+            }
+            if scene.check_invariants {
+                check_sample(&sim, &snap, &initial, g)?;
+            }
+        }
+        if t == t_frame {
+            k_frame += 1;
+            if let Some(sink) = sink.as_mut() {
+                let o = Observables::of(&snap, sim.disks(), g);
+                let flow = sim.energy_flow();
+                let collisions = sim.counts().collisions();
+                let rate = (collisions - last_frame_collisions) as f64 / frame_dt;
+                last_frame_collisions = collisions;
+                let series = [
+                    ("temperature/x", o.temperature[0]),
+                    ("temperature/y", o.temperature[1]),
+                    ("energy/kinetic", o.kinetic),
+                    ("energy/potential", o.potential),
+                    ("energy/injected", flow.injected),
+                    ("energy/dissipated", flow.dissipated),
+                    ("com_height", o.com_height),
+                    ("collisions_per_time", if k_frame > 1 { rate } else { 0.0 }),
+                ];
+                let d = sim.disks();
+                sink.frame(&FrameView {
+                    index: k_frame - 1,
+                    time: t,
+                    x: &snap.x,
+                    y: &snap.y,
+                    vx: &snap.vx,
+                    vy: &snap.vy,
+                    radius: &d.radius,
+                    species: &d.species,
+                    floor_height: snap.floor_height,
+                    series: &series,
+                })?;
+            }
+        }
+        if let Some(bar) = &bar {
+            bar.set_position((1000.0 * t / duration) as u64);
+            bar.set_message(format!("{t:.4}"));
+        }
+        if t >= duration {
+            break Ending::Completed;
+        }
+    };
+    let wall = clock.elapsed().as_secs_f64();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let end_time = if ending == Ending::Completed {
+        duration
+    } else {
+        sim.time()
+    };
+    sim.snapshot_into(end_time, &mut snap);
+    let last = Observables::of(&snap, sim.disks(), g);
+    if let Some(mut sink) = sink {
+        let note = match ending {
+            Ending::Completed => "run completed".to_string(),
+            Ending::Interrupted => format!("interrupted at t = {end_time}"),
+            Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+        };
+        let level = if ending == Ending::Completed { "INFO" } else { "WARN" };
+        sink.log_text(end_time, level, &note)?;
+        sink.finish()?;
+    }
+    let flow = sim.energy_flow();
+    let balance = last.energy() - initial.energy() - flow.injected + flow.dissipated;
+    let scale = initial
+        .energy()
+        .abs()
+        .max(last.energy().abs())
+        .max(flow.injected.abs())
+        .max(flow.dissipated)
+        .max(f64::MIN_POSITIVE);
+    let samples_f = samples.max(1) as f64;
+    let temperature = Temperature {
+        x: t_sum[0] / samples_f,
+        y: t_sum[1] / samples_f,
+        mean: 0.5 * (t_sum[0] + t_sum[1]) / samples_f,
+    };
+    let measured = window
+        .as_ref()
+        .map(|w| (end_time - w.time, w))
+        .filter(|(dt, _)| *dt > 0.0);
+    let closed_elastic = scene.gravity.is_none()
+        && s.domain.y_boundary != YBoundary::Open
+        && scene.restitution == 1.0
+        && s.domain.wall_restitution == 1.0
+        && scene
+            .floor
+            .as_ref()
+            .is_none_or(|f| f.is_static() && f.restitution == 1.0);
+    let box_area = match scene.top {
+        crate::locals::Top::Lid { height, .. } | crate::locals::Top::Periodic { height } => {
+            Some(s.domain.width * height)
+        }
+        crate::locals::Top::Open => None,
+    };
+    let compressibility_factor = match (closed_elastic, measured) {
+        (true, Some((dt, w))) if samples > 0 => {
+            let kt = last.kinetic / n as f64; // conserved in a closed elastic box
+            Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
+        }
+        _ => None,
+    };
+    let _ = henderson_z; // documented reference, used by tests and the README
+    let counts = sim.counts();
+    let geometry = sim.geometry();
+    Ok(Summary {
+        scenario: s.name.clone(),
+        seed: s.seed,
+        particles: n,
+        ending,
+        sim_time: end_time,
+        wall_seconds: wall,
+        events: counts,
+        collisions_per_second: counts.collisions() as f64 / wall.max(1e-9),
+        energy: EnergySummary {
+            initial: EnergyAt::from(&initial),
+            final_: EnergyAt::from(&last),
+            injected: flow.injected,
+            dissipated: flow.dissipated,
+            balance_error: balance.abs() / scale,
+        },
+        temperature,
+        compressibility_factor,
+        packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
+        max_overlap: sim.max_overlap(),
+        com_height: scene.gravity.map(|_| com_sum / samples_f),
+        impacts_per_unit_time: match (&scene.floor, measured) {
+            (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
+            _ => None,
+        },
+        profiles: profiles.map(|p| p.table()),
+        engine: EngineSummary {
+            scheme: "event-driven".into(),
+            mask: sim.mask().name.into(),
+            cell: geometry.cell(),
+            grid: if geometry.ny.is_some() { "dense" } else { "hashed" }.into(),
+            bytes_per_disk: sim.bytes() as f64 / n as f64,
+            samples,
+        },
+    })
+}
+
+/// Invariant checks at a sample: no overlap, energy balance.
+fn check_sample<F: Flight>(
+    sim: &Simulation<F>,
+    snap: &Snapshot,
+    initial: &Observables,
+    g: f64,
+) -> Result<()> {
+    sim.check_no_overlap(snap)?;
+    let now = Observables::of(snap, sim.disks(), g);
+    let flow = sim.energy_flow();
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
+    let scale = initial
+        .energy()
+        .abs()
+        .max(now.energy().abs())
+        .max(flow.injected.abs())
+        .max(flow.dissipated)
+        .max(f64::MIN_POSITIVE);
+    if balance.abs() > 1e-9 * scale {
+        return Err(Error::Runtime(format!(
+            "energy budget off by {:e} (relative) at time {}",
+            balance.abs() / scale,
+            snap.time
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,260 @@
+//! Physical sense of a typed scenario: every rule names the field it guards.
+
+use super::*;
+
+/// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
+pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
+
+fn positive(field: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::input(
+            field,
+            format!("must be a positive finite number (got {v})"),
+        ))
+    }
+}
+
+fn restitution(field: &str, e: f64) -> Result<()> {
+    if (0.0..=1.0).contains(&e) {
+        Ok(())
+    } else {
+        Err(Error::input(field, format!("must lie in [0, 1] (got {e})")))
+    }
+}
+
+/// Checks the whole scenario.
+pub fn validate(s: &Scenario) -> Result<()> {
+    positive("domain.width", s.domain.width)?;
+    restitution("domain.wall_restitution", s.domain.wall_restitution)?;
+    if let Some(h) = s.domain.height {
+        positive("domain.height", h)?;
+    }
+    let closed = s.domain.y_boundary != YBoundary::Open;
+    if closed && s.domain.height.is_none() && s.particles.packing_fraction.is_none() {
+        return Err(Error::input(
+            "domain.height",
+            "required with y_boundary `lid` or `periodic` (or give particles.packing_fraction)",
+        ));
+    }
+    if let Some(g) = s.gravity {
+        positive("gravity", g)?;
+    }
+    match (&s.floor, s.domain.y_boundary) {
+        (Some(_), YBoundary::Periodic) => {
+            return Err(Error::input(
+                "floor",
+                "a floor cannot be combined with domain.y_boundary = periodic",
+            ))
+        }
+        (None, YBoundary::Open | YBoundary::Lid) => {
+            return Err(Error::input(
+                "floor",
+                "required unless domain.y_boundary is periodic: without it disks fall out of the bottom",
+            ))
+        }
+        _ => {}
+    }
+    if let Some(floor) = &s.floor {
+        restitution("floor.restitution", floor.restitution)?;
+        if floor.amplitude.is_some() && floor.gamma.is_some() {
+            return Err(Error::input(
+                "floor.gamma",
+                "give either floor.amplitude or floor.gamma, not both",
+            ));
+        }
+        if let Some(a) = floor.amplitude {
+            if !(a.is_finite() && a >= 0.0) {
+                return Err(Error::input(
+                    "floor.amplitude",
+                    format!("must be ≥ 0 (got {a})"),
+                ));
+            }
+        }
+        if let Some(gamma) = floor.gamma {
+            positive("floor.gamma", gamma)?;
+            if s.gravity.is_none() {
+                return Err(Error::input(
+                    "floor.gamma",
+                    "Γ = Aω²/g needs gravity; give floor.amplitude instead",
+                ));
+            }
+        }
+        let vibrating = floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some();
+        match floor.frequency {
+            Some(f) => positive("floor.frequency", f)?,
+            None if vibrating => {
+                return Err(Error::input(
+                    "floor.frequency",
+                    "required for a vibrating floor",
+                ))
+            }
+            None => {}
+        }
+        if !floor.phase.is_finite() {
+            return Err(Error::input("floor.phase", "must be finite"));
+        }
+    }
+    validate_particles(s)?;
+    restitution("collisions.restitution", s.collisions.restitution)?;
+    positive("run.duration", s.run.duration)?;
+    if !(s.run.warmup.is_finite() && s.run.warmup >= 0.0 && s.run.warmup < s.run.duration) {
+        return Err(Error::input(
+            "run.warmup",
+            format!(
+                "must lie in [0, run.duration) (got {} with duration {})",
+                s.run.warmup, s.run.duration
+            ),
+        ));
+    }
+    if let Some(dt) = s.output.frame_interval {
+        positive("output.frame_interval", dt)?;
+    }
+    if let Some(dt) = s.output.sample_interval {
+        positive("output.sample_interval", dt)?;
+    }
+    if let Some(h) = s.output.profile_height {
+        positive("output.profile_height", h)?;
+    }
+    if s.output.profile_bins == 0 {
+        return Err(Error::input("output.profile_bins", "must be at least 1"));
+    }
+    if s.engine.scheme != Scheme::EventDriven {
+        return Err(Error::input(
+            "engine.scheme",
+            "only `event-driven` is implemented in this version",
+        ));
+    }
+    Ok(())
+}
+
+fn validate_particles(s: &Scenario) -> Result<()> {
+    let p = &s.particles;
+    match &p.radius {
+        Radius::Fixed(r) => positive("particles.radius", *r)?,
+        Radius::Uniform(u) => {
+            positive("particles.radius.min", u.min)?;
+            positive("particles.radius.max", u.max)?;
+            if u.min > u.max {
+                return Err(Error::input(
+                    "particles.radius.min",
+                    format!("must not exceed particles.radius.max ({} > {})", u.min, u.max),
+                ));
+            }
+        }
+        Radius::Species(list) => {
+            if list.species.is_empty() {
+                return Err(Error::input(
+                    "particles.radius.species",
+                    "list at least one species",
+                ));
+            }
+            for (k, sp) in list.species.iter().enumerate() {
+                positive(&format!("particles.radius.species.{k}.radius"), sp.radius)?;
+                if let Some(m) = sp.mass {
+                    positive(&format!("particles.radius.species.{k}.mass"), m)?;
+                }
+            }
+            if p.count.is_some() {
+                return Err(Error::input(
+                    "particles.count",
+                    "leave it out when particles.radius lists species with counts",
+                ));
+            }
+        }
+    }
+    let n = s.disk_count();
+    if n == 0 {
+        return Err(Error::input("particles.count", "at least one disk is needed"));
+    }
+    if let Some(m) = p.mass {
+        positive("particles.mass", m)?;
+    }
+    if let Some(d) = p.density {
+        positive("particles.density", d)?;
+    }
+    if p.mass.is_some() && p.density.is_some() {
+        return Err(Error::input(
+            "particles.density",
+            "give either particles.mass or particles.density, not both",
+        ));
+    }
+    if !(p.temperature.is_finite() && p.temperature >= 0.0) {
+        return Err(Error::input(
+            "particles.temperature",
+            format!("must be ≥ 0 (got {})", p.temperature),
+        ));
+    }
+    if let Some(phi) = p.packing_fraction {
+        if !(phi > 0.0 && phi < MAX_PACKING) {
+            return Err(Error::input(
+                "particles.packing_fraction",
+                format!("must lie in (0, {MAX_PACKING:.4}) (got {phi})"),
+            ));
+        }
+    }
+    if let Placement::Explicit(e) = &p.placement {
+        if e.positions.len() != n {
+            return Err(Error::input(
+                "particles.placement.positions",
+                format!("lists {} positions for {n} disks", e.positions.len()),
+            ));
+        }
+        if let Some(v) = &e.velocities {
+            if v.len() != n {
+                return Err(Error::input(
+                    "particles.placement.velocities",
+                    format!("lists {} velocities for {n} disks", v.len()),
+                ));
+            }
+        }
+    }
+    let (rmin, rmax) = s.radius_range();
+    if s.domain.width < 4.0 * rmax {
+        return Err(Error::input(
+            "domain.width",
+            format!("must be at least 4 radii of the largest disk ({})", 4.0 * rmax),
+        ));
+    }
+    if rmax / rmin > 6.0 {
+        return Err(Error::input(
+            "particles.radius",
+            format!(
+                "radius ratio {:.2} exceeds 6, the largest the neighbour masks support",
+                rmax / rmin
+            ),
+        ));
+    }
+    // Packing fraction of a closed box with a stated height.
+    if let (true, Some(h)) = (s.domain.y_boundary != YBoundary::Open, s.domain.height) {
+        let mean_area = mean_disk_area(s);
+        let phi = n as f64 * mean_area / (s.domain.width * h);
+        if phi >= MAX_PACKING {
+            return Err(Error::input(
+                "particles.count",
+                format!(
+                    "{n} disks fill a packing fraction {phi:.3} of the box, above the densest possible {MAX_PACKING:.4}"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Mean disk area π⟨r²⟩ of the scene's radius law.
+pub fn mean_disk_area(s: &Scenario) -> f64 {
+    let pi = std::f64::consts::PI;
+    match &s.particles.radius {
+        Radius::Fixed(r) => pi * r * r,
+        Radius::Uniform(u) => pi * (u.min * u.min + u.min * u.max + u.max * u.max) / 3.0,
+        Radius::Species(list) => {
+            let n: usize = list.species.iter().map(|sp| sp.count).sum();
+            list.species
+                .iter()
+                .map(|sp| sp.count as f64 * pi * sp.radius * sp.radius)
+                .sum::<f64>()
+                / n.max(1) as f64
+        }
+    }
+}

@@ -1,0 +1,490 @@
+//! The scenario file: a JSON description of one scene. It states only what the scene needs;
+//! whatever it leaves out is not simulated (no `gravity` → no gravity, no `floor` → no floor).
+//!
+//! Loading goes: JSON text → `serde_json::Value` → `--set` overrides ([`overrides`]) → typed
+//! [`Scenario`] (unknown fields rejected, errors name the dotted path) → [`Scenario::validate`]
+//! (physical sense: positive radii, reachable packing fraction, …).
+
+pub mod overrides;
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// A whole scene: domain, forces, floor, disks, collision law, run length, output, engine knobs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name shown in summaries and recordings.
+    pub name: String,
+    /// Seed of the random initial state (positions, velocities).
+    #[serde(default)]
+    pub seed: u64,
+    /// The box.
+    pub domain: Domain,
+    /// Gravitational acceleration g > 0, pointing to −y. Absent: no gravity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<f64>,
+    /// The floor at mean height y = 0. Absent: no floor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<Floor>,
+    /// The disks.
+    pub particles: Particles,
+    /// Pair collision law.
+    #[serde(default)]
+    pub collisions: Collisions,
+    /// How long to run.
+    pub run: Run,
+    /// What to measure and write.
+    #[serde(default)]
+    pub output: Output,
+    /// Integration scheme and its knobs.
+    #[serde(default)]
+    pub engine: Engine,
+}
+
+/// The box: its width, what bounds it in x and y.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// Extent in x, from 0 to `width`.
+    pub width: f64,
+    /// Height of the lid, or the period in y. Not used for an open top.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// `walls` (hard walls at x = 0 and x = width) or `periodic`.
+    #[serde(default)]
+    pub x_boundary: XBoundary,
+    /// `open` (no ceiling), `lid` (a hard wall at y = height) or `periodic` (period `height`).
+    #[serde(default)]
+    pub y_boundary: YBoundary,
+    /// Restitution of the side walls and the lid (1 = elastic).
+    #[serde(default = "one")]
+    pub wall_restitution: f64,
+}
+
+/// What bounds the domain in x.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum XBoundary {
+    /// Hard walls at x = 0 and x = width.
+    #[default]
+    Walls,
+    /// Periodic with period `width`.
+    Periodic,
+}
+
+/// What bounds the domain at the top (and, for `periodic`, at the bottom).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum YBoundary {
+    /// No ceiling: the bed may expand without bound.
+    #[default]
+    Open,
+    /// A hard wall at y = height.
+    Lid,
+    /// Periodic with period `height` (no floor allowed).
+    Periodic,
+}
+
+/// The floor: static, or vibrating with `h(t) = A·w(2π f t + φ0)` for a waveform w.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Floor {
+    /// Normal restitution of disk–floor impacts.
+    #[serde(default = "one")]
+    pub restitution: f64,
+    /// Vibration amplitude A (0 or absent: static floor).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    /// Dimensionless peak acceleration Γ = Aω²/g, an alternative to `amplitude` (needs gravity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// Vibration frequency in cycles per unit time (ω = 2π·frequency).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
+    /// Initial phase φ0 in radians.
+    #[serde(default)]
+    pub phase: f64,
+    /// Shape of the vibration.
+    #[serde(default)]
+    pub waveform: Waveform,
+    /// How impacts are found: `exact` (the moving floor) or `fixed-position` (the floor stays at
+    /// y = 0 for finding impacts, which use the moving floor's velocity).
+    #[serde(default)]
+    pub model: FloorModel,
+}
+
+/// Shape of the floor vibration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Waveform {
+    /// `A sin(ωt + φ0)`.
+    #[default]
+    Sine,
+    /// Piecewise-linear triangle wave with the same amplitude, period and phase convention.
+    Triangle,
+    /// Sawtooth: slow linear rise from −A to A over a period, then an instantaneous drop.
+    Sawtooth,
+}
+
+/// How floor impacts are located.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FloorModel {
+    /// The moving floor, exactly.
+    #[default]
+    Exact,
+    /// The floor stays at y = 0 for finding impacts; impacts use the moving floor's velocity.
+    FixedPosition,
+}
+
+/// The disks: how many, their sizes and masses, where they start and how fast.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Particles {
+    /// Number of disks (ignored when `radius` lists species with counts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
+    /// Radius: a number, a uniform distribution, or a list of species.
+    pub radius: Radius,
+    /// Mass of every disk (default: 1 for a single size, else set by `density`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Areal mass density: mass = density·π·radius². Alternative to `mass`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Packing fraction of the initial placement: for a closed box without `domain.height`, sets
+    /// the height; for an open top, the packing fraction of the initial bed (default 0.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub packing_fraction: Option<f64>,
+    /// Where the disks start.
+    #[serde(default)]
+    pub placement: Placement,
+    /// Initial granular temperature (kT per degree of freedom, mass-weighted); total momentum is
+    /// set to zero unless there is a single disk.
+    #[serde(default = "one")]
+    pub temperature: f64,
+}
+
+/// Disk radii.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Radius {
+    /// Every disk has this radius.
+    Fixed(f64),
+    /// Radii drawn uniformly in [min, max].
+    Uniform(UniformRadius),
+    /// Discrete species with counts (and optionally masses).
+    Species(SpeciesList),
+}
+
+/// Radii drawn uniformly in [min, max].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UniformRadius {
+    /// Smallest radius.
+    pub min: f64,
+    /// Largest radius.
+    pub max: f64,
+}
+
+/// A list of species.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeciesList {
+    /// The species, in order (disk numbers follow this order).
+    pub species: Vec<Species>,
+}
+
+/// One species of disks.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Species {
+    /// How many disks of this species.
+    pub count: usize,
+    /// Their radius.
+    pub radius: f64,
+    /// Their mass (default: from `particles.density`, or `particles.mass`, or π r² relative to
+    /// the smallest species having mass 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+}
+
+/// Initial positions (and possibly velocities).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Placement {
+    /// `random` (uniform, non-overlapping) or `lattice` (triangular lattice).
+    Kind(PlacementKind),
+    /// Explicit positions, optionally velocities.
+    Explicit(ExplicitPlacement),
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Placement::Kind(PlacementKind::Random)
+    }
+}
+
+/// Generated placements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlacementKind {
+    /// Uniform random non-overlapping positions (random sequential addition when dilute, a
+    /// melted triangular lattice when dense).
+    Random,
+    /// A perfect triangular lattice.
+    Lattice,
+}
+
+/// Explicit initial state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitPlacement {
+    /// One `[x, y]` per disk.
+    pub positions: Vec<[f64; 2]>,
+    /// One `[vx, vy]` per disk; absent: drawn from `particles.temperature`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocities: Option<Vec<[f64; 2]>>,
+}
+
+/// The pair collision law.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Collisions {
+    /// Normal restitution e (1 = elastic).
+    #[serde(default = "one")]
+    pub restitution: f64,
+}
+
+impl Default for Collisions {
+    fn default() -> Self {
+        Collisions { restitution: 1.0 }
+    }
+}
+
+/// How long to run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Run {
+    /// Simulated time to run (after which the run stops).
+    pub duration: f64,
+    /// Simulated time before measurements start being averaged.
+    #[serde(default)]
+    pub warmup: f64,
+    /// Stop after this many events (a safety net; absent: no limit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_events: Option<u64>,
+}
+
+/// What to measure and write.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// Simulated time between recorded frames (default: duration/200).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_interval: Option<f64>,
+    /// Simulated time between measurement samples (default: frame interval).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_interval: Option<f64>,
+    /// Number of height bins of the profiles (gravity scenes).
+    #[serde(default = "default_bins")]
+    pub profile_bins: usize,
+    /// Height of the top of the profiles (default: chosen from the initial bed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile_height: Option<f64>,
+    /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rrd: Option<String>,
+    /// Colour disks in the recording by `speed` or `species`.
+    #[serde(default)]
+    pub color_by: ColorChoice,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output {
+            frame_interval: None,
+            sample_interval: None,
+            profile_bins: default_bins(),
+            profile_height: None,
+            rrd: None,
+            color_by: ColorChoice::Speed,
+        }
+    }
+}
+
+/// Colouring of disks in recordings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ColorChoice {
+    /// By speed.
+    #[default]
+    Speed,
+    /// By species.
+    Species,
+}
+
+/// Integration scheme and its knobs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Engine {
+    /// `event-driven` (exact; the only scheme implemented so far).
+    #[serde(default)]
+    pub scheme: Scheme,
+    /// Neighbour mask: `auto`, `min`, `r3` … `r10`.
+    #[serde(default)]
+    pub mask: MaskChoice,
+    /// Switch on the invariant checks (no overlap, no event in the past, energy balance).
+    #[serde(default)]
+    pub check_invariants: bool,
+}
+
+impl Default for Engine {
+    fn default() -> Self {
+        Engine {
+            scheme: Scheme::EventDriven,
+            mask: MaskChoice::Auto,
+            check_invariants: false,
+        }
+    }
+}
+
+/// Integration scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Exact event-driven dynamics (Isobe 1999).
+    #[default]
+    EventDriven,
+    /// Fixed global time step with Verlet lists (not implemented yet).
+    TimeStep,
+    /// Per-disk times with a global synchronisation step (not implemented yet).
+    SpaceTime,
+}
+
+/// Which Isobe mask to search for neighbours.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaskChoice {
+    /// The smallest mask that reaches comfortably beyond contact.
+    #[default]
+    Auto,
+    /// 5×5 square less its centre (24 cells).
+    Min,
+    /// Circle of radius 3 cells (36 cells).
+    R3,
+    /// 68 cells.
+    R4,
+    /// 96 cells.
+    R5,
+    /// 136 cells.
+    R6,
+    /// 176 cells.
+    R7,
+    /// 224 cells.
+    R8,
+    /// 292 cells.
+    R9,
+    /// 348 cells.
+    R10,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn default_bins() -> usize {
+    40
+}
+
+impl Scenario {
+    /// Parses scenario JSON text, applying `--set` overrides (`KEY=VALUE`) first, then validates.
+    pub fn from_json_with_overrides(text: &str, sets: &[String]) -> Result<Scenario> {
+        let mut value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+            Error::input(
+                "",
+                format!(
+                    "malformed JSON at line {} column {}: {e}",
+                    e.line(),
+                    e.column()
+                ),
+            )
+        })?;
+        for set in sets {
+            overrides::apply(&mut value, set)?;
+        }
+        let scenario = Scenario::from_value(value)?;
+        scenario.validate()?;
+        Ok(scenario)
+    }
+
+    /// Parses and validates scenario JSON text.
+    pub fn from_json(text: &str) -> Result<Scenario> {
+        Scenario::from_json_with_overrides(text, &[])
+    }
+
+    /// Reads, overrides and validates a scenario file.
+    pub fn load(path: &std::path::Path, sets: &[String]) -> Result<Scenario> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::input("SCENARIO", format!("cannot read {}: {e}", path.display()))
+        })?;
+        Scenario::from_json_with_overrides(&text, sets)
+    }
+
+    /// Typed view of a JSON value; errors name the dotted path of the offending field.
+    pub fn from_value(value: serde_json::Value) -> Result<Scenario> {
+        serde_path_to_error::deserialize(value).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner().to_string();
+            let hint = if path.ends_with("radius") && inner.contains("untagged") {
+                " (expected a number, {\"min\": .., \"max\": ..}, or {\"species\": [{\"count\": .., \"radius\": ..}]})"
+            } else if path.ends_with("placement") && inner.contains("untagged") {
+                " (expected \"random\", \"lattice\" or {\"positions\": [[x, y], ..]})"
+            } else {
+                ""
+            };
+            let field = if path == "." { String::new() } else { path };
+            Error::input(field, format!("{inner}{hint}"))
+        })
+    }
+
+    /// Checks that the scene makes physical sense; errors name the field.
+    pub fn validate(&self) -> Result<()> {
+        crate::scenario::checks::validate(self)
+    }
+
+    /// Number of disks the scene holds.
+    pub fn disk_count(&self) -> usize {
+        match &self.particles.radius {
+            Radius::Species(list) => list.species.iter().map(|s| s.count).sum(),
+            _ => self.particles.count.unwrap_or(0),
+        }
+    }
+
+    /// The smallest and largest disk radius.
+    pub fn radius_range(&self) -> (f64, f64) {
+        match &self.particles.radius {
+            Radius::Fixed(r) => (*r, *r),
+            Radius::Uniform(u) => (u.min, u.max),
+            Radius::Species(list) => list.species.iter().fold((f64::INFINITY, 0.0), |acc, s| {
+                (acc.0.min(s.radius), acc.1.max(s.radius))
+            }),
+        }
+    }
+
+    /// Vibration amplitude of the floor (0 for a static floor or no floor).
+    pub fn floor_amplitude(&self) -> f64 {
+        let Some(floor) = &self.floor else { return 0.0 };
+        match (floor.amplitude, floor.gamma, floor.frequency, self.gravity) {
+            (Some(a), _, _, _) => a,
+            (None, Some(gamma), Some(f), Some(g)) => {
+                let w = 2.0 * std::f64::consts::PI * f;
+                gamma * g / (w * w)
+            }
+            _ => 0.0,
+        }
+    }
+}
+
+pub mod checks;

@@ -1,0 +1,717 @@
+//! The event-driven engine (Isobe 1999): per-disk local minima in a complete binary tree,
+//! neighbour lists from the EEPGM grid, re-mapping by DUTC, lazy per-disk time stamps.
+//!
+//! The engine runs on a local clock that restarts at 0 at every mapping (all disks are brought
+//! to the mapping time then), so event times never lose precision however long the run; the
+//! absolute time is `base + now`. The floor's phase is re-based at the same moment.
+
+pub mod dutc;
+pub mod scene;
+
+pub use scene::Scene;
+
+use crate::disks::Disks;
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
+use crate::interactions::{collide, contact_time};
+use crate::locals::floor::{Floor, FloorEvent};
+use crate::locals::{Side, SideBounds, Top};
+use crate::reference::{Collision, Partner};
+use crate::scheduler::CompleteBinaryTree;
+use dutc::Dutc;
+use serde::Serialize;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Event partner codes beyond the disk numbers.
+mod partner {
+    pub const NONE: u32 = u32::MAX;
+    pub const LEFT: u32 = u32::MAX - 1;
+    pub const RIGHT: u32 = u32::MAX - 2;
+    pub const LID: u32 = u32::MAX - 3;
+    pub const FLOOR: u32 = u32::MAX - 4;
+    pub const FLOOR_RECHECK: u32 = u32::MAX - 5;
+}
+
+/// Relative overlap (of the contact distance) beyond which the invariant check fails.
+pub const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// Counts of events by kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct EventCounts {
+    /// Disk–disk collisions.
+    pub pair: u64,
+    /// Disk–side-wall collisions.
+    pub wall: u64,
+    /// Disk–lid collisions.
+    pub lid: u64,
+    /// Disk–floor impacts.
+    pub floor: u64,
+    /// Floor searches that needed a second look (no velocity change).
+    pub floor_recheck: u64,
+    /// Predicted pair events found stale (the partner moved on); the disk was re-predicted.
+    pub stale: u64,
+    /// Grid re-mappings (DUTC).
+    pub rebuild: u64,
+}
+
+impl EventCounts {
+    /// Collisions of any kind: pair + wall + lid + floor.
+    pub fn collisions(&self) -> u64 {
+        self.pair + self.wall + self.lid + self.floor
+    }
+
+    /// Every event popped from the queue (collisions, stale events, rechecks).
+    pub fn popped(&self) -> u64 {
+        self.collisions() + self.floor_recheck + self.stale
+    }
+}
+
+/// Energy exchanged with the outside and lost in collisions since the start.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct EnergyFlow {
+    /// Work done by the floor on the disks (can be negative for a lossy static floor).
+    pub injected: f64,
+    /// Kinetic energy lost in pair, wall and lid collisions.
+    pub dissipated: f64,
+}
+
+/// Why [`Simulation::advance_to`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// The target time was reached.
+    Reached,
+    /// The event budget ran out first.
+    EventLimit,
+    /// An interrupt was requested.
+    Interrupted,
+}
+
+/// The state of every disk at one time (for measurements and frames).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Snapshot {
+    /// Absolute time.
+    pub time: f64,
+    /// Positions x (wrapped into [0, width) where periodic).
+    pub x: Vec<f64>,
+    /// Positions y.
+    pub y: Vec<f64>,
+    /// Velocities x.
+    pub vx: Vec<f64>,
+    /// Velocities y.
+    pub vy: Vec<f64>,
+    /// Floor height at `time`, if there is a floor.
+    pub floor_height: Option<f64>,
+}
+
+/// The exact event-driven engine, generic over free flight (straight or under gravity).
+#[derive(Debug)]
+pub struct Simulation<F: Flight> {
+    flight: F,
+    disks: Disks,
+    ev_time: Vec<f64>,
+    ev_partner: Vec<u32>,
+    ev_counter: Vec<u32>,
+    tree: CompleteBinaryTree,
+    geometry: GridGeometry,
+    mask: Mask,
+    cells: Cells,
+    lists: NeighbourLists,
+    cell_of: Vec<(u32, u32)>,
+    sides: SideBounds,
+    top: Top,
+    floor: Option<Floor>,
+    restitution: f64,
+    a_max: f64,
+    base: f64,
+    now: f64,
+    dutc: Dutc,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    check: bool,
+    event_limit: u64,
+    interrupt: Option<&'static AtomicBool>,
+    log: Option<Vec<Collision>>,
+}
+
+impl<F: Flight> Simulation<F> {
+    /// Sets up the engine for `scene` with the disks in their initial state (all at time 0).
+    pub fn new(flight: F, scene: &Scene, disks: Disks) -> Result<Simulation<F>> {
+        let n = disks.len();
+        let (a_min, a_max) = disks.radius_range();
+        let floor = scene.floor.clone();
+        let bottom = floor.as_ref().map_or(0.0, |f| f.lowest());
+        let (top_y, y_periodic) = match scene.top {
+            Top::Open => (None, false),
+            Top::Lid { height, .. } => (Some(height), false),
+            Top::Periodic { height } => (Some(height), true),
+        };
+        let geometry = GridGeometry::new(
+            a_min,
+            scene.sides.width(),
+            matches!(scene.sides, SideBounds::Periodic { .. }),
+            bottom,
+            top_y,
+            y_periodic,
+        );
+        let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max).ok_or_else(|| {
+            Error::input(
+                "engine.mask",
+                format!(
+                    "the mask does not reach beyond contact of the largest disks (radius {a_max}, cells of {:.4})",
+                    geometry.cell()
+                ),
+            )
+        })?;
+        geometry.check_mask_fits(mask.half_width)?;
+        let mut sim = Simulation {
+            flight,
+            disks,
+            ev_time: vec![f64::INFINITY; n + 1],
+            ev_partner: vec![partner::NONE; n],
+            ev_counter: vec![0; n],
+            tree: CompleteBinaryTree::default(),
+            cells: Cells::for_geometry(&geometry),
+            geometry,
+            mask,
+            lists: NeighbourLists::default(),
+            cell_of: Vec::with_capacity(n),
+            sides: scene.sides,
+            top: scene.top,
+            floor,
+            restitution: scene.restitution,
+            a_max,
+            base: 0.0,
+            now: 0.0,
+            dutc: Dutc::new(0.0, 0.0),
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            check: scene.check_invariants,
+            event_limit: scene.max_events.unwrap_or(u64::MAX),
+            interrupt: None,
+            log: None,
+        };
+        sim.check_initial_state()?;
+        sim.remap().map_err(|e| match e {
+            Error::Runtime(m) => Error::input("particles.placement", m),
+            other => other,
+        })?;
+        sim.counts.rebuild = 0;
+        let start = sim.snapshot(0.0);
+        let (o, i, j) = sim.overlap_in(&start);
+        if o > OVERLAP_TOLERANCE * (sim.disks.radius[i] + sim.disks.radius[j]) {
+            return Err(Error::input(
+                "particles.placement",
+                format!("disks {i} and {j} overlap by {o:e} at the start"),
+            ));
+        }
+        sim.max_overlap = o.max(0.0);
+        Ok(sim)
+    }
+
+    /// Stop [`advance_to`](Self::advance_to) at the next event once `flag` is set (Ctrl-C).
+    pub fn set_interrupt(&mut self, flag: &'static AtomicBool) {
+        self.interrupt = Some(flag);
+    }
+
+    /// Starts (or stops) keeping a log of every collision, for comparison with the reference.
+    pub fn set_logging(&mut self, on: bool) {
+        self.log = on.then(Vec::new);
+    }
+
+    /// Takes the collisions logged so far.
+    pub fn take_log(&mut self) -> Vec<Collision> {
+        self.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// The scene's floor (its phase refers to the engine's current local clock).
+    pub fn floor(&self) -> Option<&Floor> {
+        self.floor.as_ref()
+    }
+
+    /// Switches the invariant checks on or off.
+    pub fn set_checks(&mut self, on: bool) {
+        self.check = on;
+    }
+
+    /// The disks (states at their own time stamps; use [`snapshot`](Self::snapshot) for a
+    /// common time).
+    pub fn disks(&self) -> &Disks {
+        &self.disks
+    }
+
+    /// Current absolute time.
+    pub fn time(&self) -> f64 {
+        self.base + self.now
+    }
+
+    /// Event counts so far.
+    pub fn counts(&self) -> EventCounts {
+        self.counts
+    }
+
+    /// Energy injected by the floor and dissipated in collisions so far.
+    pub fn energy_flow(&self) -> EnergyFlow {
+        self.flow
+    }
+
+    /// Σ over pair collisions of (contact distance × momentum exchanged): the collision virial.
+    pub fn virial(&self) -> f64 {
+        self.virial
+    }
+
+    /// Largest overlap seen at a contact (contact distance − centre distance), ≥ 0.
+    pub fn max_overlap(&self) -> f64 {
+        self.max_overlap
+    }
+
+    /// The neighbour mask in use.
+    pub fn mask(&self) -> &Mask {
+        &self.mask
+    }
+
+    /// The grid geometry in use.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+
+    /// Gravity of the flight law.
+    pub fn gravity(&self) -> f64 {
+        self.flight.g()
+    }
+
+    /// Bytes held by the engine's arrays (disks, events, tree, grid, neighbour lists).
+    pub fn bytes(&self) -> usize {
+        self.disks.bytes()
+            + 8 * self.ev_time.capacity()
+            + 4 * (self.ev_partner.capacity() + self.ev_counter.capacity())
+            + self.tree.bytes()
+            + self.cells.bytes()
+            + self.lists.bytes()
+            + 8 * self.cell_of.capacity()
+    }
+
+    /// State of disk `i` at local time `t`.
+    #[inline(always)]
+    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
+        let d = &self.disks;
+        self.flight
+            .advance(d.x[i], d.y[i], d.vx[i], d.vy[i], t - d.t[i])
+    }
+
+    /// Brings disk `i` to local time `t` (its stored state then belongs to `t`).
+    #[inline(always)]
+    fn bring(&mut self, i: usize, t: f64) {
+        let (x, y, vx, vy) = self.state_at(i, t);
+        let d = &mut self.disks;
+        d.x[i] = x;
+        d.y[i] = y;
+        d.vx[i] = vx;
+        d.vy[i] = vy;
+        d.t[i] = t;
+    }
+
+    /// Minimum-image separation where periodic.
+    #[inline(always)]
+    fn wrap(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
+        if let SideBounds::Periodic { width } = self.sides {
+            dx -= width * (dx / width).round();
+        }
+        if let Top::Periodic { height } = self.top {
+            dy -= height * (dy / height).round();
+        }
+        (dx, dy)
+    }
+
+    /// Finds disk `i`'s earliest event from now and files it in the tree.
+    fn predict(&mut self, i: usize) {
+        let now = self.now;
+        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let ai = self.disks.radius[i];
+        let mut best = f64::INFINITY;
+        let mut who = partner::NONE;
+        for &j in self.lists.of(i) {
+            let j = j as usize;
+            let (xj, yj, vxj, vyj) = self.state_at(j, now);
+            let (dx, dy) = self.wrap(xi - xj, yi - yj);
+            if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
+            {
+                if dt < best {
+                    best = dt;
+                    who = j as u32;
+                }
+            }
+        }
+        let mut counter = if who != partner::NONE {
+            self.disks.counter[who as usize]
+        } else {
+            0
+        };
+        if let Some((dt, side)) = self.sides.impact(xi, vxi, ai) {
+            if dt < best {
+                best = dt;
+                who = match side {
+                    Side::Left => partner::LEFT,
+                    Side::Right => partner::RIGHT,
+                };
+            }
+        }
+        let g = self.flight.g();
+        if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+            if dt < best {
+                best = dt;
+                who = partner::LID;
+            }
+        }
+        let mut t = now + best;
+        if let Some(floor) = &self.floor {
+            // Nothing after the re-mapping matters: it re-predicts every disk.
+            let limit = t.min(self.dutc.deadline);
+            match floor.next_event(yi, vyi, ai, g, now, limit) {
+                Some(FloorEvent::Impact(tf)) if tf < t => {
+                    t = tf;
+                    who = partner::FLOOR;
+                }
+                Some(FloorEvent::Recheck(tf)) if tf < t => {
+                    t = tf;
+                    who = partner::FLOOR_RECHECK;
+                }
+                _ => {}
+            }
+        }
+        if who >= partner::FLOOR_RECHECK {
+            counter = 0;
+        }
+        self.ev_time[i] = t;
+        self.ev_partner[i] = who;
+        self.ev_counter[i] = counter;
+        self.tree.update(&self.ev_time, i);
+    }
+
+    /// Squared speed of disk `i` (at its own time stamp) in the frame falling with gravity since
+    /// the last mapping.
+    #[inline(always)]
+    fn falling_speed_sq(&self, i: usize) -> f64 {
+        let vy = self.disks.vy[i] + self.flight.g() * self.disks.t[i];
+        self.disks.vx[i] * self.disks.vx[i] + vy * vy
+    }
+
+    /// Runs events until absolute time `target` (events at exactly `target` are left for later).
+    pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        loop {
+            let local_target = target - self.base;
+            if self.counts.popped() >= self.event_limit {
+                return Ok(Progress::EventLimit);
+            }
+            if self.counts.popped() & 0xfff == 0 {
+                if let Some(flag) = self.interrupt {
+                    if flag.load(Ordering::Relaxed) {
+                        return Ok(Progress::Interrupted);
+                    }
+                }
+            }
+            let i = self.tree.min();
+            let te = self.ev_time[i];
+            let deadline = self.dutc.deadline;
+            if deadline <= te && deadline < local_target {
+                self.now = deadline;
+                self.remap()?;
+                continue;
+            }
+            if te >= local_target {
+                self.now = self.now.max(local_target);
+                return Ok(Progress::Reached);
+            }
+            if self.check && te < self.now {
+                return Err(Error::Runtime(format!(
+                    "event of disk {i} at {} is before the present {}",
+                    te + self.base,
+                    self.now + self.base
+                )));
+            }
+            self.now = te;
+            self.fire(i)?;
+        }
+    }
+
+    /// Carries out disk `i`'s event at the present time.
+    fn fire(&mut self, i: usize) -> Result<()> {
+        let now = self.now;
+        let who = self.ev_partner[i];
+        if let Some(log) = self.log.as_mut() {
+            let p = match who {
+                partner::LEFT => Some(Partner::Left),
+                partner::RIGHT => Some(Partner::Right),
+                partner::LID => Some(Partner::Lid),
+                partner::FLOOR => Some(Partner::Floor),
+                partner::FLOOR_RECHECK | partner::NONE => None,
+                j if self.disks.counter[j as usize] == self.ev_counter[i] => {
+                    Some(Partner::Disk(j))
+                }
+                _ => None,
+            };
+            if let Some(p) = p {
+                log.push(Collision::new(self.base + now, i, p));
+            }
+        }
+        match who {
+            partner::LEFT | partner::RIGHT => {
+                self.bring(i, now);
+                let side = if who == partner::LEFT {
+                    Side::Left
+                } else {
+                    Side::Right
+                };
+                let before = self.disks.vx[i];
+                let after = self.sides.bounce(before, side);
+                self.disks.vx[i] = after;
+                self.flow.dissipated += 0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.counts.wall += 1;
+                self.moved(i);
+            }
+            partner::LID => {
+                self.bring(i, now);
+                let before = self.disks.vy[i];
+                let after = self.top.bounce(before);
+                self.disks.vy[i] = after;
+                self.flow.dissipated += 0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.counts.lid += 1;
+                self.moved(i);
+            }
+            partner::FLOOR => {
+                self.bring(i, now);
+                let floor = self.floor.as_ref().expect("floor events need a floor");
+                let before = self.disks.vy[i];
+                let after = floor.bounce(before, now);
+                self.disks.vy[i] = after;
+                self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
+                self.counts.floor += 1;
+                self.moved(i);
+            }
+            partner::FLOOR_RECHECK => {
+                self.counts.floor_recheck += 1;
+                self.predict(i);
+            }
+            partner::NONE => unreachable!("a disk without an event is never the minimum"),
+            j => {
+                let j = j as usize;
+                if self.disks.counter[j] != self.ev_counter[i] {
+                    self.counts.stale += 1;
+                    self.predict(i);
+                    return Ok(());
+                }
+                self.pair(i, j)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Disk `i`'s velocity changed: invalidate partners' predictions, watch DUTC, re-predict.
+    #[inline]
+    fn moved(&mut self, i: usize) {
+        self.disks.counter[i] = self.disks.counter[i].wrapping_add(1);
+        let s = self.falling_speed_sq(i);
+        self.dutc.observe(self.now, s);
+        self.predict(i);
+    }
+
+    fn pair(&mut self, i: usize, j: usize) -> Result<()> {
+        let now = self.now;
+        self.bring(i, now);
+        self.bring(j, now);
+        let d = &self.disks;
+        let (dx, dy) = self.wrap(d.x[i] - d.x[j], d.y[i] - d.y[j]);
+        let contact = d.radius[i] + d.radius[j];
+        let imp = collide(
+            dx,
+            dy,
+            d.vx[i] - d.vx[j],
+            d.vy[i] - d.vy[j],
+            d.mass[i],
+            d.mass[j],
+            self.restitution,
+        );
+        let overlap = contact - imp.distance;
+        if overlap > self.max_overlap {
+            self.max_overlap = overlap;
+            if self.check && overlap > OVERLAP_TOLERANCE * contact {
+                return Err(Error::Runtime(format!(
+                    "disks {i} and {j} overlap by {overlap:e} at time {}",
+                    self.time()
+                )));
+            }
+        }
+        let d = &mut self.disks;
+        d.vx[i] += imp.dvx_i;
+        d.vy[i] += imp.dvy_i;
+        d.vx[j] += imp.dvx_j;
+        d.vy[j] += imp.dvy_j;
+        self.flow.dissipated += imp.energy_lost;
+        self.virial += imp.distance * imp.momentum;
+        self.counts.pair += 1;
+        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
+        self.moved(i);
+        let s = self.falling_speed_sq(j);
+        self.dutc.observe(self.now, s);
+        self.predict(j);
+        Ok(())
+    }
+
+    /// Brings every disk to the present, re-bases the clock to it, re-maps the grid, rebuilds
+    /// the neighbour lists and re-predicts every event.
+    fn remap(&mut self) -> Result<()> {
+        let now = self.now;
+        let n = self.disks.len();
+        for i in 0..n {
+            self.bring(i, now);
+            self.disks.t[i] = 0.0;
+        }
+        if let SideBounds::Periodic { width } = self.sides {
+            for x in &mut self.disks.x {
+                *x = x.rem_euclid(width);
+            }
+        }
+        if let Top::Periodic { height } = self.top {
+            for y in &mut self.disks.y {
+                *y = y.rem_euclid(height);
+            }
+        }
+        self.base += now;
+        self.now = 0.0;
+        if let Some(floor) = &mut self.floor {
+            floor.rebase(now);
+        }
+        self.cell_of.clear();
+        for i in 0..n {
+            self.cell_of
+                .push(self.geometry.cell_of(self.disks.x[i], self.disks.y[i]));
+        }
+        self.cells
+            .rebuild(&self.geometry, &self.mask, &self.cell_of, &mut self.lists)?;
+        let vmax_sq = (0..n)
+            .map(|i| self.falling_speed_sq(i))
+            .fold(0.0f64, f64::max);
+        let margin = self.mask.reach() * self.geometry.cell() - 2.0 * self.a_max;
+        self.dutc = Dutc::new(margin, vmax_sq.sqrt());
+        self.ev_time.fill(f64::INFINITY);
+        self.tree = CompleteBinaryTree::build(&self.ev_time);
+        for i in 0..n {
+            self.predict(i);
+        }
+        self.counts.rebuild += 1;
+        Ok(())
+    }
+
+    /// Every disk's state at absolute time `t ≥` [`time`](Self::time), without touching the
+    /// engine (so observing never changes the dynamics).
+    pub fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        let n = self.disks.len();
+        let local = t - self.base;
+        out.time = t;
+        out.x.resize(n, 0.0);
+        out.y.resize(n, 0.0);
+        out.vx.resize(n, 0.0);
+        out.vy.resize(n, 0.0);
+        for i in 0..n {
+            let (x, y, vx, vy) = self.state_at(i, local);
+            out.x[i] = x;
+            out.y[i] = y;
+            out.vx[i] = vx;
+            out.vy[i] = vy;
+        }
+        if let SideBounds::Periodic { width } = self.sides {
+            for x in &mut out.x {
+                *x = x.rem_euclid(width);
+            }
+        }
+        if let Top::Periodic { height } = self.top {
+            for y in &mut out.y {
+                *y = y.rem_euclid(height);
+            }
+        }
+        out.floor_height = self.floor.as_ref().map(|f| f.height(local));
+    }
+
+    /// Every disk's state at absolute time `t`.
+    pub fn snapshot(&self, t: f64) -> Snapshot {
+        let mut s = Snapshot::default();
+        self.snapshot_into(t, &mut s);
+        s
+    }
+
+    /// Largest overlap between any two listed neighbours in `snap` (0 if none): an O(N) check
+    /// run at samples when the invariant checks are on.
+    pub fn overlap_in(&self, snap: &Snapshot) -> (f64, usize, usize) {
+        let mut worst = (0.0, 0, 0);
+        for i in 0..self.disks.len() {
+            for &j in self.lists.of(i) {
+                let j = j as usize;
+                let (dx, dy) = self.wrap(snap.x[i] - snap.x[j], snap.y[i] - snap.y[j]);
+                let s = self.disks.radius[i] + self.disks.radius[j];
+                let o = s - (dx * dx + dy * dy).sqrt();
+                if o > worst.0 {
+                    worst = (o, i, j);
+                }
+            }
+        }
+        worst
+    }
+
+    /// Refuses an initial state with overlaps beyond tolerance or disks outside the domain.
+    fn check_initial_state(&self) -> Result<()> {
+        let d = &self.disks;
+        for i in 0..d.len() {
+            let (x, y, a) = (d.x[i], d.y[i], d.radius[i]);
+            let tol = OVERLAP_TOLERANCE * a;
+            if !(x.is_finite() && y.is_finite() && d.vx[i].is_finite() && d.vy[i].is_finite()) {
+                return Err(Error::input(
+                    "particles.placement",
+                    format!("disk {i} has a non-finite position or velocity"),
+                ));
+            }
+            if let SideBounds::Walls { width, .. } = self.sides {
+                if x < a - tol || x > width - a + tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at x = {x} crosses a side wall"),
+                    ));
+                }
+            }
+            if let Some(f) = &self.floor {
+                if y - a < f.height(0.0) - tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at y = {y} is below the floor"),
+                    ));
+                }
+            }
+            if let Top::Lid { height, .. } = self.top {
+                if y + a > height + tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at y = {y} is above the lid"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that no two disks overlap beyond tolerance, by brute force over all pairs within
+    /// reach (O(N·neighbours), used at start and by tests).
+    pub fn check_no_overlap(&self, snap: &Snapshot) -> Result<()> {
+        let (o, i, j) = self.overlap_in(snap);
+        let s = self.disks.radius[i] + self.disks.radius[j];
+        if o > OVERLAP_TOLERANCE * s {
+            return Err(Error::Runtime(format!(
+                "disks {i} and {j} overlap by {o:e} at time {}",
+                snap.time
+            )));
+        }
+        Ok(())
+    }
+}

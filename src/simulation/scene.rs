@@ -1,0 +1,187 @@
+//! A scenario resolved into what the engine needs: boundaries, floor, collision law, and the
+//! initial disks (radii, masses, positions, velocities) drawn from the scenario's seed.
+
+use crate::disks::Disks;
+use crate::error::{Error, Result};
+use crate::locals::floor::Floor;
+use crate::locals::{SideBounds, Top};
+use crate::placement::{self, Region};
+use crate::scenario::checks::mean_disk_area;
+use crate::scenario::{
+    MaskChoice, Placement, PlacementKind, Radius, Scenario, XBoundary, YBoundary,
+};
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// Default packing fraction of the initial bed under an open top.
+pub const DEFAULT_BED_PACKING: f64 = 0.5;
+
+/// Everything about a scene except the disks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// Side boundaries.
+    pub sides: SideBounds,
+    /// Top boundary.
+    pub top: Top,
+    /// The floor, if any.
+    pub floor: Option<Floor>,
+    /// Gravity, if any.
+    pub gravity: Option<f64>,
+    /// Pair restitution.
+    pub restitution: f64,
+    /// Neighbour mask choice.
+    pub mask: MaskChoice,
+    /// Invariant checks on.
+    pub check_invariants: bool,
+    /// Event budget.
+    pub max_events: Option<u64>,
+}
+
+impl Scene {
+    /// Resolves a validated scenario into a scene and its initial disks.
+    pub fn build(s: &Scenario) -> Result<(Scene, Disks)> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(s.seed);
+        let n = s.disk_count();
+        let (radius, mass, species) = sizes(s, &mut rng);
+        let width = s.domain.width;
+        let height = match (s.domain.y_boundary, s.domain.height) {
+            (YBoundary::Open, _) => None,
+            (_, Some(h)) => Some(h),
+            (_, None) => {
+                let phi = s.particles.packing_fraction.expect("validated");
+                Some(n as f64 * mean_disk_area(s) / (phi * width))
+            }
+        };
+        let sides = match s.domain.x_boundary {
+            XBoundary::Walls => SideBounds::Walls {
+                width,
+                e: s.domain.wall_restitution,
+            },
+            XBoundary::Periodic => SideBounds::Periodic { width },
+        };
+        let top = match s.domain.y_boundary {
+            YBoundary::Open => Top::Open,
+            YBoundary::Lid => Top::Lid {
+                height: height.expect("closed"),
+                e: s.domain.wall_restitution,
+            },
+            YBoundary::Periodic => Top::Periodic {
+                height: height.expect("closed"),
+            },
+        };
+        let floor = s.floor.as_ref().map(|f| {
+            Floor::new(
+                f.restitution,
+                s.floor_amplitude(),
+                std::f64::consts::TAU * f.frequency.unwrap_or(0.0),
+                f.phase,
+                f.waveform,
+                f.model,
+            )
+        });
+        let floor_top = floor.as_ref().map_or(0.0, |f| f.amplitude);
+        let positions = match &s.particles.placement {
+            Placement::Explicit(e) => e.positions.clone(),
+            Placement::Kind(kind) => {
+                let (y0, y1, fill) = match height {
+                    Some(h) if s.domain.y_boundary == YBoundary::Periodic => (0.0, h, h),
+                    Some(h) => (floor_top, h, h - floor_top),
+                    None => {
+                        let phi = s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING);
+                        let bed = n as f64 * mean_disk_area(s) / (phi * width);
+                        (floor_top, f64::INFINITY, bed)
+                    }
+                };
+                if fill <= 0.0 {
+                    return Err(Error::input(
+                        "domain.height",
+                        "leaves no room above the floor's highest position",
+                    ));
+                }
+                let region = Region {
+                    x0: 0.0,
+                    x1: width,
+                    y0,
+                    y1,
+                    x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+                    y_periodic: s.domain.y_boundary == YBoundary::Periodic,
+                };
+                placement::place(
+                    &radius,
+                    region,
+                    fill,
+                    *kind == PlacementKind::Random,
+                    &mut rng,
+                )?
+            }
+        };
+        let mut disks = Disks::new(&positions, radius, mass, species);
+        let velocities = match &s.particles.placement {
+            Placement::Explicit(e) if e.velocities.is_some() => e.velocities.clone().unwrap(),
+            _ => placement::thermal_velocities(&disks.mass, s.particles.temperature, &mut rng),
+        };
+        for (i, v) in velocities.iter().enumerate() {
+            disks.vx[i] = v[0];
+            disks.vy[i] = v[1];
+        }
+        debug_assert_eq!(disks.len(), n);
+        let scene = Scene {
+            name: s.name.clone(),
+            sides,
+            top,
+            floor,
+            gravity: s.gravity,
+            restitution: s.collisions.restitution,
+            mask: s.engine.mask,
+            check_invariants: s.engine.check_invariants,
+            max_events: s.run.max_events,
+        };
+        Ok((scene, disks))
+    }
+}
+
+/// Radii, masses and species of every disk.
+fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
+    let p = &s.particles;
+    let pi = std::f64::consts::PI;
+    let n = s.disk_count();
+    let (radius, species, species_mass): (Vec<f64>, Vec<u32>, Vec<Option<f64>>) = match &p.radius
+    {
+        Radius::Fixed(r) => (vec![*r; n], vec![0; n], vec![None; n]),
+        Radius::Uniform(u) => (
+            (0..n)
+                .map(|_| u.min + (u.max - u.min) * rng.random::<f64>())
+                .collect(),
+            vec![0; n],
+            vec![None; n],
+        ),
+        Radius::Species(list) => {
+            let mut r = Vec::with_capacity(n);
+            let mut sp = Vec::with_capacity(n);
+            let mut m = Vec::with_capacity(n);
+            for (k, species) in list.species.iter().enumerate() {
+                for _ in 0..species.count {
+                    r.push(species.radius);
+                    sp.push(k as u32);
+                    m.push(species.mass);
+                }
+            }
+            (r, sp, m)
+        }
+    };
+    let (a_min, _) = s.radius_range();
+    let mass = radius
+        .iter()
+        .zip(&species_mass)
+        .map(|(&a, &m)| match (m, p.mass, p.density) {
+            (Some(m), _, _) => m,
+            (None, _, Some(rho)) => rho * pi * a * a,
+            (None, Some(m), None) => m,
+            // Equal areal density, the smallest disk weighing 1.
+            (None, None, None) => (a / a_min).powi(2),
+        })
+        .collect();
+    (radius, mass, species)
+}

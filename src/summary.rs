@@ -1,0 +1,133 @@
+//! The run summary (JSON): what users, their scripts and the regression suite read.
+
+use crate::measure::{Observables, ProfileTable};
+use crate::simulation::EventCounts;
+use serde::Serialize;
+
+/// How the run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Ending {
+    /// Reached `run.duration`.
+    Completed,
+    /// Stopped by Ctrl-C; the summary covers the time simulated so far.
+    Interrupted,
+    /// Stopped by `run.max_events`.
+    EventLimit,
+}
+
+/// Kinetic and potential energy at one time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergyAt {
+    /// Σ ½ m v².
+    pub kinetic: f64,
+    /// Σ m g y.
+    pub potential: f64,
+    /// kinetic + potential.
+    pub total: f64,
+}
+
+impl From<&Observables> for EnergyAt {
+    fn from(o: &Observables) -> Self {
+        EnergyAt {
+            kinetic: o.kinetic,
+            potential: o.potential,
+            total: o.energy(),
+        }
+    }
+}
+
+/// The energy budget: final = initial + injected − dissipated, to round-off.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergySummary {
+    /// At the start.
+    pub initial: EnergyAt,
+    /// At the end.
+    #[serde(rename = "final")]
+    pub final_: EnergyAt,
+    /// Work done by the floor.
+    pub injected: f64,
+    /// Lost in collisions.
+    pub dissipated: f64,
+    /// |final − initial − injected + dissipated| relative to the largest term.
+    pub balance_error: f64,
+}
+
+/// Granular temperature per axis, time-averaged over the samples after the warm-up.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Temperature {
+    /// ⟨Σ m (vx − Vx)²⟩/N.
+    pub x: f64,
+    /// ⟨Σ m (vy − Vy)²⟩/N.
+    pub y: f64,
+    /// (x + y)/2.
+    pub mean: f64,
+}
+
+/// How the engine was set up.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EngineSummary {
+    /// Integration scheme.
+    pub scheme: String,
+    /// Neighbour mask (Isobe's name).
+    pub mask: String,
+    /// Grid cell side.
+    pub cell: f64,
+    /// Grid storage: `dense` or `hashed` (open top).
+    pub grid: String,
+    /// Bytes held by the engine per disk.
+    pub bytes_per_disk: f64,
+    /// Measurement samples averaged.
+    pub samples: usize,
+}
+
+/// The whole summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Seed used.
+    pub seed: u64,
+    /// Number of disks.
+    pub particles: usize,
+    /// How the run ended.
+    pub ending: Ending,
+    /// Simulated time reached.
+    pub sim_time: f64,
+    /// Wall-clock seconds of the event loop (setup excluded).
+    pub wall_seconds: f64,
+    /// Events by kind.
+    pub events: EventCounts,
+    /// (pair + wall + lid + floor collisions) per wall-clock second.
+    pub collisions_per_second: f64,
+    /// Energy budget.
+    pub energy: EnergySummary,
+    /// Granular temperature (averaged after warm-up).
+    pub temperature: Temperature,
+    /// Z = PA/(NkT) from the pair collision virial, for a closed elastic box without gravity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compressibility_factor: Option<f64>,
+    /// Packing fraction of a closed box.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packing_fraction: Option<f64>,
+    /// Largest overlap seen at a contact (distance units).
+    pub max_overlap: f64,
+    /// Mean centre-of-mass height (averaged after warm-up), gravity scenes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_height: Option<f64>,
+    /// Floor impacts per unit simulated time (after warm-up), scenes with a floor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub impacts_per_unit_time: Option<f64>,
+    /// Height profiles (gravity scenes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profiles: Option<ProfileTable>,
+    /// Engine set-up.
+    pub engine: EngineSummary,
+}
+
+impl Summary {
+    /// Pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("summary serialises") + "\n"
+    }
+}
