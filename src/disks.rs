@@ -1,19 +1,27 @@
 //! The disks, as a structure of arrays: positions, velocities and the time stamp each state
 //! belongs to (disks are advanced lazily), radii, masses, collision counters.
 
-/// Structure-of-arrays storage of N disks.
+/// A disk's motion: its state at its own time stamp (kept together: the hot data of the event
+/// loop, one cache line's worth per disk).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Motion {
+    /// Centre x at time `t`.
+    pub x: f64,
+    /// Centre y at time `t`.
+    pub y: f64,
+    /// Velocity x at time `t`.
+    pub vx: f64,
+    /// Velocity y at time `t`.
+    pub vy: f64,
+    /// The (engine-local) time the stored state belongs to.
+    pub t: f64,
+}
+
+/// Storage of N disks: motions together, static properties in their own arrays.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Disks {
-    /// Centre x at the disk's own time `t`.
-    pub x: Vec<f64>,
-    /// Centre y at the disk's own time `t`.
-    pub y: Vec<f64>,
-    /// Velocity x at time `t`.
-    pub vx: Vec<f64>,
-    /// Velocity y at time `t`.
-    pub vy: Vec<f64>,
-    /// The (engine-local) time the stored state belongs to.
-    pub t: Vec<f64>,
+    /// Position, velocity and time stamp of each disk.
+    pub motion: Vec<Motion>,
     /// Radius.
     pub radius: Vec<f64>,
     /// Mass.
@@ -30,11 +38,14 @@ impl Disks {
         let n = positions.len();
         assert!(radius.len() == n && mass.len() == n && species.len() == n);
         Disks {
-            x: positions.iter().map(|p| p[0]).collect(),
-            y: positions.iter().map(|p| p[1]).collect(),
-            vx: vec![0.0; n],
-            vy: vec![0.0; n],
-            t: vec![0.0; n],
+            motion: positions
+                .iter()
+                .map(|p| Motion {
+                    x: p[0],
+                    y: p[1],
+                    ..Motion::default()
+                })
+                .collect(),
             radius,
             mass,
             species,
@@ -44,12 +55,12 @@ impl Disks {
 
     /// Number of disks.
     pub fn len(&self) -> usize {
-        self.x.len()
+        self.motion.len()
     }
 
     /// `true` when there are no disks.
     pub fn is_empty(&self) -> bool {
-        self.x.is_empty()
+        self.motion.is_empty()
     }
 
     /// Smallest and largest radius.
@@ -59,14 +70,10 @@ impl Disks {
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)))
     }
 
-    /// Bytes held per disk by these arrays.
+    /// Bytes held by these arrays.
     pub fn bytes(&self) -> usize {
-        8 * (self.x.capacity()
-            + self.y.capacity()
-            + self.vx.capacity()
-            + self.vy.capacity()
-            + self.t.capacity()
-            + self.radius.capacity()
+        std::mem::size_of::<Motion>() * self.motion.capacity()
+            + 8 * (self.radius.capacity()
             + self.mass.capacity())
             + 4 * (self.species.capacity() + self.counter.capacity())
     }

@@ -156,6 +156,23 @@ pub trait CellMap {
     fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()>;
     /// The disk in cell `(ix, iy)`, if any.
     fn disk_at(&self, ix: u32, iy: u32) -> Option<u32>;
+    /// Calls `found` with every disk in the cells at `offsets` around `(ix, iy)`.
+    #[inline]
+    fn gather(
+        &self,
+        geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        (ix, iy): (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        for &(dx, dy) in offsets {
+            if let Some((cx, cy)) = geometry.offset(ix, iy, dx, dy) {
+                if let Some(j) = self.disk_at(cx, cy) {
+                    found(j);
+                }
+            }
+        }
+    }
     /// Bytes held.
     fn bytes(&self) -> usize;
 }
@@ -166,37 +183,94 @@ fn shared_cell(i: u32, j: u32) -> Error {
     ))
 }
 
-/// One slot per cell (0 = empty, else disk number + 1).
+/// One slot per cell (0 = empty, else disk number + 1), with a halo of `pad` cells around the
+/// grid: copies of the opposite edge where periodic, empty otherwise. A mask offset is then one
+/// fixed index step, with no wrapping or bounds tests while neighbour lists are built.
 #[derive(Debug, Clone, Default)]
 pub struct DenseCells {
-    nx: u32,
+    pad: u32,
+    stride: usize,
     slots: Vec<u32>,
+}
+
+impl DenseCells {
+    /// A dense map whose halo is wide enough for masks of half-width `pad`.
+    pub fn with_pad(pad: u32) -> DenseCells {
+        DenseCells {
+            pad,
+            ..DenseCells::default()
+        }
+    }
+
+    #[inline(always)]
+    fn index(&self, ix: u32, iy: u32) -> usize {
+        (iy + self.pad) as usize * self.stride + (ix + self.pad) as usize
+    }
 }
 
 impl CellMap for DenseCells {
     fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()> {
-        let ny = geometry.ny.expect("a dense grid needs a bounded height");
-        self.nx = geometry.nx;
-        let n = geometry.nx as usize * ny as usize;
+        let ny = geometry.ny.expect("a dense grid needs a bounded height") as usize;
+        let nx = geometry.nx as usize;
+        let p = self.pad as usize;
+        self.stride = nx + 2 * p;
+        let n = self.stride * (ny + 2 * p);
         if self.slots.len() != n {
             self.slots = vec![0; n];
         } else {
             self.slots.fill(0);
         }
         for (i, &(ix, iy)) in cells.iter().enumerate() {
-            let slot = &mut self.slots[iy as usize * self.nx as usize + ix as usize];
+            let k = self.index(ix, iy);
+            let slot = &mut self.slots[k];
             if *slot != 0 {
                 return Err(shared_cell(*slot - 1, i as u32));
             }
             *slot = i as u32 + 1;
+        }
+        let stride = self.stride;
+        if geometry.x_periodic {
+            for row in p..p + ny {
+                let r = row * stride;
+                for k in 0..p {
+                    self.slots[r + k] = self.slots[r + nx + k];
+                    self.slots[r + p + nx + k] = self.slots[r + p + k];
+                }
+            }
+        }
+        if geometry.y_periodic {
+            for k in 0..p {
+                let (below, from_top) = (k * stride, (ny + k) * stride);
+                let (above, from_bottom) = ((p + ny + k) * stride, (p + k) * stride);
+                self.slots.copy_within(from_top..from_top + stride, below);
+                self.slots.copy_within(from_bottom..from_bottom + stride, above);
+            }
         }
         Ok(())
     }
 
     #[inline(always)]
     fn disk_at(&self, ix: u32, iy: u32) -> Option<u32> {
-        let s = self.slots[iy as usize * self.nx as usize + ix as usize];
+        let s = self.slots[self.index(ix, iy)];
         (s != 0).then(|| s - 1)
+    }
+
+    #[inline]
+    fn gather(
+        &self,
+        _geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        (ix, iy): (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        debug_assert!(offsets.iter().all(|&(a, b)| a.unsigned_abs().max(b.unsigned_abs()) <= self.pad));
+        let base = self.index(ix, iy) as isize;
+        for &(dx, dy) in offsets {
+            let s = self.slots[(base + dy as isize * self.stride as isize + dx as isize) as usize];
+            if s != 0 {
+                found(s - 1);
+            }
+        }
     }
 
     fn bytes(&self) -> usize {

@@ -22,31 +22,34 @@ pub enum Cells {
 }
 
 impl Cells {
-    /// The storage suited to `geometry` (sparse exactly when the height is unbounded).
-    pub fn for_geometry(geometry: &GridGeometry) -> Cells {
+    /// The storage suited to `geometry` (sparse exactly when the height is unbounded), for
+    /// `mask`.
+    pub fn for_geometry(geometry: &GridGeometry, mask: &Mask) -> Cells {
         if geometry.ny.is_some() {
-            Cells::Dense(DenseCells::default())
+            Cells::Dense(DenseCells::with_pad(mask.half_width as u32))
         } else {
             Cells::Sparse(SparseCells::default())
         }
     }
 
-    /// Re-maps the disks and rebuilds the neighbour lists from `mask`.
+    /// Re-maps the disks and rebuilds the neighbour lists from `mask`, keeping the pairs that
+    /// `near` accepts.
     pub fn rebuild(
         &mut self,
         geometry: &GridGeometry,
         mask: &Mask,
         cells: &[(u32, u32)],
         lists: &mut NeighbourLists,
+        near: impl Fn(usize, usize) -> bool,
     ) -> Result<()> {
         match self {
             Cells::Dense(d) => {
                 d.map(geometry, cells)?;
-                lists.build(geometry, mask, cells, d);
+                lists.build(geometry, mask, cells, d, near);
             }
             Cells::Sparse(s) => {
                 s.map(geometry, cells)?;
-                lists.build(geometry, mask, cells, s);
+                lists.build(geometry, mask, cells, s, near);
             }
         }
         Ok(())

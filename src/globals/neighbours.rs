@@ -12,26 +12,27 @@ pub struct NeighbourLists {
 }
 
 impl NeighbourLists {
-    /// Rebuilds from the mapped cells: disk i's list holds every disk in the cells of `mask`
-    /// around its cell. Masks are point-symmetric, so j ∈ list(i) ⇔ i ∈ list(j).
+    /// Rebuilds from the mapped cells: disk i's list holds the disks in the cells of `mask`
+    /// around its cell that `near(i, j)` accepts (a distance filter; it must be symmetric).
+    /// Masks are point-symmetric, so j ∈ list(i) ⇔ i ∈ list(j).
     pub fn build<M: CellMap>(
         &mut self,
         geometry: &GridGeometry,
         mask: &Mask,
         cells: &[(u32, u32)],
         map: &M,
+        near: impl Fn(usize, usize) -> bool,
     ) {
         self.start.clear();
         self.list.clear();
         self.start.push(0);
-        for &(ix, iy) in cells {
-            for &(dx, dy) in &mask.offsets {
-                if let Some((cx, cy)) = geometry.offset(ix, iy, dx, dy) {
-                    if let Some(j) = map.disk_at(cx, cy) {
-                        self.list.push(j);
-                    }
+        for (i, &cell) in cells.iter().enumerate() {
+            let list = &mut self.list;
+            map.gather(geometry, &mask.offsets, cell, |j| {
+                if near(i, j as usize) {
+                    list.push(j);
                 }
-            }
+            });
             self.start.push(self.list.len() as u32);
         }
     }

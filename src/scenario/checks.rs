@@ -120,6 +120,9 @@ pub fn validate(s: &Scenario) -> Result<()> {
     if s.output.profile_bins == 0 {
         return Err(Error::input("output.profile_bins", "must be at least 1"));
     }
+    if let Some(skin) = s.engine.skin {
+        positive("engine.skin", skin)?;
+    }
     if s.engine.scheme != Scheme::EventDriven {
         return Err(Error::input(
             "engine.scheme",

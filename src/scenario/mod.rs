@@ -335,6 +335,10 @@ pub struct Engine {
     /// Neighbour mask: `auto`, `min`, `r3` … `r10`.
     #[serde(default)]
     pub mask: MaskChoice,
+    /// Neighbour-list skin: the DUTC margin `r_NL − 2 a_max`, in units of the smallest radius
+    /// (absent: the most the mask allows). Lists keep pairs closer than contact + skin.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skin: Option<f64>,
     /// Switch on the invariant checks (no overlap, no event in the past, energy balance).
     #[serde(default)]
     pub check_invariants: bool,
@@ -345,6 +349,7 @@ impl Default for Engine {
         Engine {
             scheme: Scheme::EventDriven,
             mask: MaskChoice::Auto,
+            skin: None,
             check_invariants: false,
         }
     }

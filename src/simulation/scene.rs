@@ -33,6 +33,9 @@ pub struct Scene {
     pub restitution: f64,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
+    /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
+    /// allows.
+    pub skin: Option<f64>,
     /// Invariant checks on.
     pub check_invariants: bool,
     /// Event budget.
@@ -123,8 +126,8 @@ impl Scene {
             _ => placement::thermal_velocities(&disks.mass, s.particles.temperature, &mut rng),
         };
         for (i, v) in velocities.iter().enumerate() {
-            disks.vx[i] = v[0];
-            disks.vy[i] = v[1];
+            disks.motion[i].vx = v[0];
+            disks.motion[i].vy = v[1];
         }
         debug_assert_eq!(disks.len(), n);
         let scene = Scene {
@@ -135,6 +138,7 @@ impl Scene {
             gravity: s.gravity,
             restitution: s.collisions.restitution,
             mask: s.engine.mask,
+            skin: s.engine.skin,
             check_invariants: s.engine.check_invariants,
             max_events: s.run.max_events,
         };
