@@ -1,7 +1,7 @@
 //! Writes Rerun recordings of synthetic frames and reads them back with Rerun's decoder.
 #![cfg(feature = "record")]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
 use vibrobed::output::recording::{read_back, RerunRecorder};
@@ -79,7 +79,7 @@ fn view(k: u64, s: &State) -> FrameView<'_> {
     }
 }
 
-fn write(path: &PathBuf, color_by: ColorBy, top: Option<f64>) -> RerunRecorder {
+fn write(path: &Path, color_by: ColorBy, top: Option<f64>) -> RerunRecorder {
     let mut rec = RerunRecorder::create(path, &layout(top), color_by).unwrap();
     rec.log_text(0.0, "info", "recording started").unwrap();
     for k in 0..FRAMES {
@@ -106,13 +106,17 @@ fn frames_read_back_equal_what_was_logged() {
     for (k, d) in c.disks.iter().enumerate() {
         let s = state(k as u64);
         assert_eq!(d.frame, k as i64);
-        assert!((d.time - s.time).abs() < 1e-9, "frame {k}: time {} vs {}", d.time, s.time);
-        let expected: Vec<[f32; 2]> = s
-            .x
-            .iter()
-            .zip(&s.y)
-            .map(|(&x, &y)| [x as f32, y as f32])
-            .collect();
+        assert!(
+            (d.time - s.time).abs() < 1e-9,
+            "frame {k}: time {} vs {}",
+            d.time,
+            s.time
+        );
+        let expected: Vec<[f32; 2]> =
+            s.x.iter()
+                .zip(&s.y)
+                .map(|(&x, &y)| [x as f32, y as f32])
+                .collect();
         assert_eq!(d.positions, expected, "frame {k}");
         assert_eq!(d.radii, vec![0.5f32, 0.5, 0.25], "frame {k}");
         assert_eq!(d.class_ids, vec![0u16, 0, 1], "frame {k}");
@@ -134,7 +138,12 @@ fn frames_read_back_equal_what_was_logged() {
         let values = &c.series[name];
         assert_eq!(values.len(), FRAMES as usize, "{name}");
         for (k, &(f, v)) in values.iter().enumerate() {
-            let expected = state(k as u64).series.iter().find(|s| s.0 == name).unwrap().1;
+            let expected = state(k as u64)
+                .series
+                .iter()
+                .find(|s| s.0 == name)
+                .unwrap()
+                .1;
             assert_eq!((f, v), (k as i64, expected), "{name}");
         }
         let stats = c.entity(&format!("series/{name}")).unwrap();
@@ -149,7 +158,11 @@ fn frames_read_back_equal_what_was_logged() {
     assert!((c.log[1].time.unwrap() - 4.0 * DT).abs() < 1e-9);
 
     // Static scene: walls (open top → grown to the disks), transforms, annotation context.
-    assert!(c.static_entities.contains("scene/walls"), "{:?}", c.static_entities);
+    assert!(
+        c.static_entities.contains("scene/walls"),
+        "{:?}",
+        c.static_entities
+    );
     assert!(!c.static_entities.contains("scene/lid"));
     assert!(c.static_entities.contains("disks"));
     assert!(c.has_blueprint);
@@ -231,7 +244,11 @@ fn recording_throughput() {
     let species = vec![0; n];
     let vx: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
     let vy: Vec<f64> = (0..n).map(|i| (i as f64 * 0.91).cos()).collect();
-    let series = [("energy/kinetic", 1.0), ("temperature/x", 2.0), ("temperature/y", 3.0)];
+    let series = [
+        ("energy/kinetic", 1.0),
+        ("temperature/x", 2.0),
+        ("temperature/y", 3.0),
+    ];
     let start = std::time::Instant::now();
     for k in 0..frames {
         let t = k as f64 * 0.01;

@@ -133,8 +133,16 @@ fn rgb(c: [u8; 3]) -> Color {
 
 /// Blue (slow) → light grey → red (fast), `t` in [0, 1] ("coolwarm").
 fn speed_color(t: f64) -> Color {
-    const STOPS: [[f64; 3]; 3] = [[59.0, 76.0, 192.0], [221.0, 221.0, 221.0], [180.0, 4.0, 38.0]];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 1.0 };
+    const STOPS: [[f64; 3]; 3] = [
+        [59.0, 76.0, 192.0],
+        [221.0, 221.0, 221.0],
+        [180.0, 4.0, 38.0],
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     let (a, b, s) = if t < 0.5 {
         (STOPS[0], STOPS[1], t * 2.0)
     } else {
@@ -189,7 +197,12 @@ impl RerunRecorder {
             .map(|s| {
                 let c = SPECIES_PALETTE[s % SPECIES_PALETTE.len()];
                 let id = u16::try_from(s).unwrap_or(u16::MAX);
-                (id, format!("species {s}").as_str(), Rgba32::from_rgb(c[0], c[1], c[2])).into()
+                (
+                    id,
+                    format!("species {s}").as_str(),
+                    Rgba32::from_rgb(c[0], c[1], c[2]),
+                )
+                    .into()
             })
             .collect();
         self.rec
@@ -223,9 +236,12 @@ impl RerunRecorder {
         self.rec
             .log_static(
                 WALLS_ENTITY,
-                &LineStrips2D::new([line([[0.0, 0.0], [0.0, height]]), line([[w, 0.0], [w, height]])])
-                    .with_colors([rgb(WALL_COLOR)])
-                    .with_radii([Radius::new_ui_points(1.5)]),
+                &LineStrips2D::new([
+                    line([[0.0, 0.0], [0.0, height]]),
+                    line([[w, 0.0], [w, height]]),
+                ])
+                .with_colors([rgb(WALL_COLOR)])
+                .with_radii([Radius::new_ui_points(1.5)]),
             )
             .map_err(|e| err("walls", e))
     }
@@ -407,7 +423,11 @@ impl RerunRecorder {
                     .into(),
             );
         }
-        right.push(TextLogView::new("log").with_origin(format!("/{LOG_ENTITY}")).into());
+        right.push(
+            TextLogView::new("log")
+                .with_origin(format!("/{LOG_ENTITY}"))
+                .into(),
+        );
 
         let disks = Spatial2DView::new(self.layout.name.clone())
             .with_origin("/")
@@ -494,7 +514,7 @@ pub struct RecordingContents {
     pub floor: Vec<(i64, f32)>,
     /// Series values by name (without the `series/` prefix): `(frame, value)`, sorted by frame.
     pub series: BTreeMap<String, Vec<(i64, f64)>>,
-    /// Text log entries in file order.
+    /// Text log entries sorted by simulated time (entries without time first; ties in file order).
     pub log: Vec<LogLine>,
     /// Whether a blueprint (with its activation command) is in the file.
     pub has_blueprint: bool,
@@ -534,8 +554,8 @@ fn entity_name(chunk: &Chunk) -> String {
 /// `vibrobed` tooling. Fails when the file cannot be read or is not a valid RRD stream (a file
 /// cut short fails too; a file merely lacking its footer decodes with `has_footer == false`).
 pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
-    let file = std::fs::File::open(path)
-        .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    let file =
+        std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
     let reader = std::io::BufReader::new(file);
     let mut decoder = DecoderApp::decode_eager(reader)
         .map_err(|e| format!("{} is not a valid RRD file: {e}", path.display()))?;
@@ -693,6 +713,11 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
         })
         .collect();
     out.floor.sort_by_key(|&(f, _)| f);
+    out.log.sort_by(|a, b| {
+        a.time
+            .unwrap_or(f64::NEG_INFINITY)
+            .total_cmp(&b.time.unwrap_or(f64::NEG_INFINITY))
+    });
     for values in out.series.values_mut() {
         values.sort_by_key(|&(f, _)| f);
     }
