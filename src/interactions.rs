@@ -25,6 +25,40 @@ pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> Option<f64>
     Some((c / (-b + disc.sqrt())).max(0.0))
 }
 
+/// The restitution law of pair collisions: a constant `e`, made elastic by the optional cures
+/// of inelastic collapse (TC model, normal-speed cutoff).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Restitution {
+    /// Normal restitution.
+    pub e: f64,
+    /// TC model: elastic when either disk collided less than `tc` ago.
+    pub tc: Option<f64>,
+    /// Elastic when the normal approach speed is below this.
+    pub speed_cutoff: Option<f64>,
+}
+
+impl Restitution {
+    /// The restitution of a collision with normal approach speed `u ≥ 0`, where the two disks'
+    /// previous collisions were `since_i` and `since_j` ago.
+    #[inline]
+    pub fn of(&self, u: f64, since_i: f64, since_j: f64) -> f64 {
+        if self.e == 1.0 {
+            return 1.0;
+        }
+        if let Some(tc) = self.tc {
+            if since_i < tc || since_j < tc {
+                return 1.0;
+            }
+        }
+        if let Some(v) = self.speed_cutoff {
+            if u < v {
+                return 1.0;
+            }
+        }
+        self.e
+    }
+}
+
 /// Outcome of one pair collision.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impulse {
@@ -121,4 +155,110 @@ mod tests {
         let u_after = (2.0 + imp.dvx_i - imp.dvx_j) * -1.0;
         assert!((u_after - 1.0).abs() < 1e-15);
     }
+}
+
+/// Outcome of the contact search between a disk riding the floor and a flying disk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RiderContact {
+    /// They touch at this time.
+    At(f64),
+    /// The search did not conclude within its budget (a grazing pair): look again then.
+    Recheck(f64),
+}
+
+/// Iterations of the rider–flyer contact search before it asks to be re-run.
+const RIDER_STEPS: usize = 200;
+
+/// First time in `[now, limit]` at which a disk riding the floor touches a flying disk.
+///
+/// The rider moves with `x_r + vx_r τ` and `y = h(t) + a_r` (`ride(t)` gives `(h, h')`); the flyer
+/// on its parabola under gravity `g`. `dx` is the flyer's x minus the rider's at `now` (minimum
+/// image), `dy0` the flyer's y minus the rider's, `dvx` and `dvy0` likewise, `s` the contact
+/// distance and `k_floor` a bound on |h''|. With `F(τ) = |Δr|² − s²`,
+/// `|F''| ≤ 2(Δvx² + Δvy² + |Δy| (g + k_floor))`, bounded over a window from the values at its
+/// start; stepping to the first root of the parabola `F + F' σ − ½ M σ²` never passes the first
+/// root of F (the same safe-step scheme as the floor impacts).
+#[allow(clippy::too_many_arguments)]
+pub fn rider_contact(
+    dx: f64,
+    dvx: f64,
+    flyer_y: f64,
+    flyer_vy: f64,
+    rider_a: f64,
+    s: f64,
+    g: f64,
+    k_floor: f64,
+    now: f64,
+    limit: f64,
+    ride: impl Fn(f64) -> (f64, f64),
+) -> Option<RiderContact> {
+    let k = g + k_floor;
+    let tol = 1e-13 * s * s;
+    let mut tau = 0.0f64;
+    let mut window = f64::NAN;
+    for _ in 0..RIDER_STEPS {
+        let t = now + tau;
+        if t > limit {
+            return None;
+        }
+        let (h, hd) = ride(t);
+        let ddx = dx + dvx * tau;
+        let ddy = flyer_y + (flyer_vy - 0.5 * g * tau) * tau - h - rider_a;
+        let dvy = flyer_vy - g * tau - hd;
+        let f = ddx * ddx + ddy * ddy - s * s;
+        let fd = 2.0 * (ddx * dvx + ddy * dvy);
+        let bound = |w: f64| {
+            let v = dvy.abs() + k * w;
+            let y = ddy.abs() + dvy.abs() * w + 0.5 * k * w * w;
+            2.0 * (dvx * dvx + v * v + y * k)
+        };
+        if f <= tol {
+            if fd <= 0.0 {
+                return Some(RiderContact::At(t));
+            }
+            // Touching but separating: the lower bound stays ≥ f for 2 f'/M.
+            let m = bound(fd / bound(0.0).max(f64::MIN_POSITIVE));
+            if m <= 0.0 {
+                return None;
+            }
+            tau += (2.0 * fd / m).max(f64::EPSILON * t.abs().max(1.0));
+            continue;
+        }
+        if window.is_nan() {
+            let m0 = bound(0.0);
+            window = if m0 > 0.0 {
+                (2.0 * f / m0).sqrt()
+            } else if fd < 0.0 {
+                f / -fd
+            } else {
+                return None;
+            };
+        }
+        let w = window.min((limit - t).max(0.0)).max(f64::MIN_POSITIVE);
+        let m = bound(w);
+        let step = if m > 0.0 {
+            let root = (fd * fd + 2.0 * m * f).sqrt();
+            if fd >= 0.0 {
+                (fd + root) / m
+            } else {
+                2.0 * f / (root - fd)
+            }
+        } else if fd < 0.0 {
+            f / -fd
+        } else {
+            f64::INFINITY
+        };
+        if step >= w {
+            if t + w >= limit {
+                return None;
+            }
+            tau += w;
+            window = 2.0 * w;
+        } else {
+            tau += step;
+            window = step.max(f64::MIN_POSITIVE) * 2.0;
+        }
+    }
+    let t = now + tau;
+    (t <= limit).then_some(RiderContact::Recheck(t))
 }

@@ -212,7 +212,7 @@ fn drive<F: Flight>(
             k_frame += 1;
             if let Some(sink) = sink.as_mut() {
                 let o = Observables::of(&snap, sim.disks(), g);
-                let flow = sim.energy_flow();
+                let flow = sim.energy_flow_at(snap.time);
                 let collisions = sim.counts().collisions();
                 let rate = (collisions - last_frame_collisions) as f64 / frame_dt;
                 last_frame_collisions = collisions;
@@ -270,7 +270,7 @@ fn drive<F: Flight>(
         sink.log_text(end_time, level, &note)?;
         sink.finish()?;
     }
-    let flow = sim.energy_flow();
+    let flow = sim.energy_flow_at(snap.time);
     let balance = last.energy() - initial.energy() - flow.injected + flow.dissipated;
     let scale = initial
         .energy()
@@ -359,7 +359,7 @@ fn check_sample<F: Flight>(
 ) -> Result<()> {
     sim.check_no_overlap(snap)?;
     let now = Observables::of(snap, sim.disks(), g);
-    let flow = sim.energy_flow();
+    let flow = sim.energy_flow_at(snap.time);
     let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
     let scale = initial
         .energy()

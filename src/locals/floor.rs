@@ -52,6 +52,31 @@ impl FloorEvent {
 /// Iterations of the safe-step search before a [`FloorEvent::Recheck`] is returned.
 const MAX_STEPS: usize = 200;
 
+/// A disk comes to rest on the floor (rides it) when its rebound, relative to the floor, would
+/// rise less than `REST_HEIGHT` radii under gravity. This ends the infinite sequence of ever
+/// smaller bounces of an inelastic disk (Zeno) after finitely many impacts; bounces that small
+/// change nothing measurable.
+pub const REST_HEIGHT: f64 = 1e-9;
+
+/// How a ride on the floor ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RideEnd {
+    /// The floor accelerates downwards faster than g: the disk flies off with vertical speed
+    /// `launch`.
+    TakeOff {
+        /// Vertical velocity at take-off.
+        launch: f64,
+    },
+    /// A kink of a piecewise-linear floor turns upwards: the floor hits the riding disk, which
+    /// moved with the floor's velocity `before`, and the floor now moves with `after`.
+    Kick {
+        /// Vertical velocity of the disk (the floor's, before the kink).
+        before: f64,
+        /// The floor's velocity after the kink.
+        after: f64,
+    },
+}
+
 impl Floor {
     /// A floor with amplitude `amplitude`, angular frequency `omega` and initial phase `phase`.
     pub fn new(
@@ -152,12 +177,133 @@ impl Floor {
     /// reflects it like a static floor (the disk must not pass y = 0).
     #[inline]
     pub fn bounce(&self, vy: f64, t: f64) -> f64 {
-        let hd = self.velocity(t);
+        self.bounce_on(vy, self.velocity(t))
+    }
+
+    /// [`bounce`](Self::bounce) on a floor moving with vertical velocity `hd`.
+    #[inline]
+    pub fn bounce_on(&self, vy: f64, hd: f64) -> f64 {
         let e = self.restitution;
         let moving = hd - e * (vy - hd).min(0.0);
         match self.model {
             FloorModel::Exact => moving,
             FloorModel::FixedPosition => moving.max(-e * vy).max(0.0),
+        }
+    }
+
+    /// The vibration period (1 for a static floor): a time scale for round-off guards.
+    pub fn period_or_one(&self) -> f64 {
+        if self.is_static() {
+            1.0
+        } else {
+            TAU / self.omega
+        }
+    }
+
+    /// Floor acceleration at local time `t` (0 on the pieces of a piecewise-linear floor).
+    #[inline]
+    pub fn acceleration(&self, t: f64) -> f64 {
+        match self.waveform {
+            Waveform::Sine if !self.is_static() => {
+                -self.amplitude * self.omega * self.omega * self.phase(t).sin()
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Largest |h'| of the floor.
+    pub fn max_speed(&self) -> f64 {
+        self.amplitude * self.omega
+    }
+
+    /// Bound on |h''| over a piece of the motion (the sine's Aω²; 0 on linear pieces).
+    pub fn max_acceleration(&self) -> f64 {
+        match (self.model, self.waveform) {
+            (FloorModel::Exact, Waveform::Sine) => self.amplitude * self.omega * self.omega,
+            _ => 0.0,
+        }
+    }
+
+    /// Rebound speed (relative to the floor) below which a disk of radius `a` comes to rest.
+    pub fn rest_speed(a: f64, g: f64) -> f64 {
+        (2.0 * g * REST_HEIGHT * a).sqrt()
+    }
+
+    /// Whether a disk just bounced at local time `t` with relative rebound speed `rel` comes to
+    /// rest on the floor: the rebound is negligible and the floor presses the disk (its
+    /// acceleration is above −g, so a disk moving with it stays in contact).
+    pub fn comes_to_rest(&self, rel: f64, a: f64, g: f64, t: f64) -> bool {
+        g > 0.0
+            && rel < Self::rest_speed(a, g)
+            && match self.model {
+                FloorModel::Exact => self.acceleration(t) > -g,
+                FloorModel::FixedPosition => true,
+            }
+    }
+
+    /// Height and vertical velocity of a disk's contact point while it rides the floor: the
+    /// floor's in the exact model, (0, 0) in the fixed-position model (the floor stays put).
+    #[inline]
+    pub fn ride(&self, t: f64) -> (f64, f64) {
+        match self.model {
+            FloorModel::Exact => (self.height(t), self.velocity(t)),
+            FloorModel::FixedPosition => (0.0, 0.0),
+        }
+    }
+
+    /// When and how a ride that is under way at local time `now` ends (`None`: never, e.g. a
+    /// static floor or Γ ≤ 1). The sine floor throws the disk off when `h'' < −g`, i.e. at
+    /// `sin(ωt + φ0) = 1/Γ`; a triangle floor at its peaks (and kicks it at its troughs); a
+    /// sawtooth at its drops.
+    pub fn ride_end(&self, now: f64, g: f64) -> Option<(f64, RideEnd)> {
+        if self.is_static() {
+            return None;
+        }
+        let w = self.omega;
+        let th = self.phase(now).rem_euclid(TAU);
+        let slope = |k: f64| self.amplitude * w * k;
+        match self.waveform {
+            Waveform::Sine => {
+                let peak = self.amplitude * w * w;
+                if peak <= g {
+                    return None;
+                }
+                let crit = (g / peak).asin(); // sin θ = 1/Γ, θ in (0, π/2)
+                let dth = if th < crit {
+                    crit - th
+                } else if th < PI - crit {
+                    0.0
+                } else {
+                    TAU + crit - th
+                };
+                let t = now + dth / w;
+                let launch = match self.model {
+                    FloorModel::Exact => self.velocity(t),
+                    FloorModel::FixedPosition => self.velocity(t).max(0.0),
+                };
+                Some((t, RideEnd::TakeOff { launch }))
+            }
+            Waveform::Triangle => {
+                // Measured from the trough at −π/2: rising on [0, π), falling on [π, 2π).
+                let p = (th + FRAC_PI_2).rem_euclid(TAU);
+                let up = slope(2.0 / PI);
+                if p < PI {
+                    Some((now + (PI - p) / w, RideEnd::TakeOff { launch: up }))
+                } else if self.model == FloorModel::Exact {
+                    Some((
+                        now + (TAU - p) / w,
+                        RideEnd::Kick {
+                            before: -up,
+                            after: up,
+                        },
+                    ))
+                } else {
+                    Some((now + (TAU - p + PI) / w, RideEnd::TakeOff { launch: up }))
+                }
+            }
+            Waveform::Sawtooth => {
+                Some((now + (TAU - th) / w, RideEnd::TakeOff { launch: slope(1.0 / PI) }))
+            }
         }
     }
 

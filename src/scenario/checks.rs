@@ -98,6 +98,12 @@ pub fn validate(s: &Scenario) -> Result<()> {
     }
     validate_particles(s)?;
     restitution("collisions.restitution", s.collisions.restitution)?;
+    if let Some(tc) = s.collisions.tc {
+        positive("collisions.tc", tc)?;
+    }
+    if let Some(v) = s.collisions.speed_cutoff {
+        positive("collisions.speed_cutoff", v)?;
+    }
     positive("run.duration", s.run.duration)?;
     if !(s.run.warmup.is_finite() && s.run.warmup >= 0.0 && s.run.warmup < s.run.duration) {
         return Err(Error::input(

@@ -248,18 +248,29 @@ pub struct ExplicitPlacement {
     pub velocities: Option<Vec<[f64; 2]>>,
 }
 
-/// The pair collision law.
+/// The pair collision law, with the optional cures of inelastic collapse.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Collisions {
     /// Normal restitution e (1 = elastic).
     #[serde(default = "one")]
     pub restitution: f64,
+    /// TC model (Luding & McNamara 1998): a collision is elastic when either disk's previous
+    /// collision was less than `tc` ago. Absent: off.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tc: Option<f64>,
+    /// A collision is elastic when the normal approach speed is below this. Absent: off.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_cutoff: Option<f64>,
 }
 
 impl Default for Collisions {
     fn default() -> Self {
-        Collisions { restitution: 1.0 }
+        Collisions {
+            restitution: 1.0,
+            tc: None,
+            speed_cutoff: None,
+        }
     }
 }
 

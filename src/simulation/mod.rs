@@ -14,8 +14,8 @@ use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
-use crate::interactions::{collide, contact_time};
-use crate::locals::floor::{Floor, FloorEvent};
+use crate::interactions::{collide, contact_time, rider_contact, Restitution, RiderContact};
+use crate::locals::floor::{Floor, FloorEvent, RideEnd};
 use crate::locals::{Side, SideBounds, Top};
 use crate::reference::{Collision, Partner};
 use crate::scheduler::CompleteBinaryTree;
@@ -30,7 +30,9 @@ mod partner {
     pub const RIGHT: u32 = u32::MAX - 2;
     pub const LID: u32 = u32::MAX - 3;
     pub const FLOOR: u32 = u32::MAX - 4;
-    pub const FLOOR_RECHECK: u32 = u32::MAX - 5;
+    pub const RIDE_END: u32 = u32::MAX - 5;
+    /// Lowest code of an event that involves no partner disk.
+    pub const RECHECK: u32 = u32::MAX - 6;
 }
 
 /// Relative overlap (of the contact distance) beyond which the invariant check fails.
@@ -68,8 +70,12 @@ pub struct EventCounts {
     pub lid: u64,
     /// Disk–floor impacts.
     pub floor: u64,
-    /// Floor searches that needed a second look (no velocity change).
-    pub floor_recheck: u64,
+    /// Contact searches (floor or riding disk) that needed a second look (no velocity change).
+    pub recheck: u64,
+    /// Disks that came to rest on the floor (started riding it).
+    pub rest: u64,
+    /// Riding disks thrown off by the floor.
+    pub takeoff: u64,
     /// Predicted pair events found stale (the partner moved on); the disk was re-predicted.
     pub stale: u64,
     /// Grid re-mappings (DUTC).
@@ -84,7 +90,7 @@ impl EventCounts {
 
     /// Every event popped from the queue (collisions, stale events, rechecks).
     pub fn popped(&self) -> u64 {
-        self.collisions() + self.floor_recheck + self.stale
+        self.collisions() + self.recheck + self.stale + self.takeoff
     }
 }
 
@@ -142,7 +148,9 @@ pub struct Simulation<F: Flight> {
     sides: SideBounds,
     top: Top,
     floor: Option<Floor>,
-    restitution: f64,
+    restitution: Restitution,
+    /// Local time of each disk's last pair collision (TC model only; else empty).
+    last_collision: Vec<f64>,
     margin: f64,
     base: f64,
     now: f64,
@@ -155,6 +163,8 @@ pub struct Simulation<F: Flight> {
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
     log: Option<Vec<Collision>>,
+    /// Disks at rest on (riding) the floor; empty for scenes without a floor.
+    riding: Vec<bool>,
 }
 
 impl<F: Flight> Simulation<F> {
@@ -207,11 +217,20 @@ impl<F: Flight> Simulation<F> {
             sides: scene.sides,
             top: scene.top,
             floor,
-            restitution: scene.restitution,
+            restitution: Restitution {
+                e: scene.restitution,
+                tc: scene.tc,
+                speed_cutoff: scene.speed_cutoff,
+            },
+            last_collision: if scene.tc.is_some() {
+                vec![f64::NEG_INFINITY; n]
+            } else {
+                Vec::new()
+            },
             margin: mask_margin,
             base: 0.0,
             now: 0.0,
-            dutc: Dutc::new(0.0, 0.0),
+            dutc: Dutc::new(0.0, 0.0, 0.0),
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
             virial: 0.0,
@@ -220,7 +239,11 @@ impl<F: Flight> Simulation<F> {
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
             log: None,
+            riding: Vec::new(),
         };
+        if sim.floor.is_some() {
+            sim.riding = vec![false; n];
+        }
         sim.check_initial_state()?;
         sim.remap().map_err(|e| match e {
             Error::Runtime(m) => Error::input("particles.placement", m),
@@ -326,24 +349,81 @@ impl<F: Flight> Simulation<F> {
             + 8 * self.cell_of.capacity()
     }
 
-    /// State of disk `i` at local time `t`.
+    /// `true` when disk `i` rides the floor.
     #[inline(always)]
-    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
-        let d = &self.disks;
-        self.flight
-            .advance(d.motion[i].x, d.motion[i].y, d.motion[i].vx, d.motion[i].vy, t - d.motion[i].t)
+    fn is_riding(&self, i: usize) -> bool {
+        self.riding.get(i).copied().unwrap_or(false)
     }
 
-    /// Brings disk `i` to local time `t` (its stored state then belongs to `t`).
+    /// State of disk `i` at local time `t`: on its parabola (or line), or carried by the floor.
+    #[inline(always)]
+    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
+        let m = &self.disks.motion[i];
+        if self.is_riding(i) {
+            let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(t);
+            return (m.x + m.vx * (t - m.t), h + self.disks.radius[i], m.vx, hd);
+        }
+        self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    }
+
+    /// Brings disk `i` to local time `t` (its stored state then belongs to `t`). The work the
+    /// floor does on a riding disk meanwhile is booked as injected energy.
     #[inline(always)]
     fn bring(&mut self, i: usize, t: f64) {
         let (x, y, vx, vy) = self.state_at(i, t);
-        let d = &mut self.disks;
-        d.motion[i].x = x;
-        d.motion[i].y = y;
-        d.motion[i].vx = vx;
-        d.motion[i].vy = vy;
-        d.motion[i].t = t;
+        let mass = self.disks.mass[i];
+        let g = self.flight.g();
+        let m = &mut self.disks.motion[i];
+        if self.riding.get(i).copied().unwrap_or(false) {
+            self.flow.injected += mass * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
+        }
+        *m = crate::disks::Motion { x, y, vx, vy, t };
+    }
+
+    /// Energy flows up to absolute time `t`, including the work the floor has done on riding
+    /// disks since they were last brought forward.
+    pub fn energy_flow_at(&self, t: f64) -> EnergyFlow {
+        let mut flow = self.flow;
+        let local = t - self.base;
+        let g = self.flight.g();
+        for i in (0..self.riding.len()).filter(|&i| self.riding[i]) {
+            let (_, y, _, vy) = self.state_at(i, local);
+            let m = &self.disks.motion[i];
+            flow.injected += self.disks.mass[i] * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
+        }
+        flow
+    }
+
+    /// Number of disks riding the floor now.
+    pub fn riders(&self) -> usize {
+        self.riding.iter().filter(|&&r| r).count()
+    }
+
+    /// Contact search between riding disk `r` and flying disk `f` from now to `limit`.
+    fn rider_contact(&self, r: usize, f: usize, limit: f64) -> Option<RiderContact> {
+        let now = self.now;
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let g = self.flight.g();
+        let limit = match floor.ride_end(now, g) {
+            Some((t_end, _)) => limit.min(t_end),
+            None => limit,
+        };
+        let (xr, _, vxr, _) = self.state_at(r, now);
+        let (xf, yf, vxf, vyf) = self.state_at(f, now);
+        let (dx, _) = self.wrap(xf - xr, 0.0);
+        rider_contact(
+            dx,
+            vxf - vxr,
+            yf,
+            vyf,
+            self.disks.radius[r],
+            self.disks.radius[r] + self.disks.radius[f],
+            g,
+            floor.max_acceleration(),
+            now,
+            limit,
+            |t| floor.ride(t),
+        )
     }
 
     /// Minimum-image separation where periodic.
@@ -357,14 +437,30 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
         let ai = self.disks.radius[i];
+        let rider = self.is_riding(i);
         let mut best = f64::INFINITY;
         let mut who = partner::NONE;
+        let mut recheck = f64::INFINITY;
         for &j in self.lists.of(i) {
             let j = j as usize;
-            let (xj, yj, vxj, vyj) = self.state_at(j, now);
-            let (dx, dy) = self.wrap(xi - xj, yi - yj);
-            if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
-            {
+            let dt = if self.is_riding(j) == rider {
+                // Both fly, or both ride the floor: relative motion is straight.
+                let (xj, yj, vxj, vyj) = self.state_at(j, now);
+                let (dx, dy) = self.wrap(xi - xj, yi - yj);
+                contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
+            } else {
+                let limit = (now + best).min(self.dutc.deadline);
+                let (r, f) = if rider { (i, j) } else { (j, i) };
+                match self.rider_contact(r, f, limit) {
+                    Some(RiderContact::At(t)) => Some(t - now),
+                    Some(RiderContact::Recheck(t)) => {
+                        recheck = recheck.min(t);
+                        None
+                    }
+                    None => None,
+                }
+            };
+            if let Some(dt) = dt {
                 if dt < best {
                     best = dt;
                     who = j as u32;
@@ -386,29 +482,45 @@ impl<F: Flight> Simulation<F> {
             }
         }
         let g = self.flight.g();
-        if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+        let mut t = now + best;
+        if let Some(floor) = &self.floor {
+            if rider {
+                if let Some((t_end, end)) = floor.ride_end(now, g) {
+                    if t_end < t {
+                        t = t_end;
+                        who = partner::RIDE_END;
+                        counter = matches!(end, RideEnd::Kick { .. }) as u32;
+                    }
+                }
+            } else {
+                if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+                    if now + dt < t {
+                        t = now + dt;
+                        who = partner::LID;
+                    }
+                }
+                // Nothing after the re-mapping matters: it re-predicts every disk.
+                let limit = t.min(self.dutc.deadline);
+                match floor.next_event(yi, vyi, ai, g, now, limit) {
+                    Some(FloorEvent::Impact(tf)) if tf < t => {
+                        t = tf;
+                        who = partner::FLOOR;
+                    }
+                    Some(FloorEvent::Recheck(tf)) => recheck = recheck.min(tf),
+                    _ => {}
+                }
+            }
+        } else if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
             if dt < best {
-                best = dt;
+                t = now + dt;
                 who = partner::LID;
             }
         }
-        let mut t = now + best;
-        if let Some(floor) = &self.floor {
-            // Nothing after the re-mapping matters: it re-predicts every disk.
-            let limit = t.min(self.dutc.deadline);
-            match floor.next_event(yi, vyi, ai, g, now, limit) {
-                Some(FloorEvent::Impact(tf)) if tf < t => {
-                    t = tf;
-                    who = partner::FLOOR;
-                }
-                Some(FloorEvent::Recheck(tf)) if tf < t => {
-                    t = tf;
-                    who = partner::FLOOR_RECHECK;
-                }
-                _ => {}
-            }
+        if recheck < t {
+            t = recheck;
+            who = partner::RECHECK;
         }
-        if who >= partner::FLOOR_RECHECK {
+        if who >= partner::RECHECK && who != partner::RIDE_END {
             counter = 0;
         }
         self.ev_time[i] = t;
@@ -493,7 +605,7 @@ impl<F: Flight> Simulation<F> {
                 partner::RIGHT => Some(Partner::Right),
                 partner::LID => Some(Partner::Lid),
                 partner::FLOOR => Some(Partner::Floor),
-                partner::FLOOR_RECHECK | partner::NONE => None,
+                partner::RECHECK | partner::RIDE_END | partner::NONE => None,
                 j if self.disks.counter[j as usize] == self.ev_counter[i] => {
                     Some(Partner::Disk(j))
                 }
@@ -530,15 +642,40 @@ impl<F: Flight> Simulation<F> {
             partner::FLOOR => {
                 self.bring(i, now);
                 let floor = self.floor.as_ref().expect("floor events need a floor");
-                let before = self.disks.motion[i].vy;
-                let after = floor.bounce(before, now);
-                self.disks.motion[i].vy = after;
-                self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
-                self.counts.floor += 1;
+                let hd = floor.velocity(now);
+                self.floor_impact(i, hd);
                 self.moved(i);
             }
-            partner::FLOOR_RECHECK => {
-                self.counts.floor_recheck += 1;
+            partner::RIDE_END => {
+                self.bring(i, now);
+                self.riding[i] = false;
+                let floor = self.floor.as_ref().expect("riders need a floor");
+                let g = self.flight.g();
+                let kick = self.ev_counter[i] == 1;
+                // The end that was predicted, evaluated at its own time.
+                let end = floor
+                    .ride_end(now - 1e-9 * floor.period_or_one(), g)
+                    .map(|(_, e)| e);
+                match end {
+                    Some(RideEnd::Kick { before, after }) if kick => {
+                        self.set_vy(i, before);
+                        self.floor_impact(i, after);
+                    }
+                    Some(RideEnd::TakeOff { launch }) if !kick => {
+                        self.counts.takeoff += 1;
+                        self.set_vy(i, launch);
+                    }
+                    _ => {
+                        // Round-off moved us past the end: fly with the floor's velocity.
+                        self.counts.takeoff += 1;
+                        let hd = floor.velocity(now);
+                        self.set_vy(i, hd);
+                    }
+                }
+                self.moved(i);
+            }
+            partner::RECHECK => {
+                self.counts.recheck += 1;
                 self.predict(i);
             }
             partner::NONE => unreachable!("a disk without an event is never the minimum"),
@@ -559,18 +696,79 @@ impl<F: Flight> Simulation<F> {
     #[inline]
     fn moved(&mut self, i: usize) {
         self.disks.counter[i] = self.disks.counter[i].wrapping_add(1);
-        let s = self.falling_speed_sq(i);
-        self.dutc.observe(self.now, s);
+        if !self.is_riding(i) {
+            let s = self.falling_speed_sq(i);
+            self.dutc.observe(self.now, s);
+        }
         self.predict(i);
+    }
+
+    /// Sets the vertical velocity of (flying) disk `i`, booking the change as floor work.
+    fn set_vy(&mut self, i: usize, vy: f64) {
+        let m = &mut self.disks.motion[i];
+        self.flow.injected += 0.5 * self.disks.mass[i] * (vy * vy - m.vy * m.vy);
+        m.vy = vy;
+    }
+
+    /// Flying disk `i` (brought to now) hits the floor moving with velocity `hd`: it bounces,
+    /// or comes to rest and rides the floor if the rebound is negligible.
+    fn floor_impact(&mut self, i: usize, hd: f64) {
+        let now = self.now;
+        let g = self.flight.g();
+        let floor = self.floor.as_ref().expect("floor impacts need a floor");
+        let after = floor.bounce_on(self.disks.motion[i].vy, hd);
+        let rests = floor.comes_to_rest(after - hd, self.disks.radius[i], g, now);
+        let (h, hd_ride) = floor.ride(now);
+        let lift = floor.max_speed();
+        self.set_vy(i, after);
+        self.counts.floor += 1;
+        if rests {
+            let mass = self.disks.mass[i];
+            let a = self.disks.radius[i];
+            let m = &mut self.disks.motion[i];
+            self.flow.injected += mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
+            m.y = h + a;
+            m.vy = hd_ride;
+            self.riding[i] = true;
+            self.counts.rest += 1;
+            let vx = m.vx.abs();
+            self.dutc.ride(now, vx + lift, g);
+        }
     }
 
     fn pair(&mut self, i: usize, j: usize) -> Result<()> {
         let now = self.now;
         self.bring(i, now);
         self.bring(j, now);
+        // Riders leave the floor's grip for the collision; if it pushes them into the floor,
+        // the floor answers at once (sequential impulses).
+        let rode = [self.is_riding(i), self.is_riding(j)];
+        if rode[0] {
+            self.riding[i] = false;
+        }
+        if rode[1] {
+            self.riding[j] = false;
+        }
         let d = &self.disks;
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
         let contact = d.radius[i] + d.radius[j];
+        let e = if self.restitution.e == 1.0 {
+            1.0
+        } else {
+            let (dvx, dvy) = (d.motion[i].vx - d.motion[j].vx, d.motion[i].vy - d.motion[j].vy);
+            let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
+            let since = |k: usize| {
+                self.last_collision
+                    .get(k)
+                    .map_or(f64::INFINITY, |&t| now - t)
+            };
+            self.restitution.of(u, since(i), since(j))
+        };
+        if !self.last_collision.is_empty() {
+            self.last_collision[i] = now;
+            self.last_collision[j] = now;
+        }
+        let d = &self.disks;
         let imp = collide(
             dx,
             dy,
@@ -578,7 +776,7 @@ impl<F: Flight> Simulation<F> {
             d.motion[i].vy - d.motion[j].vy,
             d.mass[i],
             d.mass[j],
-            self.restitution,
+            e,
         );
         let overlap = contact - imp.distance;
         if overlap > self.max_overlap {
@@ -598,10 +796,21 @@ impl<F: Flight> Simulation<F> {
         self.flow.dissipated += imp.energy_lost;
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;
+        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
+            if rode {
+                let floor = self.floor.as_ref().expect("riders need a floor");
+                let (_, hd) = floor.ride(now);
+                if self.disks.motion[k].vy < hd {
+                    self.floor_impact(k, hd);
+                }
+            }
+        }
         self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
         self.moved(i);
-        let s = self.falling_speed_sq(j);
-        self.dutc.observe(self.now, s);
+        if !self.is_riding(j) {
+            let s = self.falling_speed_sq(j);
+            self.dutc.observe(self.now, s);
+        }
         self.predict(j);
         Ok(())
     }
@@ -627,6 +836,9 @@ impl<F: Flight> Simulation<F> {
         }
         self.base += now;
         self.now = 0.0;
+        for t in &mut self.last_collision {
+            *t -= now;
+        }
         if let Some(floor) = &mut self.floor {
             floor.rebase(now);
         }
@@ -646,10 +858,22 @@ impl<F: Flight> Simulation<F> {
         };
         self.cells
             .rebuild(&self.geometry, &self.mask, &self.cell_of, &mut self.lists, near)?;
-        let vmax_sq = (0..n)
-            .map(|i| self.falling_speed_sq(i))
+        let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
+        let vmax = (0..n)
+            .map(|i| {
+                if self.is_riding(i) {
+                    self.disks.motion[i].vx.abs() + lift
+                } else {
+                    self.falling_speed_sq(i).sqrt()
+                }
+            })
             .fold(0.0f64, f64::max);
-        self.dutc = Dutc::new(margin, vmax_sq.sqrt());
+        let accel = if self.riding.contains(&true) {
+            self.flight.g()
+        } else {
+            0.0
+        };
+        self.dutc = Dutc::new(margin, vmax, accel);
         self.ev_time.fill(f64::INFINITY);
         self.tree = CompleteBinaryTree::build(&self.ev_time);
         for i in 0..n {

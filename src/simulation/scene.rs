@@ -31,6 +31,10 @@ pub struct Scene {
     pub gravity: Option<f64>,
     /// Pair restitution.
     pub restitution: f64,
+    /// TC model duration, if on.
+    pub tc: Option<f64>,
+    /// Normal-speed cutoff of restitution, if on.
+    pub speed_cutoff: Option<f64>,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
     /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
@@ -137,6 +141,8 @@ impl Scene {
             floor,
             gravity: s.gravity,
             restitution: s.collisions.restitution,
+            tc: s.collisions.tc,
+            speed_cutoff: s.collisions.speed_cutoff,
             mask: s.engine.mask,
             skin: s.engine.skin,
             check_invariants: s.engine.check_invariants,
