@@ -152,7 +152,7 @@ mod tests {
         let imp = collide(-1.0, 0.0, 2.0, 0.0, 1.0, 1.0, 0.5);
         // u = −2, μ = ½: lost ½·½·(1 − ¼)·4 = 0.75; relative normal speed after = e·2 = 1.
         assert!((imp.energy_lost - 0.75).abs() < 1e-15);
-        let u_after = (2.0 + imp.dvx_i - imp.dvx_j) * -1.0;
+        let u_after = -(2.0 + imp.dvx_i - imp.dvx_j);
         assert!((u_after - 1.0).abs() < 1e-15);
     }
 }

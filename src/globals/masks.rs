@@ -1,9 +1,11 @@
 //! Isobe's masks: the cells searched around a disk's cell.
 //!
-//! A mask of "radius" `D` holds every cell whose distance to the centre cell (the gap between
-//! the two squares, in units of the cell side `l_g`) is strictly below `D`. Then any disk outside
-//! the mask is at least `D·l_g` from the centre disk, which is what DUTC needs. With Isobe's
-//! Table 1 distances this rule reproduces his masks exactly (MIN: 24 cells, R3: 36, R4: 68, …).
+//! A mask holds the cells whose centres lie within a circle around the centre cell's centre
+//! (offsets `i² + j² ≤ c`). Any disk outside the mask is then at least `D·l_g` from the centre
+//! disk, where `D` is the smallest gap between the centre cell and a cell outside the mask —
+//! what DUTC needs. With `c` = 8, 10, 20, 29, 41, 53, 72, 90, 109 this reproduces Isobe's masks
+//! and his Table 1 distances exactly (MIN: 24 cells and D = 2, R3: 36 and √5, …, R10: 348 and
+//! √85); the tests check both.
 
 use crate::scenario::MaskChoice;
 
@@ -33,25 +35,39 @@ pub const TABLE_1: [(&str, u32, usize); 9] = [
     ("R10", 85, 348),
 ];
 
+/// Squared centre-distance bound `c` of each mask of [`TABLE_1`] (offsets with `i² + j² ≤ c`).
+const CIRCLE: [i32; 9] = [8, 10, 20, 29, 41, 53, 72, 90, 109];
+
+/// Squared gap (in cell sides) between the centre cell and the cell at offset `(dx, dy)`.
+fn gap_sq(dx: i32, dy: i32) -> u32 {
+    let gap = |d: i32| (d.abs() - 1).max(0) as u32;
+    gap(dx).pow(2) + gap(dy).pow(2)
+}
+
 impl Mask {
-    /// Builds the mask whose cells lie strictly closer than `√reach_sq` cell sides.
-    pub fn with_reach(name: &'static str, reach_sq: u32) -> Mask {
-        let gap = |d: i32| (d.abs() - 1).max(0) as u32;
-        let half = (reach_sq as f64).sqrt().ceil() as i32 + 1;
+    /// Builds the mask of the cells at offsets `i² + j² ≤ circle` and works out its reach.
+    pub fn circle(name: &'static str, circle: i32) -> Mask {
+        let half = (circle as f64).sqrt().floor() as i32;
         let mut offsets = Vec::new();
         for dy in -half..=half {
             for dx in -half..=half {
-                if (dx, dy) != (0, 0) && gap(dx).pow(2) + gap(dy).pow(2) < reach_sq {
+                if (dx, dy) != (0, 0) && dx * dx + dy * dy <= circle {
                     offsets.push((dx, dy));
                 }
             }
         }
-        let half_width = offsets.iter().map(|&(a, b)| a.abs().max(b.abs())).max().unwrap_or(0);
+        let h = half + 2;
+        let reach_sq = (-h..=h)
+            .flat_map(|dy| (-h..=h).map(move |dx| (dx, dy)))
+            .filter(|&(dx, dy)| dx * dx + dy * dy > circle)
+            .map(|(dx, dy)| gap_sq(dx, dy))
+            .min()
+            .expect("cells outside the mask exist");
         Mask {
             name,
             offsets,
             reach_sq,
-            half_width,
+            half_width: half,
         }
     }
 
@@ -62,8 +78,7 @@ impl Mask {
 
     /// Isobe's mask number `k` of Table 1 (0 = MIN, 1 = R3, …, 8 = R10).
     pub fn table(k: usize) -> Mask {
-        let (name, reach_sq, _) = TABLE_1[k];
-        Mask::with_reach(name, reach_sq)
+        Mask::circle(TABLE_1[k].0, CIRCLE[k])
     }
 
     /// The mask a scenario asks for. `Auto` takes the smallest mask whose neighbour-list margin
@@ -100,15 +115,15 @@ mod tests {
             let m = Mask::table(k);
             assert_eq!(m.offsets.len(), cells, "{name}: cell count");
             // The stated distance is attained by some cell just outside the mask.
-            let gap = |d: i32| (d.abs() - 1).max(0) as u32;
             let h = m.half_width + 2;
             let outside_min = (-h..=h)
                 .flat_map(|dy| (-h..=h).map(move |dx| (dx, dy)))
                 .filter(|&(dx, dy)| (dx, dy) != (0, 0) && !m.offsets.contains(&(dx, dy)))
-                .map(|(dx, dy)| gap(dx).pow(2) + gap(dy).pow(2))
+                .map(|(dx, dy)| gap_sq(dx, dy))
                 .min()
                 .unwrap();
             assert_eq!(outside_min, reach_sq, "{name}: distance to the outside");
+            assert_eq!(m.reach_sq, reach_sq, "{name}: computed reach");
         }
     }
 

@@ -1,0 +1,403 @@
+//! The command-line contract (DESIGN.md §4), checked on the real binary: exit codes, where the
+//! summary goes, `--set`, and that every kind of bad input exits 2 with a message naming the
+//! field, without writing a summary.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A tiny scene that runs in a blink: 50 elastic disks in a periodic box.
+const TINY: &str = r#"{
+  "name": "tiny periodic gas",
+  "seed": 11,
+  "domain": { "width": 12.0, "x_boundary": "periodic", "y_boundary": "periodic" },
+  "particles": { "count": 50, "radius": 0.5, "packing_fraction": 0.3, "temperature": 1.0 },
+  "run": { "duration": 0.5, "warmup": 0.1 }
+}"#;
+
+/// A fresh, empty scratch directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// Writes `text` as `name` in `dir` and returns its path.
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write test file");
+    path
+}
+
+/// Runs the binary with `args` (from the crate root, so relative scenario paths work).
+fn vibrobed<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrobed"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .expect("the vibrobed binary starts")
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A one-line account of a finished process, for assertion messages.
+fn describe(out: &Output) -> String {
+    format!(
+        "exit {:?}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+        out.status.code(),
+        stdout(out),
+        stderr(out)
+    )
+}
+
+/// Asserts a successful exit.
+fn assert_ok(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "expected success: {}",
+        describe(out)
+    );
+    assert!(!stderr(out).contains("panicked"), "{}", describe(out));
+}
+
+/// Looks up a dotted path in a JSON value.
+fn at<'a>(v: &'a Value, path: &str) -> Option<&'a Value> {
+    path.split('.').try_fold(v, |v, key| v.get(key))
+}
+
+/// Asserts the summary carries every field the contract names.
+fn assert_contract_fields(summary: &Value) {
+    for path in [
+        "scenario",
+        "particles",
+        "sim_time",
+        "wall_seconds",
+        "events.pair",
+        "events.floor",
+        "events.wall",
+        "events.rebuild",
+        "collisions_per_second",
+        "energy.initial.kinetic",
+        "energy.initial.potential",
+        "energy.final.kinetic",
+        "energy.final.potential",
+        "energy.injected",
+        "energy.dissipated",
+        "temperature.x",
+        "temperature.y",
+        "max_overlap",
+    ] {
+        assert!(
+            at(summary, path).is_some(),
+            "summary lacks `{path}`:\n{summary:#}"
+        );
+    }
+    assert!(summary["scenario"].is_string());
+    assert!(summary["particles"].is_u64());
+    assert!(summary["events"]["pair"].is_u64());
+    for path in [
+        "sim_time",
+        "wall_seconds",
+        "collisions_per_second",
+        "max_overlap",
+    ] {
+        assert!(
+            at(summary, path).unwrap().is_number(),
+            "`{path}` is not a number"
+        );
+    }
+}
+
+#[test]
+fn check_accepts_a_shipped_scenario() {
+    let out = vibrobed(&["check", "scenarios/gas_periodic_phi03.json"]);
+    assert_ok(&out);
+    assert!(
+        stdout(&out).is_empty(),
+        "check prints nothing on stdout: {}",
+        describe(&out)
+    );
+}
+
+#[test]
+fn run_prints_the_summary_on_stdout() {
+    let dir = scratch("stdout");
+    let scenario = write(&dir, "tiny.json", TINY);
+    let out = vibrobed(&["run".as_ref(), "--quiet".as_ref(), scenario.as_os_str()]);
+    assert_ok(&out);
+    let summary: Value = serde_json::from_str(&stdout(&out))
+        .unwrap_or_else(|e| panic!("stdout is not a JSON summary ({e}): {}", describe(&out)));
+    assert_contract_fields(&summary);
+    assert_eq!(summary["scenario"], "tiny periodic gas");
+    assert_eq!(summary["particles"], 50);
+    assert_eq!(summary["ending"], "completed");
+    assert!((summary["sim_time"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    assert!(summary["events"]["pair"].as_u64().unwrap() > 0);
+    // Elastic and closed: the energy does not move.
+    let e0 = summary["energy"]["initial"]["kinetic"].as_f64().unwrap();
+    let e1 = summary["energy"]["final"]["kinetic"].as_f64().unwrap();
+    assert!((e1 - e0).abs() <= 1e-9 * e0, "energy drifted: {e0} → {e1}");
+}
+
+#[test]
+fn run_writes_the_summary_file_and_leaves_stdout_empty() {
+    let dir = scratch("summary-file");
+    let scenario = write(&dir, "tiny.json", TINY);
+    let summary_path = dir.join("out.json");
+    let out = vibrobed(&[
+        "run".as_ref(),
+        scenario.as_os_str(),
+        "--summary".as_ref(),
+        summary_path.as_os_str(),
+    ]);
+    assert_ok(&out);
+    assert!(
+        stdout(&out).is_empty(),
+        "stdout must be empty with --summary: {}",
+        describe(&out)
+    );
+    let text = std::fs::read_to_string(&summary_path).expect("summary file written");
+    let summary: Value = serde_json::from_str(&text).expect("summary file is JSON");
+    assert_contract_fields(&summary);
+    assert_eq!(summary["particles"], 50);
+    // The atomic write leaves no temporary file behind.
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "tiny.json" && n != "out.json")
+        .collect();
+    assert!(leftovers.is_empty(), "unexpected files: {leftovers:?}");
+}
+
+#[test]
+fn set_overrides_a_field() {
+    let dir = scratch("set");
+    let scenario = write(&dir, "tiny.json", TINY);
+    let out = vibrobed(&[
+        "run".as_ref(),
+        "-q".as_ref(),
+        scenario.as_os_str(),
+        "--set".as_ref(),
+        "particles.count=60".as_ref(),
+        "--set".as_ref(),
+        "run.duration=0.25".as_ref(),
+    ]);
+    assert_ok(&out);
+    let summary: Value = serde_json::from_str(&stdout(&out)).expect("JSON summary");
+    assert_eq!(summary["particles"], 60, "{summary:#}");
+    assert!((summary["sim_time"].as_f64().unwrap() - 0.25).abs() < 1e-12);
+    // `check` takes the same overrides.
+    let out = vibrobed(&[
+        "check".as_ref(),
+        scenario.as_os_str(),
+        "--set".as_ref(),
+        "particles.count=60".as_ref(),
+    ]);
+    assert_ok(&out);
+    assert!(stderr(&out).contains("60 disks"), "{}", describe(&out));
+}
+
+/// Runs `vibrobed run SCENARIO --summary OUT [extra…]` and `vibrobed check SCENARIO [extra…]`
+/// and asserts both exit 2 naming every one of `names` on stderr, without a panic and without
+/// a summary file.
+fn assert_bad_input(case: &str, scenario: &Path, extra: &[&str], names: &[&str]) {
+    let dir = scenario.parent().unwrap().to_path_buf();
+    let summary_path = dir.join(format!("{case}-summary.json"));
+    let mut run_args: Vec<std::ffi::OsString> = vec![
+        "run".into(),
+        "-q".into(),
+        scenario.into(),
+        "--summary".into(),
+        summary_path.clone().into(),
+    ];
+    run_args.extend(extra.iter().map(Into::into));
+    let mut check_args: Vec<std::ffi::OsString> = vec!["check".into(), scenario.into()];
+    check_args.extend(extra.iter().map(Into::into));
+    for (what, args) in [("run", run_args), ("check", check_args)] {
+        let out = vibrobed(&args);
+        let err = stderr(&out);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{case} ({what}): expected exit 2 for bad input: {}",
+            describe(&out)
+        );
+        assert!(
+            !err.contains("panicked"),
+            "{case} ({what}) panicked: {}",
+            describe(&out)
+        );
+        for name in names {
+            assert!(
+                err.contains(name),
+                "{case} ({what}): the message does not name `{name}`: {}",
+                describe(&out)
+            );
+        }
+        assert!(
+            stdout(&out).is_empty(),
+            "{case} ({what}): output on stdout: {}",
+            describe(&out)
+        );
+    }
+    assert!(
+        !summary_path.exists(),
+        "{case}: a summary was written despite bad input"
+    );
+    assert!(
+        !summary_path.with_extension("partial").exists(),
+        "{case}: a partial summary was left behind"
+    );
+}
+
+/// The tiny scenario with one field replaced (`pointer` is a JSON pointer).
+fn tiny_with(pointer: &str, value: Value) -> String {
+    let mut v: Value = serde_json::from_str(TINY).unwrap();
+    *v.pointer_mut(pointer)
+        .unwrap_or_else(|| panic!("no {pointer} in TINY")) = value;
+    serde_json::to_string_pretty(&v).unwrap()
+}
+
+#[test]
+fn malformed_json_is_bad_input() {
+    let dir = scratch("malformed");
+    let scenario = write(
+        &dir,
+        "broken.json",
+        &TINY.replace("\"seed\": 11,", "\"seed\": 11"),
+    );
+    assert_bad_input("malformed", &scenario, &[], &["JSON", "line 4"]);
+}
+
+#[test]
+fn unknown_field_is_bad_input() {
+    let dir = scratch("unknown-field");
+    let text = TINY.replace("\"count\": 50", "\"cont\": 50");
+    let scenario = write(&dir, "unknown.json", &text);
+    assert_bad_input("unknown-field", &scenario, &[], &["particles.cont"]);
+}
+
+#[test]
+fn negative_radius_is_bad_input() {
+    let dir = scratch("negative-radius");
+    let scenario = write(
+        &dir,
+        "neg.json",
+        &tiny_with("/particles/radius", (-0.5).into()),
+    );
+    assert_bad_input("negative-radius", &scenario, &[], &["particles.radius"]);
+    // The same through an override.
+    let scenario = write(&dir, "tiny.json", TINY);
+    assert_bad_input(
+        "negative-radius-set",
+        &scenario,
+        &["--set", "particles.radius=-1"],
+        &["particles.radius"],
+    );
+}
+
+#[test]
+fn impossible_packing_is_bad_input() {
+    let dir = scratch("packing");
+    // 500 disks of area π/4 cannot fit in a 10 × 10 box.
+    let text = r#"{
+      "name": "overfull box",
+      "domain": { "width": 10.0, "height": 10.0, "y_boundary": "lid" },
+      "floor": {},
+      "particles": { "count": 500, "radius": 0.5 },
+      "run": { "duration": 1.0 }
+    }"#;
+    let scenario = write(&dir, "overfull.json", text);
+    assert_bad_input("too-many-disks", &scenario, &[], &["particles.count"]);
+    let scenario = write(&dir, "tiny.json", TINY);
+    assert_bad_input(
+        "packing-fraction",
+        &scenario,
+        &["--set", "particles.packing_fraction=0.95"],
+        &["particles.packing_fraction"],
+    );
+}
+
+#[test]
+fn bad_overrides_are_bad_input() {
+    let dir = scratch("bad-set");
+    let scenario = write(&dir, "tiny.json", TINY);
+    assert_bad_input(
+        "set-into-a-number",
+        &scenario,
+        &["--set", "particles.count.x=3"],
+        &["particles.count"],
+    );
+    assert_bad_input(
+        "set-unknown-field",
+        &scenario,
+        &["--set", "nosuchfield=1"],
+        &["nosuchfield"],
+    );
+    assert_bad_input(
+        "set-without-value",
+        &scenario,
+        &["--set", "foo"],
+        &["--set", "foo"],
+    );
+    assert_bad_input(
+        "set-wrong-enum",
+        &scenario,
+        &["--set", "domain.x_boundary=sideways"],
+        &["domain.x_boundary", "sideways"],
+    );
+}
+
+#[test]
+fn wrong_enum_value_in_the_file_is_bad_input() {
+    let dir = scratch("enum");
+    let scenario = write(
+        &dir,
+        "enum.json",
+        &tiny_with("/domain/x_boundary", "sideways".into()),
+    );
+    assert_bad_input(
+        "wrong-enum",
+        &scenario,
+        &[],
+        &["domain.x_boundary", "sideways"],
+    );
+}
+
+#[test]
+fn missing_scenario_file_is_bad_input() {
+    let dir = scratch("missing");
+    let scenario = dir.join("no-such-scenario.json");
+    assert_bad_input("missing-file", &scenario, &[], &["no-such-scenario.json"]);
+}
+
+#[test]
+#[cfg(not(feature = "record"))]
+fn rrd_without_the_record_feature_is_bad_input() {
+    let dir = scratch("rrd");
+    let scenario = write(&dir, "tiny.json", TINY);
+    let summary_path = dir.join("summary.json");
+    let rrd = dir.join("out.rrd");
+    let out = vibrobed(&[
+        "run".as_ref(),
+        "-q".as_ref(),
+        scenario.as_os_str(),
+        "--rrd".as_ref(),
+        rrd.as_os_str(),
+        "--summary".as_ref(),
+        summary_path.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", describe(&out));
+    assert!(stderr(&out).contains("--rrd"), "{}", describe(&out));
+    assert!(!stderr(&out).contains("panicked"), "{}", describe(&out));
+    assert!(!summary_path.exists(), "a summary was written");
+    assert!(!rrd.exists(), "a recording was written");
+}
