@@ -135,7 +135,8 @@ fn melt<F: Flight>(sim: &mut Simulation<F>, n: usize, per_disk: u64, max_time: f
         {
             break;
         }
-        sim.step_events(chunk).expect("step_events failed while melting");
+        sim.step_events(chunk)
+            .expect("step_events failed while melting");
     }
 }
 
@@ -234,7 +235,11 @@ fn bench_point(
     opts: &Opts,
     build: impl FnOnce() -> Engine,
 ) -> Option<Row> {
-    let k = if opts.quick { 1_000 } else { events_per_iter(n) };
+    let k = if opts.quick {
+        1_000
+    } else {
+        events_per_iter(n)
+    };
     let mut engine: Option<Engine> = None;
     let mut build = Some(build);
     {
@@ -277,7 +282,9 @@ fn fmt_rate(r: f64) -> String {
 
 fn print_gas_table(rows: &[Row]) {
     println!();
-    println!("Elastic hard disks (radius 0.5), square periodic box; median of R repetitions of K events");
+    println!(
+        "Elastic hard disks (radius 0.5), square periodic box; median of R repetitions of K events"
+    );
     println!(
         "{:<20} {:>9} {:>14} {:>12} {:>11} {:>5} {:>11} {:>11}",
         "point", "N", "collisions/s", "events/s", "bytes/disk", "mask", "stale/coll", "coll/remap"
@@ -354,9 +361,9 @@ fn main() {
     for &n in &GAS_N {
         for &phi in &GAS_PHI {
             let name = format!("{n}/phi{phi}");
-            if let Some(row) =
-                bench_point(&mut c, "gas", &name, n, &opts, || build_gas(n, phi, opts.quick))
-            {
+            if let Some(row) = bench_point(&mut c, "gas", &name, n, &opts, || {
+                build_gas(n, phi, opts.quick)
+            }) {
                 gas_rows.push((phi, row));
             }
         }
@@ -366,7 +373,8 @@ fn main() {
     if opts.bed {
         for &n in &BED_N {
             let name = format!("{n}/gamma3");
-            let Some(bed) = bench_point(&mut c, "bed", &name, n, &opts, || build_bed(n, opts.quick))
+            let Some(bed) =
+                bench_point(&mut c, "bed", &name, n, &opts, || build_bed(n, opts.quick))
             else {
                 continue;
             };
@@ -377,7 +385,13 @@ fn main() {
                     return r.clone();
                 }
                 let mut e = build_gas(n, phi, false);
-                measure(&format!("gas/{n}/phi{phi}"), &mut e, n, events_per_iter(n), opts.reps)
+                measure(
+                    &format!("gas/{n}/phi{phi}"),
+                    &mut e,
+                    n,
+                    events_per_iter(n),
+                    opts.reps,
+                )
             };
             let g3 = gas_at(0.3, &gas_rows);
             let g7 = gas_at(0.7, &gas_rows);

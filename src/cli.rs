@@ -15,7 +15,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Command-line arguments.
 #[derive(Debug, Parser)]
-#[command(name = "vibrobed", version, about = "Event-driven simulation of vibrated granular beds (hard disks in 2D)")]
+#[command(
+    name = "vibrobed",
+    version,
+    about = "Event-driven simulation of vibrated granular beds (hard disks in 2D)"
+)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]

@@ -34,7 +34,12 @@ pub struct Disks {
 
 impl Disks {
     /// Disks at rest at the given positions with the given radii and masses, all at time 0.
-    pub fn new(positions: &[[f64; 2]], radius: Vec<f64>, mass: Vec<f64>, species: Vec<u32>) -> Disks {
+    pub fn new(
+        positions: &[[f64; 2]],
+        radius: Vec<f64>,
+        mass: Vec<f64>,
+        species: Vec<u32>,
+    ) -> Disks {
         let n = positions.len();
         assert!(radius.len() == n && mass.len() == n && species.len() == n);
         Disks {
@@ -67,14 +72,15 @@ impl Disks {
     pub fn radius_range(&self) -> (f64, f64) {
         self.radius
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)))
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+                (lo.min(r), hi.max(r))
+            })
     }
 
     /// Bytes held by these arrays.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Motion>() * self.motion.capacity()
-            + 8 * (self.radius.capacity()
-            + self.mass.capacity())
+            + 8 * (self.radius.capacity() + self.mass.capacity())
             + 4 * (self.species.capacity() + self.counter.capacity())
     }
 }

@@ -122,7 +122,12 @@ mod tests {
 
     #[test]
     fn fall_and_rise_times_solve_their_equations() {
-        for &(h, vy, g) in &[(1.0, 0.0, 1.0), (2.0, 3.0, 1.0), (0.5, -2.0, 9.8), (3.0, -1.0, 0.0)] {
+        for &(h, vy, g) in &[
+            (1.0, 0.0, 1.0),
+            (2.0, 3.0, 1.0),
+            (0.5, -2.0, 9.8),
+            (3.0, -1.0, 0.0),
+        ] {
             let t = time_to_fall(h, vy, g).unwrap();
             assert!(t >= 0.0);
             assert!((h + vy * t - 0.5 * g * t * t).abs() < 1e-12, "{h} {vy} {g}");

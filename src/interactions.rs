@@ -127,7 +127,11 @@ mod tests {
         assert!((t - 4.0).abs() < 1e-15);
         assert_eq!(contact_time(10.0, 0.0, 2.0, 0.0, 2.0), None, "receding");
         assert_eq!(contact_time(-10.0, 5.0, 2.0, 0.0, 2.0), None, "miss");
-        assert_eq!(contact_time(-1.999, 0.0, 1.0, 0.0, 2.0), Some(0.0), "overlap");
+        assert_eq!(
+            contact_time(-1.999, 0.0, 1.0, 0.0, 2.0),
+            Some(0.0),
+            "overlap"
+        );
     }
 
     #[test]

@@ -161,8 +161,20 @@ impl Profiles {
             packing_fraction: per(&|k| self.area[k] / (s * bin_area)),
             temperature_x: per(&|k| temp(k, &self.px, &self.kx)),
             temperature_y: per(&|k| temp(k, &self.py, &self.ky)),
-            velocity_x: per(&|k| if self.mass[k] > 0.0 { self.px[k] / self.mass[k] } else { 0.0 }),
-            velocity_y: per(&|k| if self.mass[k] > 0.0 { self.py[k] / self.mass[k] } else { 0.0 }),
+            velocity_x: per(&|k| {
+                if self.mass[k] > 0.0 {
+                    self.px[k] / self.mass[k]
+                } else {
+                    0.0
+                }
+            }),
+            velocity_y: per(&|k| {
+                if self.mass[k] > 0.0 {
+                    self.py[k] / self.mass[k]
+                } else {
+                    0.0
+                }
+            }),
             above_top: self.above / s,
         }
     }

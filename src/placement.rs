@@ -39,9 +39,9 @@ pub fn place(
     melt: bool,
     rng: &mut Xoshiro256PlusPlus,
 ) -> Result<Vec<[f64; 2]>> {
-    let (a_min, a_max) = radius
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    let (a_min, a_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
+        (lo.min(a), hi.max(a))
+    });
     let mut pos = if a_max <= a_min * 1.0001 {
         triangular(radius.len(), a_max, region, fill_height)?
     } else {
@@ -49,7 +49,10 @@ pub fn place(
     };
     if melt && radius.len() > 1 {
         let top = region.y0 + fill_height;
-        let confine = Region { y1: top.min(region.y1), ..region };
+        let confine = Region {
+            y1: top.min(region.y1),
+            ..region
+        };
         melt_mc(&mut pos, radius, confine, MELT_SWEEPS, rng);
     }
     Ok(pos)
@@ -66,7 +69,11 @@ fn too_dense(n: usize) -> Error {
 fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64; 2]>> {
     let width = r.x1 - r.x0;
     let span_x = if r.x_periodic { width } else { width - 2.0 * a };
-    let span_y = if r.y_periodic { fill_height } else { fill_height - 2.0 * a };
+    let span_y = if r.y_periodic {
+        fill_height
+    } else {
+        fill_height - 2.0 * a
+    };
     let pitch = |d: f64| d * 3f64.sqrt() / 2.0;
     // Columns of even and odd (half-shifted) rows, and the number of rows, at spacing d.
     let layout = |d: f64| -> (usize, usize, usize) {
@@ -123,15 +130,29 @@ fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64;
     let dy = if r.y_periodic {
         fill_height / rows as f64
     } else if needed > 1 {
-        (span_y / (needed - 1) as f64).min(2.0 * pitch(d)).max(pitch(d))
+        (span_y / (needed - 1) as f64)
+            .min(2.0 * pitch(d))
+            .max(pitch(d))
     } else {
         pitch(d)
     };
-    let x_start = if r.x_periodic { r.x0 + 0.25 * d } else { r.x0 + a };
-    let y_start = if r.y_periodic { r.y0 + 0.25 * dy } else { r.y0 + a };
+    let x_start = if r.x_periodic {
+        r.x0 + 0.25 * d
+    } else {
+        r.x0 + a
+    };
+    let y_start = if r.y_periodic {
+        r.y0 + 0.25 * dy
+    } else {
+        r.y0 + a
+    };
     let mut out = Vec::with_capacity(n);
     for row in 0..needed {
-        let (cols, shift) = if row % 2 == 0 { (even, 0.0) } else { (odd, 0.5 * d) };
+        let (cols, shift) = if row % 2 == 0 {
+            (even, 0.0)
+        } else {
+            (odd, 0.5 * d)
+        };
         for col in 0..cols {
             if out.len() < n {
                 out.push([x_start + shift + col as f64 * d, y_start + row as f64 * dy]);
@@ -391,7 +412,9 @@ mod tests {
 
     #[test]
     fn mixtures_fill_rows_without_overlap() {
-        let radius: Vec<f64> = (0..300).map(|i| if i % 3 == 0 { 0.7 } else { 0.5 }).collect();
+        let radius: Vec<f64> = (0..300)
+            .map(|i| if i % 3 == 0 { 0.7 } else { 0.5 })
+            .collect();
         let region = Region {
             x0: 0.0,
             x1: 30.0,
@@ -415,7 +438,11 @@ mod tests {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
         let v = thermal_velocities(&mass, 2.0, &mut rng);
         let px: f64 = mass.iter().zip(&v).map(|(m, v)| m * v[0]).sum();
-        let ke: f64 = mass.iter().zip(&v).map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1])).sum();
+        let ke: f64 = mass
+            .iter()
+            .zip(&v)
+            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
+            .sum();
         assert!(px.abs() < 1e-12);
         assert!((ke - 8.0).abs() < 1e-12);
     }

@@ -124,15 +124,27 @@ impl<F: Flight> Reference<F> {
             for j in i + 1..n {
                 let (dx, dy) = self.wrap(self.x[i] - self.x[j], self.y[i] - self.y[j]);
                 let s = self.radius[i] + self.radius[j];
-                if let Some(dt) = contact_time(dx, dy, self.vx[i] - self.vx[j], self.vy[i] - self.vy[j], s)
+                if let Some(dt) =
+                    contact_time(dx, dy, self.vx[i] - self.vx[j], self.vy[i] - self.vy[j], s)
                 {
                     consider(dt, i, Partner::Disk(j as u32));
                 }
             }
             if let Some((dt, side)) = self.sides.impact(self.x[i], self.vx[i], self.radius[i]) {
-                consider(dt, i, if side == Side::Left { Partner::Left } else { Partner::Right });
+                consider(
+                    dt,
+                    i,
+                    if side == Side::Left {
+                        Partner::Left
+                    } else {
+                        Partner::Right
+                    },
+                );
             }
-            if let Some(dt) = self.top.impact(self.y[i], self.vy[i], self.radius[i], self.flight.g()) {
+            if let Some(dt) =
+                self.top
+                    .impact(self.y[i], self.vy[i], self.radius[i], self.flight.g())
+            {
                 consider(dt, i, Partner::Lid);
             }
             if let Some(floor) = &self.floor {
@@ -159,7 +171,9 @@ impl<F: Flight> Reference<F> {
                 break;
             }
             for k in 0..self.x.len() {
-                let (x, y, vx, vy) = self.flight.advance(self.x[k], self.y[k], self.vx[k], self.vy[k], dt);
+                let (x, y, vx, vy) = self
+                    .flight
+                    .advance(self.x[k], self.y[k], self.vx[k], self.vy[k], dt);
                 self.x[k] = x;
                 self.y[k] = y;
                 self.vx[k] = vx;

@@ -38,7 +38,10 @@ pub struct RunOptions {
 /// Runs a validated scenario and returns its summary.
 pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
     let (scene, disks) = Scene::build(s)?;
-    let rrd = opts.rrd.clone().or_else(|| s.output.rrd.as_ref().map(PathBuf::from));
+    let rrd = opts
+        .rrd
+        .clone()
+        .or_else(|| s.output.rrd.as_ref().map(PathBuf::from));
     let sink = match (opts.sink.take(), rrd) {
         (Some(sink), _) => Some(sink),
         (None, Some(path)) => Some(open_recording(&path, s, &disks)?),
@@ -160,7 +163,11 @@ fn drive<F: Flight>(
         bar
     });
     if let Some(sink) = sink.as_mut() {
-        sink.log_text(0.0, "INFO", &format!("start: {} disks, scene {}", n, s.name))?;
+        sink.log_text(
+            0.0,
+            "INFO",
+            &format!("start: {} disks, scene {}", n, s.name),
+        )?;
     }
     let (mut k_sample, mut k_frame) = (0u64, 0u64);
     let mut window: Option<Window> = None;
@@ -174,7 +181,11 @@ fn drive<F: Flight>(
         } else {
             f64::INFINITY
         };
-        let t_window = if window.is_none() { warmup } else { f64::INFINITY };
+        let t_window = if window.is_none() {
+            warmup
+        } else {
+            f64::INFINITY
+        };
         let t = t_sample.min(t_frame).min(t_window).min(duration);
         match sim.advance_to(t)? {
             Progress::Reached => {}
@@ -266,7 +277,11 @@ fn drive<F: Flight>(
             Ending::Interrupted => format!("interrupted at t = {end_time}"),
             Ending::EventLimit => format!("event limit reached at t = {end_time}"),
         };
-        let level = if ending == Ending::Completed { "INFO" } else { "WARN" };
+        let level = if ending == Ending::Completed {
+            "INFO"
+        } else {
+            "WARN"
+        };
         sink.log_text(end_time, level, &note)?;
         sink.finish()?;
     }
@@ -343,7 +358,12 @@ fn drive<F: Flight>(
             scheme: "event-driven".into(),
             mask: sim.mask().name.into(),
             cell: geometry.cell(),
-            grid: if geometry.ny.is_some() { "dense" } else { "hashed" }.into(),
+            grid: if geometry.ny.is_some() {
+                "dense"
+            } else {
+                "hashed"
+            }
+            .into(),
             bytes_per_disk: sim.bytes() as f64 / n as f64,
             samples,
         },

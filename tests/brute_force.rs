@@ -60,9 +60,11 @@ fn assert_same(engine: &[Collision], reference: &[Collision], window: usize) {
             continue;
         }
         // Near-simultaneous events may come in either order.
-        let swapped = reference
-            .iter()
-            .any(|c| c.disk == a.disk && c.partner == a.partner && (c.time - a.time).abs() <= 1e-9 * (1.0 + a.time.abs()));
+        let swapped = reference.iter().any(|c| {
+            c.disk == a.disk
+                && c.partner == a.partner
+                && (c.time - a.time).abs() <= 1e-9 * (1.0 + a.time.abs())
+        });
         assert!(
             swapped,
             "window {window}, collision {k}: engine {a:?} vs reference {b:?}"

@@ -18,7 +18,9 @@ fn measured_z(phi: f64, duration: f64, seed: u64) -> f64 {
     let summary = run(&common::scenario(&json), RunOptions::default()).unwrap();
     eprintln!("φ = {phi}: {} pair collisions", summary.events.pair);
     assert!(summary.events.pair > 200_000, "too few collisions for 1%");
-    summary.compressibility_factor.expect("closed elastic box reports Z")
+    summary
+        .compressibility_factor
+        .expect("closed elastic box reports Z")
 }
 
 #[test]
@@ -27,7 +29,10 @@ fn compressibility_matches_henderson() {
         let z = measured_z(phi, duration, 7);
         let h = henderson_z(phi);
         let rel = (z - h).abs() / h;
-        eprintln!("φ = {phi}: Z = {z:.4}, Henderson {h:.4}, off by {:.3}%", 100.0 * rel);
+        eprintln!(
+            "φ = {phi}: Z = {z:.4}, Henderson {h:.4}, off by {:.3}%",
+            100.0 * rel
+        );
         assert!(rel < 0.01, "φ = {phi}: Z = {z}, Henderson {h}");
     }
 }

@@ -28,8 +28,14 @@ fn elastic_periodic_gas_conserves_energy_and_momentum() {
         let snap = sim.snapshot(t);
         sim.check_no_overlap(&snap).unwrap();
         let (px, py, ke) = p(&snap, &m);
-        assert!((px - px0).abs() < 1e-10 && (py - py0).abs() < 1e-10, "momentum drifts");
-        assert!((ke - ke0).abs() < 1e-11 * ke0, "energy drifts: {ke} vs {ke0}");
+        assert!(
+            (px - px0).abs() < 1e-10 && (py - py0).abs() < 1e-10,
+            "momentum drifts"
+        );
+        assert!(
+            (ke - ke0).abs() < 1e-11 * ke0,
+            "energy drifts: {ke} vs {ke0}"
+        );
     }
     assert!(sim.counts().pair > 10_000);
     assert!(sim.max_overlap() < 1e-9);
@@ -60,7 +66,10 @@ fn same_seed_same_result_bit_for_bit() {
     let a = run(&common::scenario(json), RunOptions::default()).unwrap();
     let b = run(&common::scenario(json), RunOptions::default()).unwrap();
     assert_eq!(a.events, b.events);
-    assert_eq!(a.energy.final_.kinetic.to_bits(), b.energy.final_.kinetic.to_bits());
+    assert_eq!(
+        a.energy.final_.kinetic.to_bits(),
+        b.energy.final_.kinetic.to_bits()
+    );
     assert_eq!(a.temperature.x.to_bits(), b.temperature.x.to_bits());
     let c = run(
         &common::scenario(&json.replace("\"seed\": 9", "\"seed\": 10")),

@@ -53,7 +53,11 @@ impl GridGeometry {
     ) -> GridGeometry {
         let target = CELL_PER_RADIUS * a_min;
         let nx = (width / target).ceil().max(1.0) as u32;
-        let lx = if x_periodic { width / nx as f64 } else { target };
+        let lx = if x_periodic {
+            width / nx as f64
+        } else {
+            target
+        };
         let (ny, ly) = match top {
             Some(top) => {
                 let n = ((top - bottom) / target).ceil().max(1.0) as u32;
@@ -243,7 +247,8 @@ impl CellMap for DenseCells {
                 let (below, from_top) = (k * stride, (ny + k) * stride);
                 let (above, from_bottom) = ((p + ny + k) * stride, (p + k) * stride);
                 self.slots.copy_within(from_top..from_top + stride, below);
-                self.slots.copy_within(from_bottom..from_bottom + stride, above);
+                self.slots
+                    .copy_within(from_bottom..from_bottom + stride, above);
             }
         }
         Ok(())
@@ -263,7 +268,9 @@ impl CellMap for DenseCells {
         (ix, iy): (u32, u32),
         mut found: impl FnMut(u32),
     ) {
-        debug_assert!(offsets.iter().all(|&(a, b)| a.unsigned_abs().max(b.unsigned_abs()) <= self.pad));
+        debug_assert!(offsets
+            .iter()
+            .all(|&(a, b)| a.unsigned_abs().max(b.unsigned_abs()) <= self.pad));
         let base = self.index(ix, iy) as isize;
         for &(dx, dy) in offsets {
             let s = self.slots[(base + dy as isize * self.stride as isize + dx as isize) as usize];

@@ -301,9 +301,12 @@ impl Floor {
                     Some((now + (TAU - p + PI) / w, RideEnd::TakeOff { launch: up }))
                 }
             }
-            Waveform::Sawtooth => {
-                Some((now + (TAU - th) / w, RideEnd::TakeOff { launch: slope(1.0 / PI) }))
-            }
+            Waveform::Sawtooth => Some((
+                now + (TAU - th) / w,
+                RideEnd::TakeOff {
+                    launch: slope(1.0 / PI),
+                },
+            )),
         }
     }
 
@@ -467,7 +470,9 @@ mod tests {
     #[test]
     fn static_floor_impact_is_the_parabola_root() {
         let fl = sine(0.0, 1.0, 1.0);
-        let ev = fl.next_event(5.5, 0.0, 0.5, 2.0, 1.0, f64::INFINITY).unwrap();
+        let ev = fl
+            .next_event(5.5, 0.0, 0.5, 2.0, 1.0, f64::INFINITY)
+            .unwrap();
         // Falls 5 under g = 2: t = √5.
         assert!((ev.time() - 1.0 - 5f64.sqrt()).abs() < 1e-14);
     }

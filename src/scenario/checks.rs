@@ -148,7 +148,10 @@ fn validate_particles(s: &Scenario) -> Result<()> {
             if u.min > u.max {
                 return Err(Error::input(
                     "particles.radius.min",
-                    format!("must not exceed particles.radius.max ({} > {})", u.min, u.max),
+                    format!(
+                        "must not exceed particles.radius.max ({} > {})",
+                        u.min, u.max
+                    ),
                 ));
             }
         }
@@ -175,7 +178,10 @@ fn validate_particles(s: &Scenario) -> Result<()> {
     }
     let n = s.disk_count();
     if n == 0 {
-        return Err(Error::input("particles.count", "at least one disk is needed"));
+        return Err(Error::input(
+            "particles.count",
+            "at least one disk is needed",
+        ));
     }
     if let Some(m) = p.mass {
         positive("particles.mass", m)?;
@@ -223,7 +229,10 @@ fn validate_particles(s: &Scenario) -> Result<()> {
     if s.domain.width < 4.0 * rmax {
         return Err(Error::input(
             "domain.width",
-            format!("must be at least 4 radii of the largest disk ({})", 4.0 * rmax),
+            format!(
+                "must be at least 4 radii of the largest disk ({})",
+                4.0 * rmax
+            ),
         ));
     }
     if rmax / rmin > 6.0 {

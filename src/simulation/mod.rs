@@ -606,9 +606,7 @@ impl<F: Flight> Simulation<F> {
                 partner::LID => Some(Partner::Lid),
                 partner::FLOOR => Some(Partner::Floor),
                 partner::RECHECK | partner::RIDE_END | partner::NONE => None,
-                j if self.disks.counter[j as usize] == self.ev_counter[i] => {
-                    Some(Partner::Disk(j))
-                }
+                j if self.disks.counter[j as usize] == self.ev_counter[i] => Some(Partner::Disk(j)),
                 _ => None,
             };
             if let Some(p) = p {
@@ -626,7 +624,8 @@ impl<F: Flight> Simulation<F> {
                 let before = self.disks.motion[i].vx;
                 let after = self.sides.bounce(before, side);
                 self.disks.motion[i].vx = after;
-                self.flow.dissipated += 0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.flow.dissipated +=
+                    0.5 * self.disks.mass[i] * (before * before - after * after);
                 self.counts.wall += 1;
                 self.moved(i);
             }
@@ -635,7 +634,8 @@ impl<F: Flight> Simulation<F> {
                 let before = self.disks.motion[i].vy;
                 let after = self.top.bounce(before);
                 self.disks.motion[i].vy = after;
-                self.flow.dissipated += 0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.flow.dissipated +=
+                    0.5 * self.disks.mass[i] * (before * before - after * after);
                 self.counts.lid += 1;
                 self.moved(i);
             }
@@ -726,7 +726,8 @@ impl<F: Flight> Simulation<F> {
             let mass = self.disks.mass[i];
             let a = self.disks.radius[i];
             let m = &mut self.disks.motion[i];
-            self.flow.injected += mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
+            self.flow.injected +=
+                mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
             m.y = h + a;
             m.vy = hd_ride;
             self.riding[i] = true;
@@ -755,7 +756,10 @@ impl<F: Flight> Simulation<F> {
         let e = if self.restitution.e == 1.0 {
             1.0
         } else {
-            let (dvx, dvy) = (d.motion[i].vx - d.motion[j].vx, d.motion[i].vy - d.motion[j].vy);
+            let (dvx, dvy) = (
+                d.motion[i].vx - d.motion[j].vx,
+                d.motion[i].vy - d.motion[j].vy,
+            );
             let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
             let since = |k: usize| {
                 self.last_collision
@@ -844,20 +848,32 @@ impl<F: Flight> Simulation<F> {
         }
         self.cell_of.clear();
         for i in 0..n {
-            self.cell_of
-                .push(self.geometry.cell_of(self.disks.motion[i].x, self.disks.motion[i].y));
+            self.cell_of.push(
+                self.geometry
+                    .cell_of(self.disks.motion[i].x, self.disks.motion[i].y),
+            );
         }
         // Pairs farther apart than contact + margin cannot meet before the DUTC deadline: the
         // lists keep only the closer ones (the mask guarantees every closer disk is seen).
         let margin = self.margin;
         let (disks, sides, top) = (&self.disks, self.sides, self.top);
         let near = |i: usize, j: usize| {
-            let (dx, dy) = wrap(sides, top, disks.motion[i].x - disks.motion[j].x, disks.motion[i].y - disks.motion[j].y);
+            let (dx, dy) = wrap(
+                sides,
+                top,
+                disks.motion[i].x - disks.motion[j].x,
+                disks.motion[i].y - disks.motion[j].y,
+            );
             let reach = disks.radius[i] + disks.radius[j] + margin;
             dx * dx + dy * dy <= reach * reach
         };
-        self.cells
-            .rebuild(&self.geometry, &self.mask, &self.cell_of, &mut self.lists, near)?;
+        self.cells.rebuild(
+            &self.geometry,
+            &self.mask,
+            &self.cell_of,
+            &mut self.lists,
+            near,
+        )?;
         let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
         let vmax = (0..n)
             .map(|i| {
@@ -944,7 +960,11 @@ impl<F: Flight> Simulation<F> {
         for i in 0..d.len() {
             let (x, y, a) = (d.motion[i].x, d.motion[i].y, d.radius[i]);
             let tol = OVERLAP_TOLERANCE * a;
-            if !(x.is_finite() && y.is_finite() && d.motion[i].vx.is_finite() && d.motion[i].vy.is_finite()) {
+            if !(x.is_finite()
+                && y.is_finite()
+                && d.motion[i].vx.is_finite()
+                && d.motion[i].vy.is_finite())
+            {
                 return Err(Error::input(
                     "particles.placement",
                     format!("disk {i} has a non-finite position or velocity"),

@@ -157,8 +157,7 @@ fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec
     let p = &s.particles;
     let pi = std::f64::consts::PI;
     let n = s.disk_count();
-    let (radius, species, species_mass): (Vec<f64>, Vec<u32>, Vec<Option<f64>>) = match &p.radius
-    {
+    let (radius, species, species_mass): (Vec<f64>, Vec<u32>, Vec<Option<f64>>) = match &p.radius {
         Radius::Fixed(r) => (vec![*r; n], vec![0; n], vec![None; n]),
         Radius::Uniform(u) => (
             (0..n)
