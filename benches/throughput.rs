@@ -25,7 +25,8 @@
 //! the ratio.
 //!
 //! Environment: `VIBROBED_BENCH_BED=0` skips the vibrated bed; `VIBROBED_BENCH_REPS` sets R
-//! (default 5).
+//! (default 5); `VIBROBED_BENCH_MASK` forces the neighbour mask (`min`, `r3` … `r10`; default
+//! `auto`), to compare masks.
 
 use criterion::{Criterion, SamplingMode, Throughput};
 use std::hint::black_box;
@@ -44,13 +45,31 @@ const BED_N: [usize; 3] = [1_000, 10_000, 100_000];
 /// Collisions per disk run before measuring the gas (not timed).
 const GAS_MELT_PER_DISK: u64 = 5;
 
-/// Events per criterion iteration: about 0.1–0.5 s of work on a shared 2-core box.
-fn events_per_iter(n: usize) -> u64 {
-    match n {
-        0..=20_000 => 600_000,
-        20_001..=200_000 => 400_000,
-        _ => 200_000,
+/// Events per criterion iteration (and per timed repetition of the table), K, and the events
+/// per second measured on a shared 2-core box when K was chosen: one iteration should take about
+/// 0.1–0.5 s (longer at N = 10^6, where K must span at least one grid re-mapping). The expected
+/// rate only sets criterion's measurement time (10 iterations), so a faster engine just gets
+/// more iterations per sample.
+fn plan(kind: Kind, n: usize) -> (u64, f64) {
+    match (kind, n) {
+        (Kind::Gas(phi), _) if phi < 0.5 && n <= 20_000 => (100_000, 0.25e6),
+        (Kind::Gas(_), _) if n <= 20_000 => (300_000, 0.9e6),
+        (Kind::Gas(phi), _) if phi < 0.5 && n <= 200_000 => (40_000, 0.07e6),
+        (Kind::Gas(_), _) if n <= 200_000 => (200_000, 0.4e6),
+        (Kind::Gas(phi), _) if phi < 0.5 => (150_000, 0.13e6),
+        (Kind::Gas(_), _) => (300_000, 0.4e6),
+        (Kind::Bed, _) => (100_000, 0.45e6),
     }
+}
+
+fn events_per_iter(kind: Kind, n: usize) -> u64 {
+    plan(kind, n).0
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Gas(f64),
+    Bed,
 }
 
 /// One measured point of the table.
@@ -58,6 +77,8 @@ fn events_per_iter(n: usize) -> u64 {
 struct Row {
     id: String,
     n: usize,
+    /// Events per repetition.
+    k: u64,
     /// Median collisions per second over the repetitions.
     coll_per_s: f64,
     /// Median events (popped) per second.
@@ -95,6 +116,11 @@ impl Engine {
     }
 }
 
+/// `engine.mask` of every scene: `VIBROBED_BENCH_MASK` (`min`, `r3` … `r10`), default `auto`.
+fn mask_choice() -> String {
+    std::env::var("VIBROBED_BENCH_MASK").unwrap_or_else(|_| "auto".to_string())
+}
+
 fn gas_scenario(n: usize, phi: f64) -> Scenario {
     let width = (n as f64 * std::f64::consts::PI * RADIUS * RADIUS / phi).sqrt();
     let json = serde_json::json!({
@@ -102,7 +128,8 @@ fn gas_scenario(n: usize, phi: f64) -> Scenario {
         "seed": 1,
         "domain": { "width": width, "x_boundary": "periodic", "y_boundary": "periodic" },
         "particles": { "count": n, "radius": RADIUS, "packing_fraction": phi, "temperature": 1.0 },
-        "run": { "duration": 1.0 }
+        "run": { "duration": 1.0 },
+        "engine": { "mask": mask_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("gas scenario")
 }
@@ -116,7 +143,8 @@ fn bed_scenario(n: usize) -> Scenario {
         "floor": { "gamma": 3.0, "frequency": 0.5, "restitution": 0.9 },
         "particles": { "count": n, "radius": RADIUS, "temperature": 0.5 },
         "collisions": { "restitution": 0.9 },
-        "run": { "duration": 1.0 }
+        "run": { "duration": 1.0 },
+        "engine": { "mask": mask_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("bed scenario")
 }
@@ -144,23 +172,26 @@ fn build_gas(n: usize, phi: f64, quick: bool) -> Engine {
     let t0 = Instant::now();
     let scenario = gas_scenario(n, phi);
     let (scene, disks) = Scene::build(&scenario).expect("Scene::build (gas)");
+    let tb = Instant::now();
     let mut sim = Simulation::new(Straight, &scene, disks).expect("Simulation::new (gas)");
     let t1 = Instant::now();
     if !quick {
         melt(&mut sim, n, GAS_MELT_PER_DISK, f64::INFINITY);
     }
     eprintln!(
-        "  [gas N={n} phi={phi}: set-up {:.1} s, melt {:.1} s ({} collisions)]",
-        (t1 - t0).as_secs_f64(),
+        "  [gas N={n} phi={phi}: Scene::build {:.1} s, Simulation::new {:.1} s, melt {:.1} s ({} collisions)]",
+        (tb - t0).as_secs_f64(),
+        (t1 - tb).as_secs_f64(),
         t1.elapsed().as_secs_f64(),
         sim.counts().collisions()
     );
     Engine::Gas(sim)
 }
 
-/// Collisions per disk, and the simulated time (5 floor periods), to warm the bed up.
-const BED_MELT_PER_DISK: u64 = 20;
-const BED_MELT_TIME: f64 = 10.0;
+/// Warm-up of the bed (not timed): until 10 floor periods have passed, or 100 collisions per
+/// disk, whichever comes first (the initial bed collapses, then fluidises).
+const BED_MELT_PER_DISK: u64 = 100;
+const BED_MELT_TIME: f64 = 20.0;
 
 fn build_bed(n: usize, quick: bool) -> Engine {
     let t0 = Instant::now();
@@ -204,6 +235,7 @@ fn measure(id: &str, engine: &mut Engine, n: usize, k: u64, reps: usize) -> Row 
     Row {
         id: id.to_string(),
         n,
+        k,
         coll_per_s: median(&mut coll_rates),
         events_per_s: median(&mut event_rates),
         bytes_per_disk: bytes as f64 / n as f64,
@@ -231,6 +263,7 @@ fn bench_point(
     c: &mut Criterion,
     group: &str,
     name: &str,
+    kind: Kind,
     n: usize,
     opts: &Opts,
     build: impl FnOnce() -> Engine,
@@ -238,7 +271,13 @@ fn bench_point(
     let k = if opts.quick {
         1_000
     } else {
-        events_per_iter(n)
+        events_per_iter(kind, n)
+    };
+    let (_, rate) = plan(kind, n);
+    let measure_secs = if opts.quick {
+        0.1
+    } else {
+        (11.0 * k as f64 / rate).max(1.0)
     };
     let mut engine: Option<Engine> = None;
     let mut build = Some(build);
@@ -247,7 +286,7 @@ fn bench_point(
         g.sampling_mode(SamplingMode::Flat)
             .sample_size(10)
             .warm_up_time(Duration::from_millis(500))
-            .measurement_time(Duration::from_secs(2))
+            .measurement_time(Duration::from_secs_f64(measure_secs))
             .throughput(Throughput::Elements(k));
         g.bench_function(name, |b| {
             let e = engine.get_or_insert_with(|| (build.take().expect("built once"))());
@@ -286,14 +325,23 @@ fn print_gas_table(rows: &[Row]) {
         "Elastic hard disks (radius 0.5), square periodic box; median of R repetitions of K events"
     );
     println!(
-        "{:<20} {:>9} {:>14} {:>12} {:>11} {:>5} {:>11} {:>11}",
-        "point", "N", "collisions/s", "events/s", "bytes/disk", "mask", "stale/coll", "coll/remap"
+        "{:<20} {:>9} {:>8} {:>14} {:>12} {:>11} {:>5} {:>11} {:>11}",
+        "point",
+        "N",
+        "K",
+        "collisions/s",
+        "events/s",
+        "bytes/disk",
+        "mask",
+        "stale/coll",
+        "coll/remap"
     );
     for r in rows {
         println!(
-            "{:<20} {:>9} {:>14} {:>12} {:>11.1} {:>5} {:>11.3} {:>11.0}",
+            "{:<20} {:>9} {:>8} {:>14} {:>12} {:>11.1} {:>5} {:>11.3} {:>11.0}",
             r.id,
             r.n,
+            r.k,
             fmt_rate(r.coll_per_s),
             fmt_rate(r.events_per_s),
             r.bytes_per_disk,
@@ -361,7 +409,7 @@ fn main() {
     for &n in &GAS_N {
         for &phi in &GAS_PHI {
             let name = format!("{n}/phi{phi}");
-            if let Some(row) = bench_point(&mut c, "gas", &name, n, &opts, || {
+            if let Some(row) = bench_point(&mut c, "gas", &name, Kind::Gas(phi), n, &opts, || {
                 build_gas(n, phi, opts.quick)
             }) {
                 gas_rows.push((phi, row));
@@ -373,9 +421,9 @@ fn main() {
     if opts.bed {
         for &n in &BED_N {
             let name = format!("{n}/gamma3");
-            let Some(bed) =
-                bench_point(&mut c, "bed", &name, n, &opts, || build_bed(n, opts.quick))
-            else {
+            let Some(bed) = bench_point(&mut c, "bed", &name, Kind::Bed, n, &opts, || {
+                build_bed(n, opts.quick)
+            }) else {
                 continue;
             };
             // The elastic gas at the same N, φ = 0.3 and 0.7: reuse the gas rows of this run,
@@ -389,7 +437,7 @@ fn main() {
                     &format!("gas/{n}/phi{phi}"),
                     &mut e,
                     n,
-                    events_per_iter(n),
+                    events_per_iter(Kind::Gas(phi), n),
                     opts.reps,
                 )
             };
@@ -412,11 +460,9 @@ fn main() {
     }
     if !opts.quick {
         println!(
-            "\nK events per repetition: {} (N ≤ 2·10^4), {} (N ≤ 2·10^5), {} (larger); R = {}; total {:.0} s",
-            events_per_iter(1),
-            events_per_iter(100_000),
-            events_per_iter(1_000_000),
+            "\nR = {} repetitions of K events per point; mask {}; whole benchmark {:.0} s",
             opts.reps,
+            mask_choice(),
             started.elapsed().as_secs_f64()
         );
     }

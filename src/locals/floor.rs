@@ -224,21 +224,43 @@ impl Floor {
         }
     }
 
+    /// End of the phase interval in which the sine floor accelerates downwards faster than g
+    /// (`sin θ > g/(Aω²)`), for a time `t` inside it.
+    fn leaves_throw_zone(&self, t: f64, g: f64) -> f64 {
+        let peak = self.amplitude * self.omega * self.omega;
+        let crit = (g / peak).min(1.0).asin();
+        let th = self.phase(t).rem_euclid(TAU);
+        let end = PI - crit;
+        let dth = if th <= end { end - th } else { TAU + end - th };
+        // Step at least a few ulps so that time moves on.
+        t + (dth / self.omega).max(4.0 * f64::EPSILON * t.abs().max(1.0))
+    }
+
     /// Rebound speed (relative to the floor) below which a disk of radius `a` comes to rest.
     pub fn rest_speed(a: f64, g: f64) -> f64 {
         (2.0 * g * REST_HEIGHT * a).sqrt()
     }
 
     /// Whether a disk just bounced at local time `t` with relative rebound speed `rel` comes to
-    /// rest on the floor: the rebound is negligible and the floor presses the disk (its
-    /// acceleration is above −g, so a disk moving with it stays in contact).
+    /// rest on the floor: the floor presses the disk (its acceleration is above −g, so a disk
+    /// moving with it stays in contact) and the rebound would rise less than [`REST_HEIGHT`]
+    /// radii against that pressing acceleration.
     pub fn comes_to_rest(&self, rel: f64, a: f64, g: f64, t: f64) -> bool {
-        g > 0.0
-            && rel < Self::rest_speed(a, g)
-            && match self.model {
-                FloorModel::Exact => self.acceleration(t) > -g,
-                FloorModel::FixedPosition => true,
-            }
+        self.presses(t, g) && rel < Self::rest_speed(a, self.press(t, g))
+    }
+
+    /// How hard the floor presses a disk that moves with it: `g + h''(t)`.
+    fn press(&self, t: f64, g: f64) -> f64 {
+        match self.model {
+            FloorModel::Exact => g + self.acceleration(t),
+            FloorModel::FixedPosition => g,
+        }
+    }
+
+    /// Whether the floor presses a disk moving with it (`g + h'' > 0`, with a relative margin
+    /// of 10⁻⁹ so that a disk thrown off exactly at `g + h'' = 0` is not caught again).
+    fn presses(&self, t: f64, g: f64) -> bool {
+        self.press(t, g) > 1e-9 * (g + self.max_acceleration())
     }
 
     /// Height and vertical velocity of a disk's contact point while it rides the floor: the
@@ -344,12 +366,19 @@ impl Floor {
             let f = yy - a - amp * s;
             let fd = vv - amp * self.omega * c;
             if f <= self.tolerance(a, yy) {
-                if fd <= 0.0 {
-                    return Some(FloorEvent::Impact(t));
+                if fd > 0.0 {
+                    // Touching but separating: the lower bound stays ≥ f for 2 f'/K.
+                    tau += 2.0 * fd / k;
+                    continue;
                 }
-                // Touching but separating: the lower bound stays ≥ f for 2 f'/K.
-                tau += 2.0 * fd / k;
-                continue;
+                if !self.presses(t, g) && fd >= -Self::rest_speed(a, k) {
+                    // Touching at (almost) no relative speed while the floor accelerates down
+                    // faster than g: the disk separates; f stays ≥ 0 until the floor's
+                    // downward acceleration drops below g again.
+                    tau = self.leaves_throw_zone(t, g) - now;
+                    continue;
+                }
+                return Some(FloorEvent::Impact(t));
             }
             if yy - a > amp && vv > 0.0 {
                 // Left the envelope upwards: come back into it exactly.
