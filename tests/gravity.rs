@@ -221,12 +221,26 @@ fn open_top_hashing_finds_what_the_dense_grid_finds() {
             .collect();
         assert_eq!(cells, open_cells);
         let mut dense = DenseCells::with_pad(mask.half_width as u32);
-        dense.map(&dense_geo, &cells).unwrap();
+        dense.map(&dense_geo, cells.len(), |i| cells[i]).unwrap();
         let mut sparse = SparseCells::default();
-        sparse.map(&open_geo, &cells).unwrap();
+        sparse.map(&open_geo, cells.len(), |i| cells[i]).unwrap();
         let (mut ld, mut ls) = (NeighbourLists::default(), NeighbourLists::default());
-        ld.build(&dense_geo, &mask, &cells, &dense, |_, _| true);
-        ls.build(&open_geo, &mask, &cells, &sparse, |_, _| true);
+        ld.build(
+            &dense_geo,
+            &mask,
+            cells.len(),
+            |i| cells[i],
+            &dense,
+            |_, _| true,
+        );
+        ls.build(
+            &open_geo,
+            &mask,
+            cells.len(),
+            |i| cells[i],
+            &sparse,
+            |_, _| true,
+        );
         let n = cells.len();
         assert_eq!(lists_sorted(&ld, n), lists_sorted(&ls, n), "trial {trial}");
         assert!(

@@ -156,8 +156,14 @@ impl GridGeometry {
 
 /// Where disks are: a map from cell to the (at most one) disk in it.
 pub trait CellMap {
-    /// Re-maps: `cells[i]` is the cell of disk i. Fails if two disks share a cell (overlap).
-    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()>;
+    /// Re-maps `n` disks, disk i being in cell `cell(i)`. Fails if two disks share a cell
+    /// (they overlap).
+    fn map(
+        &mut self,
+        geometry: &GridGeometry,
+        n: usize,
+        cell: impl Fn(usize) -> (u32, u32),
+    ) -> Result<()>;
     /// The disk in cell `(ix, iy)`, if any.
     fn disk_at(&self, ix: u32, iy: u32) -> Option<u32>;
     /// Calls `found` with every disk in the cells at `offsets` around `(ix, iy)`.
@@ -213,7 +219,12 @@ impl DenseCells {
 }
 
 impl CellMap for DenseCells {
-    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()> {
+    fn map(
+        &mut self,
+        geometry: &GridGeometry,
+        count: usize,
+        cell: impl Fn(usize) -> (u32, u32),
+    ) -> Result<()> {
         let ny = geometry.ny.expect("a dense grid needs a bounded height") as usize;
         let nx = geometry.nx as usize;
         let p = self.pad as usize;
@@ -224,7 +235,8 @@ impl CellMap for DenseCells {
         } else {
             self.slots.fill(0);
         }
-        for (i, &(ix, iy)) in cells.iter().enumerate() {
+        for i in 0..count {
+            let (ix, iy) = cell(i);
             let k = self.index(ix, iy);
             let slot = &mut self.slots[k];
             if *slot != 0 {
@@ -317,8 +329,12 @@ impl SparseCells {
 }
 
 impl CellMap for SparseCells {
-    fn map(&mut self, geometry: &GridGeometry, cells: &[(u32, u32)]) -> Result<()> {
-        let n = cells.len();
+    fn map(
+        &mut self,
+        geometry: &GridGeometry,
+        n: usize,
+        cell: impl Fn(usize) -> (u32, u32),
+    ) -> Result<()> {
         self.nx = geometry.nx as u64;
         let m = (n / 2).max(1).next_power_of_two();
         self.fold = m as u64 - 1;
@@ -326,7 +342,8 @@ impl CellMap for SparseCells {
         self.d.resize(m, 0);
         self.c.clear();
         self.c.resize(m, 0);
-        for &(ix, iy) in cells {
+        for i in 0..n {
+            let (ix, iy) = cell(i);
             let k = self.bucket(ix, iy);
             self.d[k] += 1;
         }
@@ -340,7 +357,8 @@ impl CellMap for SparseCells {
         self.by.resize(n, 0);
         // Counting sort: D doubles as the fill cursor, then is restored.
         self.d.fill(0);
-        for (i, &(ix, iy)) in cells.iter().enumerate() {
+        for i in 0..n {
+            let (ix, iy) = cell(i);
             let k = self.bucket(ix, iy);
             let at = (self.c[k] + self.d[k]) as usize;
             self.d[k] += 1;
@@ -348,7 +366,8 @@ impl CellMap for SparseCells {
             self.bx[at] = ix;
             self.by[at] = iy;
         }
-        for (i, &(ix, iy)) in cells.iter().enumerate() {
+        for i in 0..n {
+            let (ix, iy) = cell(i);
             let found = self.disk_at(ix, iy).expect("a disk just mapped is found");
             if found != i as u32 {
                 return Err(shared_cell(found, i as u32));

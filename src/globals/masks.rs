@@ -16,6 +16,9 @@ pub struct Mask {
     pub name: &'static str,
     /// `(dx, dy)` cell offsets, centre excluded, in row-major order.
     pub offsets: Vec<(i32, i32)>,
+    /// The offsets "after" the centre (`dy > 0`, or `dy = 0` and `dx > 0`): one of each pair
+    /// of opposite offsets, so that scanning them finds every pair of disks once.
+    pub half: Vec<(i32, i32)>,
     /// Squared minimum distance (in cell sides) from the centre cell to any cell outside.
     pub reach_sq: u32,
     /// Largest |dx| or |dy| in the mask.
@@ -63,9 +66,15 @@ impl Mask {
             .map(|(dx, dy)| gap_sq(dx, dy))
             .min()
             .expect("cells outside the mask exist");
+        let half_offsets = offsets
+            .iter()
+            .copied()
+            .filter(|&(dx, dy)| dy > 0 || (dy == 0 && dx > 0))
+            .collect();
         Mask {
             name,
             offsets,
+            half: half_offsets,
             reach_sq,
             half_width: half,
         }
@@ -133,7 +142,10 @@ mod tests {
             let m = Mask::table(k);
             for &(dx, dy) in &m.offsets {
                 assert!(m.offsets.contains(&(-dx, -dy)));
+                // Exactly one of two opposite offsets is in the half mask.
+                assert!(m.half.contains(&(dx, dy)) != m.half.contains(&(-dx, -dy)));
             }
+            assert_eq!(2 * m.half.len(), m.offsets.len());
         }
     }
 }

@@ -38,18 +38,19 @@ impl Cells {
         &mut self,
         geometry: &GridGeometry,
         mask: &Mask,
-        cells: &[(u32, u32)],
+        n: usize,
+        cell: impl Fn(usize) -> (u32, u32) + Copy,
         lists: &mut NeighbourLists,
         near: impl Fn(usize, usize) -> bool,
     ) -> Result<()> {
         match self {
             Cells::Dense(d) => {
-                d.map(geometry, cells)?;
-                lists.build(geometry, mask, cells, d, near);
+                d.map(geometry, n, cell)?;
+                lists.build(geometry, mask, n, cell, d, near);
             }
             Cells::Sparse(s) => {
-                s.map(geometry, cells)?;
-                lists.build(geometry, mask, cells, s, near);
+                s.map(geometry, n, cell)?;
+                lists.build(geometry, mask, n, cell, s, near);
             }
         }
         Ok(())

@@ -4,43 +4,78 @@
 use super::grid::{CellMap, GridGeometry};
 use super::masks::Mask;
 
-/// Neighbour lists in compressed-row form.
+/// Neighbour lists in compressed-row form: disk i's neighbours are
+/// `list[start[i + 1] .. start[i + 2]]` (the layout the in-place fill leaves behind).
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourLists {
     start: Vec<u32>,
     list: Vec<u32>,
+    /// The pairs found (each once), as a half list: `half[half_start[i] .. half_start[i+1]]`
+    /// are the partners j of disk i found from the half mask.
+    half_start: Vec<u32>,
+    half: Vec<u32>,
 }
 
 impl NeighbourLists {
     /// Rebuilds from the mapped cells: disk i's list holds the disks in the cells of `mask`
     /// around its cell that `near(i, j)` accepts (a distance filter; it must be symmetric).
-    /// Masks are point-symmetric, so j ∈ list(i) ⇔ i ∈ list(j).
+    /// Each pair is found once, from the half of the mask "after" the centre cell, and filed
+    /// in both disks' lists, so j ∈ list(i) ⇔ i ∈ list(j).
     pub fn build<M: CellMap>(
         &mut self,
         geometry: &GridGeometry,
         mask: &Mask,
-        cells: &[(u32, u32)],
+        n: usize,
+        cell: impl Fn(usize) -> (u32, u32),
         map: &M,
         near: impl Fn(usize, usize) -> bool,
     ) {
+        self.half.clear();
+        self.half_start.clear();
+        self.half_start.push(0);
+        // Degrees go to start[i + 1], so that after the prefix sum start[i + 1] is the end of
+        // i's range; decrementing it while filling leaves it at the range's beginning, and the
+        // end is then start[i + 2] (start[n + 1] holds the total).
         self.start.clear();
-        self.list.clear();
-        self.start.push(0);
-        for (i, &cell) in cells.iter().enumerate() {
-            let list = &mut self.list;
-            map.gather(geometry, &mask.offsets, cell, |j| {
+        self.start.resize(n + 2, 0);
+        for i in 0..n {
+            let (half, start) = (&mut self.half, &mut self.start);
+            map.gather(geometry, &mask.half, cell(i), |j| {
                 if near(i, j as usize) {
-                    list.push(j);
+                    half.push(j);
+                    start[i + 1] += 1;
+                    start[j as usize + 1] += 1;
                 }
             });
-            self.start.push(self.list.len() as u32);
+            self.half_start.push(self.half.len() as u32);
         }
+        for k in 1..=n {
+            self.start[k] += self.start[k - 1];
+        }
+        self.start[n + 1] = self.start[n];
+        self.list.clear();
+        self.list.resize(self.start[n + 1] as usize, 0);
+        for i in 0..n {
+            for h in self.half_start[i] as usize..self.half_start[i + 1] as usize {
+                let j = self.half[h] as usize;
+                self.start[i + 1] -= 1;
+                self.list[self.start[i + 1] as usize] = j as u32;
+                self.start[j + 1] -= 1;
+                self.list[self.start[j + 1] as usize] = i as u32;
+            }
+        }
+    }
+
+    /// Each listed pair once: the partners of disk `i` found from the half mask.
+    #[inline]
+    pub fn half_of(&self, i: usize) -> &[u32] {
+        &self.half[self.half_start[i] as usize..self.half_start[i + 1] as usize]
     }
 
     /// The neighbours of disk `i`.
     #[inline(always)]
     pub fn of(&self, i: usize) -> &[u32] {
-        &self.list[self.start[i] as usize..self.start[i + 1] as usize]
+        &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize]
     }
 
     /// Total entries (twice the number of listed pairs).
@@ -50,6 +85,9 @@ impl NeighbourLists {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.list.capacity())
+        4 * (self.start.capacity()
+            + self.list.capacity()
+            + self.half_start.capacity()
+            + self.half.capacity())
     }
 }

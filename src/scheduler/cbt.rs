@@ -14,9 +14,11 @@ pub struct CompleteBinaryTree {
 
 impl CompleteBinaryTree {
     /// Builds the tree over `times[0..n]`, where `times.len() == n + 1` and `times[n] = ∞`.
+    /// The tree is heap-shaped with exactly `n` leaves (node k has children 2k and 2k + 1, leaf
+    /// i sits at n + i), so it needs 2n entries for any n, not 2·next_power_of_two(n).
     pub fn build(times: &[f64]) -> CompleteBinaryTree {
         let n = times.len() - 1;
-        let leaves = n.max(1).next_power_of_two();
+        let leaves = n.max(1);
         let mut node = vec![n as u32; 2 * leaves];
         for (i, slot) in node[leaves..leaves + n].iter_mut().enumerate() {
             *slot = i as u32;

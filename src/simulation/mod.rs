@@ -144,7 +144,6 @@ pub struct Simulation<F: Flight> {
     mask: Mask,
     cells: Cells,
     lists: NeighbourLists,
-    cell_of: Vec<(u32, u32)>,
     sides: SideBounds,
     top: Top,
     floor: Option<Floor>,
@@ -213,7 +212,6 @@ impl<F: Flight> Simulation<F> {
             geometry,
             mask,
             lists: NeighbourLists::default(),
-            cell_of: Vec::with_capacity(n),
             sides: scene.sides,
             top: scene.top,
             floor,
@@ -346,7 +344,6 @@ impl<F: Flight> Simulation<F> {
             + self.tree.bytes()
             + self.cells.bytes()
             + self.lists.bytes()
-            + 8 * self.cell_of.capacity()
     }
 
     /// `true` when disk `i` rides the floor.
@@ -434,6 +431,15 @@ impl<F: Flight> Simulation<F> {
 
     /// Finds disk `i`'s earliest event from now and files it in the tree.
     fn predict(&mut self, i: usize) {
+        let (best, who, recheck) = self.pair_event(i);
+        self.file_event(i, best, who, recheck);
+        self.tree.update(&self.ev_time, i);
+    }
+
+    /// Earliest contact of disk `i` with a listed neighbour from now: (time from now, partner,
+    /// time of a needed re-check).
+    #[inline]
+    fn pair_event(&self, i: usize) -> (f64, u32, f64) {
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
         let ai = self.disks.radius[i];
@@ -467,6 +473,16 @@ impl<F: Flight> Simulation<F> {
                 }
             }
         }
+        (best, who, recheck)
+    }
+
+    /// Completes disk `i`'s event from its earliest pair contact (`best` from now, with `who`)
+    /// with walls, lid, floor and ride ends, and stores it (the tree is not touched).
+    fn file_event(&mut self, i: usize, mut best: f64, mut who: u32, mut recheck: f64) {
+        let now = self.now;
+        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let ai = self.disks.radius[i];
+        let rider = self.is_riding(i);
         let mut counter = if who != partner::NONE {
             self.disks.counter[who as usize]
         } else {
@@ -526,7 +542,51 @@ impl<F: Flight> Simulation<F> {
         self.ev_time[i] = t;
         self.ev_partner[i] = who;
         self.ev_counter[i] = counter;
-        self.tree.update(&self.ev_time, i);
+    }
+
+    /// Predicts every disk's event after a mapping (all disks are at the present time): each
+    /// listed pair's contact time is computed once, for both disks; the tree is built at once.
+    fn predict_all(&mut self) {
+        let n = self.disks.len();
+        let mut best = std::mem::take(&mut self.ev_time);
+        best.fill(f64::INFINITY);
+        let mut who = std::mem::take(&mut self.ev_partner);
+        who.fill(partner::NONE);
+        let any_rider = self.riding.contains(&true);
+        for (i, j) in
+            (0..n).flat_map(|i| self.lists.half_of(i).iter().map(move |&j| (i, j as usize)))
+        {
+            if any_rider && (self.is_riding(i) || self.is_riding(j)) {
+                continue; // done disk by disk below
+            }
+            let (mi, mj) = (&self.disks.motion[i], &self.disks.motion[j]);
+            let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
+            let s = self.disks.radius[i] + self.disks.radius[j];
+            if let Some(dt) = contact_time(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s) {
+                if dt < best[i] {
+                    best[i] = dt;
+                    who[i] = j as u32;
+                }
+                if dt < best[j] {
+                    best[j] = dt;
+                    who[j] = i as u32;
+                }
+            }
+        }
+        self.ev_time = best;
+        self.ev_partner = who;
+        for i in 0..n {
+            let near_rider = any_rider
+                && (self.is_riding(i)
+                    || self.lists.of(i).iter().any(|&j| self.is_riding(j as usize)));
+            let (b, w, r) = if near_rider {
+                self.pair_event(i)
+            } else {
+                (self.ev_time[i], self.ev_partner[i], f64::INFINITY)
+            };
+            self.file_event(i, b, w, r);
+        }
+        self.tree = CompleteBinaryTree::build(&self.ev_time);
     }
 
     /// Squared speed of disk `i` (at its own time stamp) in the frame falling with gravity since
@@ -846,17 +906,12 @@ impl<F: Flight> Simulation<F> {
         if let Some(floor) = &mut self.floor {
             floor.rebase(now);
         }
-        self.cell_of.clear();
-        for i in 0..n {
-            self.cell_of.push(
-                self.geometry
-                    .cell_of(self.disks.motion[i].x, self.disks.motion[i].y),
-            );
-        }
         // Pairs farther apart than contact + margin cannot meet before the DUTC deadline: the
         // lists keep only the closer ones (the mask guarantees every closer disk is seen).
         let margin = self.margin;
         let (disks, sides, top) = (&self.disks, self.sides, self.top);
+        let geometry = &self.geometry;
+        let cell = |i: usize| geometry.cell_of(disks.motion[i].x, disks.motion[i].y);
         let near = |i: usize, j: usize| {
             let (dx, dy) = wrap(
                 sides,
@@ -867,13 +922,8 @@ impl<F: Flight> Simulation<F> {
             let reach = disks.radius[i] + disks.radius[j] + margin;
             dx * dx + dy * dy <= reach * reach
         };
-        self.cells.rebuild(
-            &self.geometry,
-            &self.mask,
-            &self.cell_of,
-            &mut self.lists,
-            near,
-        )?;
+        self.cells
+            .rebuild(geometry, &self.mask, n, cell, &mut self.lists, near)?;
         let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
         let vmax = (0..n)
             .map(|i| {
@@ -890,11 +940,7 @@ impl<F: Flight> Simulation<F> {
             0.0
         };
         self.dutc = Dutc::new(margin, vmax, accel);
-        self.ev_time.fill(f64::INFINITY);
-        self.tree = CompleteBinaryTree::build(&self.ev_time);
-        for i in 0..n {
-            self.predict(i);
-        }
+        self.predict_all();
         self.counts.rebuild += 1;
         Ok(())
     }
