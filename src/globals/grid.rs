@@ -89,11 +89,13 @@ impl GridGeometry {
     /// Cell indices of a point (clamped into the grid: round-off never maps outside).
     #[inline]
     pub fn cell_of(&self, x: f64, y: f64) -> (u32, u32) {
-        let ix = ((x / self.lx).floor().max(0.0) as u32).min(self.nx - 1);
-        let fy = ((y - self.y0) / self.ly).floor().max(0.0);
+        // Truncation equals floor for non-negative values, and anything below 0 clamps to 0
+        // either way (and `as` saturates): no libm call on the re-mapping path.
+        let ix = ((x / self.lx) as i64).clamp(0, self.nx as i64 - 1) as u32;
+        let fy = ((y - self.y0) / self.ly) as i64;
         let iy = match self.ny {
-            Some(ny) => (fy as u32).min(ny - 1),
-            None => fy.min(u32::MAX as f64 - 1.0) as u32,
+            Some(ny) => fy.clamp(0, ny as i64 - 1) as u32,
+            None => fy.clamp(0, u32::MAX as i64 - 1) as u32,
         };
         (ix, iy)
     }
