@@ -214,8 +214,10 @@ fn rows(
     Ok(out)
 }
 
-/// Hard-disk Monte Carlo: each sweep tries one random move per disk and rejects any move that
-/// overlaps another disk or leaves the region. The step adapts towards half acceptance.
+/// Hard-disk Monte Carlo: each sweep tries one random move per disk (in storage order, which
+/// follows the lattice rows and keeps memory access local) and rejects any move that overlaps
+/// another disk or leaves the region. The step adapts towards half acceptance. Cells of side
+/// ≥ 2 a_max hold their disks in fixed-size slots of one flat array.
 pub fn melt_mc(
     pos: &mut [[f64; 2]],
     radius: &[f64],
@@ -224,30 +226,36 @@ pub fn melt_mc(
     rng: &mut Xoshiro256PlusPlus,
 ) {
     let n = pos.len();
-    let a_max = radius.iter().cloned().fold(0.0, f64::max);
+    let (a_min, a_max) = radius
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| (lo.min(a), hi.max(a)));
     let width = r.x1 - r.x0;
     let height = r.y1 - r.y0;
     let cell = 2.0 * a_max;
     let ncx = ((width / cell).floor() as usize).max(1);
     let ncy = ((height / cell).floor() as usize).max(1);
     let (cw, ch) = (width / ncx as f64, height / ncy as f64);
+    // Centres in one cell are ≥ 2 a_min apart: at most (⌊side/(2 a_min)⌋ + 1)² of them.
+    let per_side = (cw.max(ch) / (2.0 * a_min)).floor() as usize + 1;
+    let cap = per_side * per_side;
     let cell_of = |p: [f64; 2]| -> usize {
-        let cx = (((p[0] - r.x0) / cw).floor().max(0.0) as usize).min(ncx - 1);
-        let cy = (((p[1] - r.y0) / ch).floor().max(0.0) as usize).min(ncy - 1);
+        let cx = (((p[0] - r.x0) / cw).max(0.0) as usize).min(ncx - 1);
+        let cy = (((p[1] - r.y0) / ch).max(0.0) as usize).min(ncy - 1);
         cy * ncx + cx
     };
-    let mut members: Vec<Vec<u32>> = vec![Vec::new(); ncx * ncy];
+    let mut count = vec![0u32; ncx * ncy];
+    let mut slots = vec![0u32; ncx * ncy * cap];
     let mut home: Vec<usize> = Vec::with_capacity(n);
     for (i, &p) in pos.iter().enumerate() {
         let c = cell_of(p);
-        members[c].push(i as u32);
+        slots[c * cap + count[c] as usize] = i as u32;
+        count[c] += 1;
         home.push(c);
     }
     let mut step = 0.5 * a_max;
     for _ in 0..sweeps {
         let mut accepted = 0usize;
-        for _ in 0..n {
-            let i = rng.random_range(0..n);
+        for i in 0..n {
             let a = radius[i];
             let mut p = [
                 pos[i][0] + step * (2.0 * rng.random::<f64>() - 1.0),
@@ -281,7 +289,8 @@ pub fn melt_mc(
                         }
                         y = y.rem_euclid(ncy as i64);
                     }
-                    for &j in &members[y as usize * ncx + x as usize] {
+                    let k = y as usize * ncx + x as usize;
+                    for &j in &slots[k * cap..k * cap + count[k] as usize] {
                         let j = j as usize;
                         if j == i {
                             continue;
@@ -305,11 +314,15 @@ pub fn melt_mc(
             if free {
                 accepted += 1;
                 pos[i] = p;
-                if c != home[i] {
-                    let old = &mut members[home[i]];
-                    let k = old.iter().position(|&m| m as usize == i).unwrap();
-                    old.swap_remove(k);
-                    members[c].push(i as u32);
+                let old = home[i];
+                if c != old {
+                    let members = &mut slots[old * cap..old * cap + count[old] as usize];
+                    let k = members.iter().position(|&m| m as usize == i).unwrap();
+                    let last = members.len() - 1;
+                    members.swap(k, last);
+                    count[old] -= 1;
+                    slots[c * cap + count[c] as usize] = i as u32;
+                    count[c] += 1;
                     home[i] = c;
                 }
             }

@@ -186,7 +186,7 @@ impl<F: Flight> Simulation<F> {
             top_y,
             y_periodic,
         );
-        let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max).ok_or_else(|| {
+        let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max, scene.packing).ok_or_else(|| {
             Error::input(
                 "engine.mask",
                 format!(

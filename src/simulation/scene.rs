@@ -37,6 +37,8 @@ pub struct Scene {
     pub speed_cutoff: Option<f64>,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
+    /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
+    pub packing: f64,
     /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
     /// allows.
     pub skin: Option<f64>,
@@ -144,6 +146,10 @@ impl Scene {
             tc: s.collisions.tc,
             speed_cutoff: s.collisions.speed_cutoff,
             mask: s.engine.mask,
+            packing: match height {
+                Some(h) => n as f64 * mean_disk_area(s) / (width * h),
+                None => s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING),
+            },
             skin: s.engine.skin,
             check_invariants: s.engine.check_invariants,
             max_events: s.run.max_events,
