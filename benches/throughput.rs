@@ -26,7 +26,8 @@
 //! the ratio.
 //!
 //! Environment: `VIBROBED_BENCH_BED=0` skips the vibrated bed; `VIBROBED_BENCH_REPS` sets R
-//! (default 5); `VIBROBED_BENCH_MASK` forces the neighbour mask (`min`, `r3` … `r10`; default
+//! (default 5); `VIBROBED_BENCH_GRID=hashed` puts the gas on Isobe's compressed array instead of
+//! the dense grid; `VIBROBED_BENCH_MASK` forces the neighbour mask (`min`, `r3` … `r10`; default
 //! `auto`), to compare masks.
 
 use criterion::{Criterion, SamplingMode, Throughput};
@@ -123,6 +124,12 @@ fn mask_choice() -> String {
     std::env::var("VIBROBED_BENCH_MASK").unwrap_or_else(|_| "auto".to_string())
 }
 
+/// `engine.grid` of the gas scenes: `VIBROBED_BENCH_GRID` (`dense` or `hashed`), default `auto`
+/// (dense for the closed box). The vibrated bed has an open top and is always hashed.
+fn grid_choice() -> String {
+    std::env::var("VIBROBED_BENCH_GRID").unwrap_or_else(|_| "auto".to_string())
+}
+
 fn gas_scenario(n: usize, phi: f64) -> Scenario {
     let width = (n as f64 * std::f64::consts::PI * RADIUS * RADIUS / phi).sqrt();
     let json = serde_json::json!({
@@ -131,7 +138,7 @@ fn gas_scenario(n: usize, phi: f64) -> Scenario {
         "domain": { "width": width, "x_boundary": "periodic", "y_boundary": "periodic" },
         "particles": { "count": n, "radius": RADIUS, "packing_fraction": phi, "temperature": 1.0 },
         "run": { "duration": 1.0 },
-        "engine": { "mask": mask_choice() }
+        "engine": { "mask": mask_choice(), "grid": grid_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("gas scenario")
 }

@@ -1,5 +1,6 @@
 //! The command line: `vibrobed run SCENARIO.json [--rrd OUT.rrd] [--summary OUT.json]
-//! [--profiles OUT.csv] [--set KEY=VALUE]...` and `vibrobed check SCENARIO.json`.
+//! [--profiles OUT.csv] [--set KEY=VALUE]...`, `vibrobed check SCENARIO.json` and
+//! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
 //! failure, 130 interrupted by Ctrl-C (the summary so far is still written, marked
@@ -49,6 +50,33 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Show what accuracy costs in time: run the exact engine as reference and each variant
+    /// (approximate schemes with a sweep of their step, floor models, dissipation cures,
+    /// recording) on the same scene and seeds; print a table, write accuracy.csv, accuracy.txt
+    /// and accuracy.svg (error vs cost, log–log) into --out.
+    Accuracy {
+        /// The scenario file (JSON).
+        scenario: PathBuf,
+        /// Directory for the CSV, the table and the plot.
+        #[arg(long, default_value = "accuracy")]
+        out: PathBuf,
+        /// Override a scenario field by its dotted path.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Short runs, two seeds, three sweep points (for CI).
+        #[arg(long)]
+        quick: bool,
+        /// Number of seeds of the ensembles (default 3; 2 with --quick).
+        #[arg(long)]
+        seeds: Option<usize>,
+        /// Also measure what each effect costs (effects.csv): the slowdown of a scene with the
+        /// effect against the same scene without it.
+        #[arg(long)]
+        effects: bool,
+        /// No progress lines on stderr.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Validate a scenario without running it.
     Check {
         /// The scenario file (JSON).
@@ -87,6 +115,37 @@ fn execute(cli: Cli) -> Result<i32> {
             // Also resolve the scene (placement, grid, mask) without running it.
             crate::simulation::Scene::build(&s)?;
             eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
+            Ok(0)
+        }
+        Command::Accuracy {
+            scenario,
+            out,
+            sets,
+            quick,
+            seeds,
+            effects,
+            quiet,
+        } => {
+            let s = Scenario::load(&scenario, &sets)?;
+            if seeds == Some(0) {
+                return Err(Error::input("--seeds", "must be at least 1"));
+            }
+            let report = crate::accuracy::report(
+                &s,
+                &crate::accuracy::Options {
+                    out: out.clone(),
+                    quick,
+                    effects,
+                    seeds,
+                    verbose: !quiet,
+                },
+            )?;
+            print!("{}", report.table());
+            eprintln!(
+                "wrote {}/accuracy.csv, accuracy.txt, accuracy.svg{}",
+                out.display(),
+                if effects { ", effects.csv" } else { "" }
+            );
             Ok(0)
         }
         Command::Run {

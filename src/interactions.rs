@@ -18,6 +18,12 @@ pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> Option<f64>
     }
     let dv2 = dvx * dvx + dvy * dvy;
     let c = dx * dx + dy * dy - s * s;
+    if c <= 1e-12 * s * s && b * b <= 1e-26 * s * s * dv2 {
+        // In contact, approaching only within the round-off of b (a pair that just collided
+        // with e = 0, or slides tangentially): not a collision. Colliding would change the
+        // velocities by less than an ulp and repeat forever.
+        return None;
+    }
     let disc = b * b - dv2 * c;
     if disc < 0.0 {
         return None;
@@ -78,6 +84,44 @@ pub struct Impulse {
     pub normal_speed: f64,
     /// Centre distance at contact.
     pub distance: f64,
+}
+
+/// Collides smooth disks i and j with normal restitution `e`, and a normal rebound speed of at
+/// least `min_rebound` (0 for a plain collision). The floor of the rebound is used for a disk
+/// landing on a disk that rides the floor: they are pressed together, and without it a contact
+/// at zero normal speed would exchange nothing and repeat (Zeno); `min_rebound` is the speed that
+/// lifts the pair apart by a negligible height (see `Floor::rest_speed`). The energy lost is then
+/// whatever the velocities lost (slightly negative when the floor of the rebound acts).
+#[inline]
+pub fn collide_rebounding(
+    dx: f64,
+    dy: f64,
+    dvx: f64,
+    dvy: f64,
+    m_i: f64,
+    m_j: f64,
+    e: f64,
+    min_rebound: f64,
+) -> Impulse {
+    let distance = (dx * dx + dy * dy).sqrt();
+    let (nx, ny) = (dx / distance, dy / distance);
+    let u = dvx * nx + dvy * ny;
+    if u > 0.0 || (u == 0.0 && min_rebound == 0.0) {
+        return collide(dx, dy, dvx, dvy, m_i, m_j, e);
+    }
+    let mu = m_i * m_j / (m_i + m_j);
+    let after = (-e * u).max(min_rebound); // normal speed after, ≥ 0
+    let p = mu * (after - u);
+    Impulse {
+        dvx_i: p * nx / m_i,
+        dvy_i: p * ny / m_i,
+        dvx_j: -p * nx / m_j,
+        dvy_j: -p * ny / m_j,
+        energy_lost: 0.5 * mu * (u * u - after * after),
+        momentum: p,
+        normal_speed: -u,
+        distance,
+    }
 }
 
 /// Collides smooth disks i and j with normal restitution `e`.
@@ -176,7 +220,8 @@ const RIDER_STEPS: usize = 200;
 /// First time in `[now, limit]` at which a disk riding the floor touches a flying disk.
 ///
 /// The rider moves with `x_r + vx_r τ` and `y = h(t) + a_r` (`ride(t)` gives `(h, h')`); the flyer
-/// on its parabola under gravity `g`. `dx` is the flyer's x minus the rider's at `now` (minimum
+/// on its parabola under gravity `g` (`ride_acc(t)` is the rider's vertical acceleration). `dx` is
+/// the flyer's x minus the rider's at `now` (minimum
 /// image), `dy0` the flyer's y minus the rider's, `dvx` and `dvy0` likewise, `s` the contact
 /// distance and `k_floor` a bound on |h''|. With `F(τ) = |Δr|² − s²`,
 /// `|F''| ≤ 2(Δvx² + Δvy² + |Δy| (g + k_floor))`, bounded over a window from the values at its
@@ -195,6 +240,7 @@ pub fn rider_contact(
     now: f64,
     limit: f64,
     ride: impl Fn(f64) -> (f64, f64),
+    ride_acc: impl Fn(f64) -> f64,
 ) -> Option<RiderContact> {
     let k = g + k_floor;
     let tol = 1e-13 * s * s;
@@ -217,6 +263,16 @@ pub fn rider_contact(
             2.0 * (dvx * dvx + v * v + y * k)
         };
         if f <= tol {
+            // Touching. Half of F'' now: relative speed² + Δy·(relative vertical acceleration).
+            let curvature = dvx * dvx + dvy * dvy - ddy * (g + ride_acc(t));
+            if fd.abs() <= 1e-12 * s * (dvx.abs() + dvy.abs()) + tol / s && curvature >= 0.0 {
+                // No normal approach, and nothing pressing the pair together: no collision now
+                // (colliding would exchange nothing). Look again once the floor's motion could
+                // have changed that: after the time to move by a rest height under g + h''.
+                let wait = (2.0 * crate::locals::floor::PAIR_REST_HEIGHT * s / k.max(f64::MIN_POSITIVE)).sqrt();
+                let t_next = t + wait;
+                return (t_next <= limit).then_some(RiderContact::Recheck(t_next));
+            }
             if fd <= 0.0 {
                 return Some(RiderContact::At(t));
             }

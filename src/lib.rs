@@ -9,9 +9,12 @@
 //! - [`scheduler`]: the event sorter (complete binary tree);
 //! - [`simulation`]: the event loop, re-mapping (DUTC) and the scene set-up;
 //! - [`measure`], [`summary`], [`output`]: what is measured and written;
+//! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and
+//!   [`accuracy`]: what accuracy costs in time (error against the exact engine vs cost);
 //! - [`scenario`], [`placement`]: the scene description and the initial state;
 //! - [`reference`]: a brute-force engine for tests.
 
+pub mod accuracy;
 pub mod cli;
 pub mod disks;
 pub mod dynamics;
@@ -26,6 +29,7 @@ pub mod reference;
 pub mod run;
 pub mod scenario;
 pub mod scheduler;
+pub mod schemes;
 pub mod simulation;
 pub mod summary;
 

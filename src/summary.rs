@@ -123,6 +123,9 @@ pub struct Summary {
     pub profiles: Option<ProfileTable>,
     /// Engine set-up.
     pub engine: EngineSummary,
+    /// Steps and errors of an approximate scheme (`engine.scheme` `time-step` or `space-time`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub approximation: Option<crate::schemes::SchemeStats>,
 }
 
 impl Summary {

@@ -212,6 +212,23 @@ fn recording_without_frames_is_valid() {
     std::fs::remove_file(&path).ok();
 }
 
+/// A recorder dropped before its first frame (a run failing early) still lays the file out.
+#[test]
+fn dropped_recorder_without_frames_has_its_blueprint() {
+    let path = tmp("dropped-empty");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    rec.log_text(0.0, "error", "failed before the first frame")
+        .unwrap();
+    drop(rec);
+    let c = read_back(&path).unwrap();
+    assert!(c.disks.is_empty());
+    assert!(c.has_blueprint);
+    assert!(c.has_footer);
+    assert_eq!(c.log.len(), 1);
+    assert_eq!(c.log[0].level, "ERROR");
+    std::fs::remove_file(&path).ok();
+}
+
 #[test]
 fn mismatched_slices_are_an_error() {
     let path = tmp("bad");

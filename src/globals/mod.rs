@@ -22,10 +22,10 @@ pub enum Cells {
 }
 
 impl Cells {
-    /// The storage suited to `geometry` (sparse exactly when the height is unbounded), for
-    /// `mask`.
-    pub fn for_geometry(geometry: &GridGeometry, mask: &Mask) -> Cells {
-        if geometry.ny.is_some() {
+    /// The storage for `geometry` and `mask`: dense when the height is bounded (unless
+    /// `hashed` is asked for), Isobe's compressed array otherwise.
+    pub fn for_geometry(geometry: &GridGeometry, mask: &Mask, hashed: bool) -> Cells {
+        if geometry.ny.is_some() && !hashed {
             Cells::Dense(DenseCells::with_pad(mask.half_width as u32))
         } else {
             Cells::Sparse(SparseCells::default())

@@ -58,6 +58,13 @@ const MAX_STEPS: usize = 200;
 /// change nothing measurable.
 pub const REST_HEIGHT: f64 = 1e-9;
 
+/// A disk landing on a disk that rides the floor rebounds at least so fast that it would rise
+/// `PAIR_REST_HEIGHT` radii against the acceleration pressing the two together (see
+/// `interactions::collide_rebounding`). Larger than [`REST_HEIGHT`]: a disk resting on a rider
+/// keeps bouncing (there is no resting contact between disks), and this sets how often — about
+/// 1/(2·√(2·10⁻⁶ a/g)) ≈ 500 bounces per unit time for a = 0.5, g = 1.
+pub const PAIR_REST_HEIGHT: f64 = 1e-6;
+
 /// How a ride on the floor ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RideEnd {
@@ -241,6 +248,12 @@ impl Floor {
         (2.0 * g * REST_HEIGHT * a).sqrt()
     }
 
+    /// Smallest rebound of a disk of radius `a` landing on a rider, pressed onto it with
+    /// acceleration `press`.
+    pub fn pair_rest_speed(a: f64, press: f64) -> f64 {
+        (2.0 * press * PAIR_REST_HEIGHT * a).sqrt()
+    }
+
     /// Whether a disk just bounced at local time `t` with relative rebound speed `rel` comes to
     /// rest on the floor: the floor presses the disk (its acceleration is above −g, so a disk
     /// moving with it stays in contact) and the rebound would rise less than [`REST_HEIGHT`]
@@ -270,6 +283,16 @@ impl Floor {
         match self.model {
             FloorModel::Exact => (self.height(t), self.velocity(t)),
             FloorModel::FixedPosition => (0.0, 0.0),
+        }
+    }
+
+    /// Vertical acceleration of a disk riding the floor at local time `t`: the floor's in the
+    /// exact model, 0 in the fixed-position model.
+    #[inline]
+    pub fn ride_acceleration(&self, t: f64) -> f64 {
+        match self.model {
+            FloorModel::Exact => self.acceleration(t),
+            FloorModel::FixedPosition => 0.0,
         }
     }
 
@@ -366,16 +389,16 @@ impl Floor {
             let f = yy - a - amp * s;
             let fd = vv - amp * self.omega * c;
             if f <= self.tolerance(a, yy) {
+                if !self.presses(t, g) && fd >= 0.0 {
+                    // Touching and not approaching while the floor accelerates down faster than
+                    // g: f'' > 0, so f grows until the floor's downward acceleration drops below
+                    // g again. (Approaching, however slowly, is an impact.)
+                    tau = self.leaves_throw_zone(t, g) - now;
+                    continue;
+                }
                 if fd > 0.0 {
                     // Touching but separating: the lower bound stays ≥ f for 2 f'/K.
                     tau += 2.0 * fd / k;
-                    continue;
-                }
-                if !self.presses(t, g) && fd >= -Self::rest_speed(a, k) {
-                    // Touching at (almost) no relative speed while the floor accelerates down
-                    // faster than g: the disk separates; f stays ≥ 0 until the floor's
-                    // downward acceleration drops below g again.
-                    tau = self.leaves_throw_zone(t, g) - now;
                     continue;
                 }
                 return Some(FloorEvent::Impact(t));
@@ -420,9 +443,14 @@ impl Floor {
             }
             let th = self.phase(t);
             // End of the current linear piece, in phase and then in time.
+            // (The same phase decomposition as `triangle` and `triangle_slope`, so that piece
+            // and slope always agree at the kinks.)
             let piece_end = match self.waveform {
-                Waveform::Triangle => ((th - FRAC_PI_2) / PI).floor() * PI + FRAC_PI_2 + PI,
-                _ => (th / TAU).floor() * TAU + TAU,
+                Waveform::Triangle => {
+                    let p = (th + FRAC_PI_2).rem_euclid(TAU);
+                    th + if p < PI { PI - p } else { TAU - p }
+                }
+                _ => th + (TAU - th.rem_euclid(TAU)),
             };
             let tau_end = tau + (piece_end - th) / w;
             let yy = y + (vy - 0.5 * g * tau) * tau;

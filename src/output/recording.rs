@@ -30,9 +30,10 @@
 //! latest-at semantics carries them over); positions, colours and the floor are logged every frame.
 //!
 //! The blueprint (disks large on the left; one time-series view per series group, i.e. per first
-//! path segment of the series names, and the text log stacked on the right) is sent with the
-//! first frame, when the series names are known, or by [`RerunRecorder::finish`] when no frame
-//! was ever written.
+//! path segment of the series names, or per series without a group, and the text log stacked on
+//! the right; blueprint, selection and time panels collapsed; timeline `sim_time`) is sent with
+//! the first frame, when the series names are known, or by [`RerunRecorder::finish`] (or the
+//! drop of the recorder) when no frame was ever written.
 //!
 //! # Completeness of the file
 //!
@@ -45,9 +46,10 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
+use rerun::blueprint::components::PanelState;
 use rerun::blueprint::{
-    Blueprint, BlueprintActivation, ContainerLike, Horizontal, Spatial2DView, TextLogView,
-    TimeSeriesView, Vertical,
+    Blueprint, BlueprintActivation, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel,
+    Spatial2DView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::components::{ClassId, Color, Position2D, Radius, Scalar, Text, TextLogLevel};
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
@@ -394,8 +396,8 @@ impl RerunRecorder {
             .map_err(|e| err("text log", e))
     }
 
-    /// Series groups: `energy/kinetic` belongs to group `energy`; names without `/` go to
-    /// the unnamed group (`None`).
+    /// Series groups: `energy/kinetic` belongs to group `energy`; a name without `/` is a
+    /// group of its own.
     fn send_blueprint(&mut self, series: &[(&'static str, f64)]) -> Result<(), String> {
         let mut groups: BTreeMap<&str, ()> = BTreeMap::new();
         let mut loose: Vec<&str> = Vec::new();
@@ -415,11 +417,12 @@ impl RerunRecorder {
                     .into(),
             );
         }
-        if !loose.is_empty() {
+        // A series without a group has its own view: sharing one y axis would squash the
+        // smaller (e.g. centre-of-mass height beside collisions per unit time).
+        for name in &loose {
             right.push(
-                TimeSeriesView::new(if groups.is_empty() { "series" } else { "other" })
-                    .with_origin(format!("/{SERIES_PREFIX}"))
-                    .with_contents(loose.iter().map(|n| format!("/{SERIES_PREFIX}/{n}")))
+                TimeSeriesView::new(*name)
+                    .with_origin(format!("/{SERIES_PREFIX}/{name}"))
                     .into(),
             );
         }
@@ -434,8 +437,17 @@ impl RerunRecorder {
             .with_contents([format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()]);
         let root = Horizontal::new([disks.into(), Vertical::new(right).into()])
             .with_column_shares([2.0, 1.0]);
+        // Side and time panels collapsed (the time panel keeps its play controls), so that the
+        // views get the window; simulated time is the timeline shown.
         Blueprint::new(root)
             .with_auto_views(false)
+            .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
+            .with_selection_panel(SelectionPanel::from_state(PanelState::Collapsed))
+            .with_time_panel(
+                TimePanel::new()
+                    .with_state(PanelState::Collapsed)
+                    .with_timeline(SIM_TIME_TIMELINE),
+            )
             .send(
                 &self.rec,
                 BlueprintActivation {
@@ -458,6 +470,17 @@ impl RerunRecorder {
         self.rec.flush_blocking().map_err(|e| err("flush", e))?;
         drop(self);
         Ok(())
+    }
+}
+
+impl Drop for RerunRecorder {
+    /// A recorder dropped without [`finish`](Self::finish) (an error or a panic in the run)
+    /// still sends the blueprint, so that the file opens laid out; the `RecordingStream` inside
+    /// then flushes and writes the footer.
+    fn drop(&mut self) {
+        if !self.blueprint_sent {
+            let _ = self.send_blueprint(&[]);
+        }
     }
 }
 

@@ -126,14 +126,56 @@ pub fn validate(s: &Scenario) -> Result<()> {
     if s.output.profile_bins == 0 {
         return Err(Error::input("output.profile_bins", "must be at least 1"));
     }
+    if s.engine.grid == GridChoice::Dense && s.domain.y_boundary == YBoundary::Open {
+        return Err(Error::input(
+            "engine.grid",
+            "a dense grid needs a bounded height: use `hashed` (or `auto`) for an open top",
+        ));
+    }
     if let Some(skin) = s.engine.skin {
         positive("engine.skin", skin)?;
     }
-    if s.engine.scheme != Scheme::EventDriven {
-        return Err(Error::input(
-            "engine.scheme",
-            "only `event-driven` is implemented in this version",
-        ));
+    validate_scheme_knobs(&s.engine)?;
+    Ok(())
+}
+
+/// The approximate schemes' knobs: positive, and only with the scheme they belong to (a knob
+/// that the chosen scheme would ignore is refused rather than silently dropped).
+fn validate_scheme_knobs(e: &Engine) -> Result<()> {
+    let knobs = [
+        ("engine.dt", e.dt, &[Scheme::TimeStep][..]),
+        ("engine.verlet_skin", e.verlet_skin, &[Scheme::TimeStep][..]),
+        (
+            "engine.sync_distance",
+            e.sync_distance,
+            &[Scheme::SpaceTime][..],
+        ),
+        (
+            "engine.cell_size",
+            e.cell_size,
+            &[Scheme::TimeStep, Scheme::SpaceTime][..],
+        ),
+    ];
+    for (field, value, schemes) in knobs {
+        let Some(v) = value else { continue };
+        positive(field, v)?;
+        if !schemes.contains(&e.scheme) {
+            let names: Vec<&str> = schemes
+                .iter()
+                .map(|s| match s {
+                    Scheme::TimeStep => "time-step",
+                    Scheme::SpaceTime => "space-time",
+                    Scheme::EventDriven => "event-driven",
+                })
+                .collect();
+            return Err(Error::input(
+                field,
+                format!(
+                    "applies to engine.scheme {} only (the scene uses another scheme)",
+                    names.join(" or ")
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -340,7 +340,7 @@ pub enum ColorChoice {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
-    /// `event-driven` (exact; the only scheme implemented so far).
+    /// `event-driven` (exact), `time-step` or `space-time` (approximate, for comparison).
     #[serde(default)]
     pub scheme: Scheme,
     /// Neighbour mask: `auto`, `min`, `r3` … `r10`.
@@ -350,9 +350,30 @@ pub struct Engine {
     /// (absent: the most the mask allows). Lists keep pairs closer than contact + skin.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub skin: Option<f64>,
+    /// Grid storage: `auto` (dense for closed domains, hashed for an open top), `dense`, or
+    /// `hashed` (Isobe's compressed array, also for closed domains).
+    #[serde(default)]
+    pub grid: GridChoice,
     /// Switch on the invariant checks (no overlap, no event in the past, energy balance).
     #[serde(default)]
     pub check_invariants: bool,
+    // --- Knobs of the approximate schemes (src/schemes); each belongs to one scheme. ---
+    /// `time-step`: the fixed global step (absent: 0.1 × smallest radius / largest speed at the
+    /// start, the speed being at least √(g·radius) and the floor's peak speed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// `time-step`: Verlet-list skin in units of the smallest radius (absent: 1). Lists keep
+    /// pairs closer than 2 a_max + skin and are rebuilt when a disk has moved half the skin.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verlet_skin: Option<f64>,
+    /// `space-time`: the synchronisation distance D in units of the smallest radius (absent: 6,
+    /// three diameters); the synchronisation step is D / (largest speed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sync_distance: Option<f64>,
+    /// `time-step` and `space-time`: side of the linked cells in units of the smallest radius
+    /// (absent: the Verlet radius for `time-step`; 2 a_max + 3 a_min for `space-time`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cell_size: Option<f64>,
 }
 
 impl Default for Engine {
@@ -361,7 +382,12 @@ impl Default for Engine {
             scheme: Scheme::EventDriven,
             mask: MaskChoice::Auto,
             skin: None,
+            grid: GridChoice::Auto,
             check_invariants: false,
+            dt: None,
+            verlet_skin: None,
+            sync_distance: None,
+            cell_size: None,
         }
     }
 }
@@ -373,10 +399,24 @@ pub enum Scheme {
     /// Exact event-driven dynamics (Isobe 1999).
     #[default]
     EventDriven,
-    /// Fixed global time step with Verlet lists (not implemented yet).
+    /// Fixed global time step, overlaps found with cell and Verlet lists, resolved when found.
     TimeStep,
-    /// Per-disk times with a global synchronisation step (not implemented yet).
+    /// Per-disk times moved straight to their next predicted collision, candidates from linked
+    /// cells, with a global synchronisation step D/v (ReMoDy's space-time scheme).
     SpaceTime,
+}
+
+/// How the grid is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GridChoice {
+    /// Dense for closed domains, hashed for an open top.
+    #[default]
+    Auto,
+    /// One slot per cell (closed domains only).
+    Dense,
+    /// Isobe's compressed virtual array with bucketed hashing.
+    Hashed,
 }
 
 /// Which Isobe mask to search for neighbours.

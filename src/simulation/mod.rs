@@ -14,10 +14,13 @@ use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
-use crate::interactions::{collide, contact_time, rider_contact, Restitution, RiderContact};
+use crate::interactions::{
+    collide_rebounding, contact_time, rider_contact, Restitution, RiderContact,
+};
 use crate::locals::floor::{Floor, FloorEvent, RideEnd};
 use crate::locals::{Side, SideBounds, Top};
 use crate::reference::{Collision, Partner};
+use crate::scenario::GridChoice;
 use crate::scheduler::CompleteBinaryTree;
 use dutc::Dutc;
 use serde::Serialize;
@@ -37,6 +40,51 @@ mod partner {
 
 /// Relative overlap (of the contact distance) beyond which the invariant check fails.
 pub const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// The absolute time of the engine's local clock zero, summed with compensation (Neumaier) so
+/// that millions of re-basings add no drift: absolute = `hi + (lo + local)`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Epoch {
+    hi: f64,
+    lo: f64,
+}
+
+impl Epoch {
+    /// Moves the epoch forward by `dt`.
+    fn advance(&mut self, dt: f64) {
+        let sum = self.hi + dt;
+        let err = if self.hi.abs() >= dt.abs() {
+            (self.hi - sum) + dt
+        } else {
+            (dt - sum) + self.hi
+        };
+        self.hi = sum;
+        self.lo += err;
+    }
+
+    /// Absolute time of local time `local`.
+    #[inline]
+    fn absolute(&self, local: f64) -> f64 {
+        self.hi + (self.lo + local)
+    }
+
+    /// Local time of absolute time `t`.
+    #[inline]
+    fn local(&self, t: f64) -> f64 {
+        (t - self.hi) - self.lo
+    }
+}
+
+/// `x` reduced into `[0, period)` (`rem_euclid` can round up to `period` itself).
+#[inline]
+fn into_period(x: f64, period: f64) -> f64 {
+    let r = x.rem_euclid(period);
+    if r >= period {
+        0.0
+    } else {
+        r
+    }
+}
 
 /// Minimum-image separation where periodic. Positions are wrapped at every mapping and drift
 /// by less than the DUTC margin before the next, so one correction suffices.
@@ -151,7 +199,7 @@ pub struct Simulation<F: Flight> {
     /// Local time of each disk's last pair collision (TC model only; else empty).
     last_collision: Vec<f64>,
     margin: f64,
-    base: f64,
+    base: Epoch,
     now: f64,
     dutc: Dutc,
     counts: EventCounts,
@@ -208,7 +256,7 @@ impl<F: Flight> Simulation<F> {
             ev_partner: vec![partner::NONE; n],
             ev_counter: vec![0; n],
             tree: CompleteBinaryTree::default(),
-            cells: Cells::for_geometry(&geometry, &mask),
+            cells: Cells::for_geometry(&geometry, &mask, scene.grid == GridChoice::Hashed),
             geometry,
             mask,
             lists: NeighbourLists::default(),
@@ -226,7 +274,7 @@ impl<F: Flight> Simulation<F> {
                 Vec::new()
             },
             margin: mask_margin,
-            base: 0.0,
+            base: Epoch::default(),
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
             counts: EventCounts::default(),
@@ -293,7 +341,7 @@ impl<F: Flight> Simulation<F> {
 
     /// Current absolute time.
     pub fn time(&self) -> f64 {
-        self.base + self.now
+        self.base.absolute(self.now)
     }
 
     /// Event counts so far.
@@ -319,6 +367,14 @@ impl<F: Flight> Simulation<F> {
     /// The neighbour mask in use.
     pub fn mask(&self) -> &Mask {
         &self.mask
+    }
+
+    /// `dense` or `hashed`: how the grid is stored.
+    pub fn grid_kind(&self) -> &'static str {
+        match self.cells {
+            Cells::Dense(_) => "dense",
+            Cells::Sparse(_) => "hashed",
+        }
     }
 
     /// The grid geometry in use.
@@ -381,7 +437,7 @@ impl<F: Flight> Simulation<F> {
     /// disks since they were last brought forward.
     pub fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         let mut flow = self.flow;
-        let local = t - self.base;
+        let local = self.base.local(t);
         let g = self.flight.g();
         for i in (0..self.riding.len()).filter(|&i| self.riding[i]) {
             let (_, y, _, vy) = self.state_at(i, local);
@@ -420,6 +476,7 @@ impl<F: Flight> Simulation<F> {
             now,
             limit,
             |t| floor.ride(t),
+            |t| floor.ride_acceleration(t),
         )
     }
 
@@ -600,7 +657,7 @@ impl<F: Flight> Simulation<F> {
     /// Runs events until absolute time `target` (events at exactly `target` are left for later).
     pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
         loop {
-            let local_target = target - self.base;
+            let local_target = self.base.local(target);
             if self.counts.popped() >= self.event_limit {
                 return Ok(Progress::EventLimit);
             }
@@ -626,8 +683,8 @@ impl<F: Flight> Simulation<F> {
             if self.check && te < self.now {
                 return Err(Error::Runtime(format!(
                     "event of disk {i} at {} is before the present {}",
-                    te + self.base,
-                    self.now + self.base
+                    self.base.absolute(te),
+                    self.base.absolute(self.now)
                 )));
             }
             self.now = te;
@@ -670,7 +727,7 @@ impl<F: Flight> Simulation<F> {
                 _ => None,
             };
             if let Some(p) = p {
-                log.push(Collision::new(self.base + now, i, p));
+                log.push(Collision::new(self.base.absolute(now), i, p));
             }
         }
         match who {
@@ -832,8 +889,27 @@ impl<F: Flight> Simulation<F> {
             self.last_collision[i] = now;
             self.last_collision[j] = now;
         }
+        // A disk landing on a rider (or a rider hit from above) is pressed onto it by gravity
+        // and the floor: a rebound of at least the resting speed keeps the pair from Zeno.
+        let min_rebound = if rode[0] != rode[1] {
+            let floor = self.floor.as_ref().expect("riders need a floor");
+            let g = self.flight.g();
+            let dist = (dx * dx + dy * dy).sqrt();
+            // Acceleration of i relative to j along n = (r_i − r_j)/|r_i − r_j|.
+            let ride_acc = floor.ride_acceleration(now);
+            let (ai, aj) = if rode[0] { (ride_acc, -g) } else { (-g, ride_acc) };
+            let press = -(ai - aj) * dy / dist;
+            if press > 0.0 {
+                let a = self.disks.radius[i].min(self.disks.radius[j]);
+                Floor::pair_rest_speed(a, press)
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
         let d = &self.disks;
-        let imp = collide(
+        let imp = collide_rebounding(
             dx,
             dy,
             d.motion[i].vx - d.motion[j].vx,
@@ -841,6 +917,7 @@ impl<F: Flight> Simulation<F> {
             d.mass[i],
             d.mass[j],
             e,
+            min_rebound,
         );
         let overlap = contact - imp.distance;
         if overlap > self.max_overlap {
@@ -890,15 +967,15 @@ impl<F: Flight> Simulation<F> {
         }
         if let SideBounds::Periodic { width } = self.sides {
             for m in &mut self.disks.motion {
-                m.x = m.x.rem_euclid(width);
+                m.x = into_period(m.x, width);
             }
         }
         if let Top::Periodic { height } = self.top {
             for m in &mut self.disks.motion {
-                m.y = m.y.rem_euclid(height);
+                m.y = into_period(m.y, height);
             }
         }
-        self.base += now;
+        self.base.advance(now);
         self.now = 0.0;
         for t in &mut self.last_collision {
             *t -= now;
@@ -949,7 +1026,7 @@ impl<F: Flight> Simulation<F> {
     /// engine (so observing never changes the dynamics).
     pub fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
         let n = self.disks.len();
-        let local = t - self.base;
+        let local = self.base.local(t);
         out.time = t;
         out.x.resize(n, 0.0);
         out.y.resize(n, 0.0);
@@ -964,12 +1041,12 @@ impl<F: Flight> Simulation<F> {
         }
         if let SideBounds::Periodic { width } = self.sides {
             for x in &mut out.x {
-                *x = x.rem_euclid(width);
+                *x = into_period(*x, width);
             }
         }
         if let Top::Periodic { height } = self.top {
             for y in &mut out.y {
-                *y = y.rem_euclid(height);
+                *y = into_period(*y, height);
             }
         }
         out.floor_height = self.floor.as_ref().map(|f| f.height(local));

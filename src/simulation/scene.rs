@@ -8,7 +8,7 @@ use crate::locals::{SideBounds, Top};
 use crate::placement::{self, Region};
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
-    MaskChoice, Placement, PlacementKind, Radius, Scenario, XBoundary, YBoundary,
+    GridChoice, MaskChoice, Placement, PlacementKind, Radius, Scenario, XBoundary, YBoundary,
 };
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -37,6 +37,8 @@ pub struct Scene {
     pub speed_cutoff: Option<f64>,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
+    /// Grid storage choice.
+    pub grid: GridChoice,
     /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
     pub packing: f64,
     /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
@@ -146,6 +148,7 @@ impl Scene {
             tc: s.collisions.tc,
             speed_cutoff: s.collisions.speed_cutoff,
             mask: s.engine.mask,
+            grid: s.engine.grid,
             packing: match height {
                 Some(h) => n as f64 * mean_disk_area(s) / (width * h),
                 None => s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING),

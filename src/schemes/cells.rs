@@ -1,0 +1,227 @@
+//! Linked cells for the approximate schemes: a head-of-chain array and a linked list (the
+//! neighour-list tutorial's cell list), cells at least a given side. Every pair of disks in the
+//! same or adjacent cells is visited once (a half stencil).
+//!
+//! An open top has no height bound: the rows are folded modulo a row count of O(N / columns),
+//! so memory stays O(N) however high a disk flies (disks folded into adjacent rows are rejected
+//! by the callers' distance tests).
+
+use crate::locals::{SideBounds, Top};
+
+const EMPTY: u32 = u32::MAX;
+
+/// A cell list over the domain.
+#[derive(Debug, Clone, Default)]
+pub struct CellList {
+    nx: usize,
+    ny: usize,
+    cw: f64,
+    ch: f64,
+    y0: f64,
+    x_wrap: bool,
+    y_wrap: bool,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    stencil: Vec<(isize, isize)>,
+}
+
+impl CellList {
+    /// Side of the cells in x.
+    pub fn cell(&self) -> f64 {
+        self.cw
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        4 * (self.head.capacity() + self.next.capacity())
+    }
+
+    /// Maps `n` disks at positions `pos(i)` (wrapped into the box where periodic) into cells of
+    /// side at least `size`.
+    pub fn build(
+        &mut self,
+        n: usize,
+        pos: impl Fn(usize) -> (f64, f64),
+        size: f64,
+        sides: SideBounds,
+        top: Top,
+    ) {
+        let width = sides.width();
+        let x_periodic = matches!(sides, SideBounds::Periodic { .. });
+        self.nx = ((width / size).floor() as usize).max(1);
+        if x_periodic && self.nx < 3 {
+            self.nx = 1;
+        }
+        self.x_wrap = x_periodic;
+        self.cw = width / self.nx as f64;
+        match top {
+            Top::Periodic { height } => {
+                self.ny = ((height / size).floor() as usize).max(1);
+                if self.ny < 3 {
+                    self.ny = 1;
+                }
+                self.ch = height / self.ny as f64;
+                self.y0 = 0.0;
+                self.y_wrap = true;
+            }
+            _ => {
+                let (lo, hi) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), i| {
+                    let y = pos(i).1;
+                    (lo.min(y), hi.max(y))
+                });
+                let (lo, hi) = if n == 0 { (0.0, 0.0) } else { (lo, hi) };
+                let rows = ((hi - lo) / size).floor() as usize + 1;
+                let cap = (2 * n.div_ceil(self.nx) + 3).max(3);
+                self.ch = size;
+                self.y0 = lo;
+                if rows <= cap {
+                    self.ny = rows;
+                    self.y_wrap = false;
+                } else {
+                    self.ny = cap;
+                    self.y_wrap = true; // folded rows
+                }
+            }
+        }
+        self.stencil.clear();
+        for (mut dx, mut dy) in [(1isize, 0isize), (-1, 1), (0, 1), (1, 1)] {
+            if self.x_wrap && self.nx == 1 {
+                dx = 0;
+            }
+            if self.y_wrap && self.ny == 1 {
+                dy = 0;
+            }
+            if (dx, dy) == (0, 0)
+                || self.stencil.contains(&(dx, dy))
+                || self.stencil.contains(&(-dx, -dy))
+            {
+                continue;
+            }
+            self.stencil.push((dx, dy));
+        }
+        self.head.clear();
+        self.head.resize(self.nx * self.ny, EMPTY);
+        self.next.clear();
+        self.next.resize(n, EMPTY);
+        for i in 0..n {
+            let (x, y) = pos(i);
+            let c = self.index(x, y);
+            self.next[i] = self.head[c];
+            self.head[c] = i as u32;
+        }
+    }
+
+    #[inline]
+    fn index(&self, x: f64, y: f64) -> usize {
+        let cx = ((x / self.cw).floor().max(0.0) as usize).min(self.nx - 1);
+        let ry = ((y - self.y0) / self.ch).floor().max(0.0) as usize;
+        let cy = if self.y_wrap {
+            ry % self.ny
+        } else {
+            ry.min(self.ny - 1)
+        };
+        cy * self.nx + cx
+    }
+
+    /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells.
+    pub fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
+        let (nx, ny) = (self.nx as isize, self.ny as isize);
+        for cy in 0..ny {
+            for cx in 0..nx {
+                let c = (cy * nx + cx) as usize;
+                let mut i = self.head[c];
+                while i != EMPTY {
+                    let mut j = self.next[i as usize];
+                    while j != EMPTY {
+                        f(i as usize, j as usize);
+                        j = self.next[j as usize];
+                    }
+                    i = self.next[i as usize];
+                }
+                for &(dx, dy) in &self.stencil {
+                    let (mut tx, mut ty) = (cx + dx, cy + dy);
+                    if self.x_wrap {
+                        tx = tx.rem_euclid(nx);
+                    } else if !(0..nx).contains(&tx) {
+                        continue;
+                    }
+                    if self.y_wrap {
+                        ty = ty.rem_euclid(ny);
+                    } else if !(0..ny).contains(&ty) {
+                        continue;
+                    }
+                    let t = (ty * nx + tx) as usize;
+                    let mut i = self.head[c];
+                    while i != EMPTY {
+                        let mut j = self.head[t];
+                        while j != EMPTY {
+                            f(i as usize, j as usize);
+                            j = self.next[j as usize];
+                        }
+                        i = self.next[i as usize];
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// Every pair closer than the cell side is visited exactly once, in periodic, walled and
+    /// open (folded) domains, including boxes only one or two cells wide.
+    #[test]
+    fn visits_every_close_pair_once() {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        for &(width, periodic_y, spread) in &[
+            (10.0, true, 10.0),
+            (2.5, true, 2.5),
+            (10.0, false, 1e6),
+            (1.5, false, 30.0),
+        ] {
+            for x_periodic in [true, false] {
+                let sides = if x_periodic {
+                    SideBounds::Periodic { width }
+                } else {
+                    SideBounds::Walls { width, e: 1.0 }
+                };
+                let top = if periodic_y {
+                    Top::Periodic { height: spread }
+                } else {
+                    Top::Open
+                };
+                let n = 300;
+                let mut p: Vec<(f64, f64)> = (0..n)
+                    .map(|_| (rng.random::<f64>() * width, rng.random::<f64>() * 20.0))
+                    .collect();
+                if !periodic_y {
+                    p[0].1 = spread; // far above the rest
+                } else {
+                    for q in &mut p {
+                        q.1 = q.1.rem_euclid(spread);
+                    }
+                }
+                let size = 1.0;
+                let mut cl = CellList::default();
+                cl.build(n, |i| p[i], size, sides, top);
+                let mut seen = std::collections::HashMap::new();
+                cl.for_each_pair(|i, j| {
+                    *seen.entry((i.min(j), i.max(j))).or_insert(0) += 1;
+                });
+                assert!(seen.values().all(|&k| k == 1), "a pair visited twice");
+                for i in 0..n {
+                    for j in i + 1..n {
+                        let (dx, dy) =
+                            crate::schemes::min_image(sides, top, p[i].0 - p[j].0, p[i].1 - p[j].1);
+                        if dx * dx + dy * dy < size * size {
+                            assert!(seen.contains_key(&(i, j)), "missed {i} {j}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

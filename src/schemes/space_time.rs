@@ -1,0 +1,565 @@
+//! The space-time scheme (ReMoDy): every disk has its own time and is moved straight (or on its
+//! parabola) to its next predicted collision, computed with the crate's exact pair, wall, lid and
+//! floor formulas — but only against candidate partners from the linked cells around it, and
+//! never past the global synchronisation time `t_sync + D/v` (D a few mean free paths, v the
+//! largest speed). At each synchronisation every disk is brought to that time, the cells (side a
+//! few mean free paths, at least a diameter) are rebuilt and every disk is predicted anew.
+//!
+//! The approximation: a partner that is not in a neighbouring cell at the synchronisation is not
+//! a candidate until the next one, so a disk that travels farther than the cells reach within one
+//! synchronisation step can pass through it (a missed collision) or be found overlapping it later
+//! (a late collision, resolved at once if the pair approaches). As D shrinks the cells' reach
+//! covers every partner a disk can meet, and the scheme becomes the exact engine without DUTC.
+//!
+//! The scheme has no state for a disk resting on the floor: an inelastic disk whose rebound
+//! would be negligible (it would come to rest in the exact engine) instead hops
+//! [`REST_HOP`] radii, which ends the infinite sequence of ever smaller bounces.
+
+use super::cells::CellList;
+use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use crate::disks::{Disks, Motion};
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::interactions::{collide, contact_time, Restitution};
+use crate::locals::floor::{Floor, FloorEvent};
+use crate::locals::{Side, SideBounds, Top};
+use crate::scenario::Engine;
+use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
+use std::cmp::Ordering as CmpOrdering;
+use std::collections::{BinaryHeap, HashSet};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Default synchronisation distance D, in units of the smallest radius (three diameters).
+pub const DEFAULT_SYNC_DISTANCE: f64 = 6.0;
+
+/// Default reach of the cells beyond contact, in units of the smallest radius: the cell side is
+/// `2 a_max + 3 a_min` unless `engine.cell_size` says otherwise. It does not follow D, so that
+/// the scheme converges as D shrinks (a disk then cannot outrun the cells' reach before the next
+/// synchronisation).
+pub const DEFAULT_CELL_MARGIN: f64 = 3.0;
+
+/// Height, in radii, of the smallest hop of a disk on the floor (see the module notes).
+pub const REST_HOP: f64 = 1e-4;
+
+/// Overlap (relative to the contact distance) beyond which a pair counts as overlapping.
+const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// Event partner codes beyond the disk numbers.
+const NONE: u32 = u32::MAX;
+const LEFT: u32 = u32::MAX - 1;
+const RIGHT: u32 = u32::MAX - 2;
+const LID: u32 = u32::MAX - 3;
+const FLOOR: u32 = u32::MAX - 4;
+const RECHECK: u32 = u32::MAX - 5;
+
+/// A queued event: its time, the disk, and the disk's prediction number when it was queued.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Queued {
+    time: f64,
+    disk: u32,
+    seq: u32,
+}
+
+impl Eq for Queued {}
+
+impl PartialOrd for Queued {
+    fn partial_cmp(&self, other: &Self) -> Option<CmpOrdering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Queued {
+    /// Reversed, so that the max-heap yields the earliest event.
+    fn cmp(&self, other: &Self) -> CmpOrdering {
+        other
+            .time
+            .total_cmp(&self.time)
+            .then_with(|| other.disk.cmp(&self.disk))
+    }
+}
+
+/// The space-time engine.
+#[derive(Debug)]
+pub struct SpaceTime<F: Flight> {
+    flight: F,
+    disks: Disks,
+    sides: SideBounds,
+    top: Top,
+    floor: Option<Floor>,
+    restitution: Restitution,
+    last_collision: Vec<f64>,
+    sync_distance: f64,
+    cell: f64,
+    cells: CellList,
+    start: Vec<u32>,
+    partners: Vec<u32>,
+    ev_time: Vec<f64>,
+    ev_partner: Vec<u32>,
+    ev_counter: Vec<u32>,
+    seq: Vec<u32>,
+    queue: BinaryHeap<Queued>,
+    overlapping: HashSet<(u32, u32)>,
+    now: f64,
+    sync_end: f64,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    stats: SchemeStats,
+    event_limit: u64,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl<F: Flight> SpaceTime<F> {
+    /// Sets up the scheme for `scene` with its knobs from `engine` (`sync_distance`,
+    /// `cell_size`).
+    pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<SpaceTime<F>> {
+        let n = disks.len();
+        let (a_min, a_max) = disks.radius_range();
+        let sync_distance = engine.sync_distance.unwrap_or(DEFAULT_SYNC_DISTANCE) * a_min;
+        let cell = match engine.cell_size {
+            Some(c) if c * a_min < 2.0 * a_max => {
+                return Err(Error::input(
+                    "engine.cell_size",
+                    format!(
+                        "must be at least the largest diameter ({:.4} radii)",
+                        2.0 * a_max / a_min
+                    ),
+                ))
+            }
+            Some(c) => c * a_min,
+            None => 2.0 * a_max + DEFAULT_CELL_MARGIN * a_min,
+        };
+        let mut st = SpaceTime {
+            flight,
+            disks,
+            sides: scene.sides,
+            top: scene.top,
+            floor: scene.floor.clone(),
+            restitution: Restitution {
+                e: scene.restitution,
+                tc: scene.tc,
+                speed_cutoff: scene.speed_cutoff,
+            },
+            last_collision: if scene.tc.is_some() {
+                vec![f64::NEG_INFINITY; n]
+            } else {
+                Vec::new()
+            },
+            sync_distance,
+            cell,
+            cells: CellList::default(),
+            start: Vec::new(),
+            partners: Vec::new(),
+            ev_time: vec![f64::INFINITY; n],
+            ev_partner: vec![NONE; n],
+            ev_counter: vec![0; n],
+            seq: vec![0; n],
+            queue: BinaryHeap::new(),
+            overlapping: HashSet::new(),
+            now: 0.0,
+            sync_end: 0.0,
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            stats: SchemeStats::default(),
+            event_limit: scene.max_events.unwrap_or(u64::MAX),
+            interrupt: None,
+        };
+        for m in &mut st.disks.motion {
+            m.t = 0.0;
+        }
+        st.synchronise();
+        st.stats.missed = 0; // overlaps present at the start are the placement's, not missed
+        Ok(st)
+    }
+
+    /// State of disk `i` at time `t` (on its flight from its own time stamp).
+    #[inline(always)]
+    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
+        let m = &self.disks.motion[i];
+        self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    }
+
+    #[inline(always)]
+    fn bring(&mut self, i: usize, t: f64) {
+        let (x, y, vx, vy) = self.state_at(i, t);
+        self.disks.motion[i] = Motion { x, y, vx, vy, t };
+    }
+
+    fn of(&self, i: usize) -> &[u32] {
+        &self.partners[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// Brings every disk to the synchronisation time, rebuilds the cells and candidate lists,
+    /// counts the pairs found overlapping, chooses the next synchronisation time and predicts
+    /// every disk.
+    fn synchronise(&mut self) {
+        let now = self.now;
+        let n = self.disks.len();
+        for i in 0..n {
+            self.bring(i, now);
+        }
+        wrap_positions(self.sides, self.top, &mut self.disks);
+        let motion = &self.disks.motion;
+        self.cells.build(
+            n,
+            |i| (motion[i].x, motion[i].y),
+            self.cell,
+            self.sides,
+            self.top,
+        );
+        // Candidate lists (symmetric, in CSR form) from the cells.
+        let mut count = vec![0u32; n + 1];
+        self.cells.for_each_pair(|i, j| {
+            count[i] += 1;
+            count[j] += 1;
+        });
+        let mut start = vec![0u32; n + 1];
+        for i in 0..n {
+            start[i + 1] = start[i] + count[i];
+        }
+        let mut fill = start.clone();
+        let mut partners = vec![0u32; start[n] as usize];
+        let (sides, top) = (self.sides, self.top);
+        let mut overlapping = HashSet::new();
+        let radius = &self.disks.radius;
+        let mut worst = 0.0f64;
+        self.cells.for_each_pair(|i, j| {
+            partners[fill[i] as usize] = j as u32;
+            fill[i] += 1;
+            partners[fill[j] as usize] = i as u32;
+            fill[j] += 1;
+            let (dx, dy) = min_image(
+                sides,
+                top,
+                motion[i].x - motion[j].x,
+                motion[i].y - motion[j].y,
+            );
+            let s = radius[i] + radius[j];
+            let d2 = dx * dx + dy * dy;
+            if d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s {
+                worst = worst.max(s - d2.sqrt());
+                overlapping.insert((i.min(j) as u32, i.max(j) as u32));
+            }
+        });
+        self.max_overlap = self.max_overlap.max(worst);
+        self.stats.missed += overlapping.difference(&self.overlapping).count() as u64;
+        self.overlapping = overlapping;
+        self.start = start;
+        self.partners = partners;
+        // The next synchronisation: D over the largest speed (at least the floor's and that of
+        // a fall through one radius).
+        let (a_min, _) = self.disks.radius_range();
+        let v_disks = self
+            .disks
+            .motion
+            .iter()
+            .map(|m| m.vx * m.vx + m.vy * m.vy)
+            .fold(0.0f64, f64::max)
+            .sqrt();
+        let v = v_disks
+            .max(self.floor.as_ref().map_or(0.0, |f| f.max_speed()))
+            .max((self.flight.g() * a_min).sqrt());
+        let dt = if v > 0.0 {
+            self.sync_distance / v
+        } else {
+            f64::INFINITY
+        };
+        self.sync_end = now + dt;
+        self.counts.rebuild += 1;
+        self.stats.steps += 1;
+        self.queue.clear();
+        for i in 0..n {
+            self.predict(i);
+        }
+    }
+
+    /// Finds disk `i`'s earliest event from now (disk `i` is at now) before the synchronisation
+    /// and queues it.
+    fn predict(&mut self, i: usize) {
+        let now = self.now;
+        let limit = self.sync_end;
+        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let ai = self.disks.radius[i];
+        let mut best = f64::INFINITY;
+        let mut who = NONE;
+        for &j in self.of(i) {
+            let j = j as usize;
+            let (xj, yj, vxj, vyj) = self.state_at(j, now);
+            let (dx, dy) = min_image(self.sides, self.top, xi - xj, yi - yj);
+            if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
+            {
+                if dt < best {
+                    best = dt;
+                    who = j as u32;
+                }
+            }
+        }
+        let mut counter = if who != NONE {
+            self.disks.counter[who as usize]
+        } else {
+            0
+        };
+        if let Some((dt, side)) = self.sides.impact(xi, vxi, ai) {
+            if dt < best {
+                best = dt;
+                who = if side == Side::Left { LEFT } else { RIGHT };
+            }
+        }
+        let g = self.flight.g();
+        if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+            if dt < best {
+                best = dt;
+                who = LID;
+            }
+        }
+        let mut t = now + best;
+        if let Some(floor) = &self.floor {
+            match floor.next_event(yi, vyi, ai, g, now, t.min(limit)) {
+                Some(FloorEvent::Impact(tf)) if tf < t => {
+                    t = tf;
+                    who = FLOOR;
+                }
+                Some(FloorEvent::Recheck(tf)) if tf < t => {
+                    t = tf;
+                    who = RECHECK;
+                }
+                _ => {}
+            }
+        }
+        if who >= RECHECK {
+            counter = 0;
+        }
+        self.seq[i] = self.seq[i].wrapping_add(1);
+        if t <= limit {
+            self.ev_time[i] = t;
+            self.ev_partner[i] = who;
+            self.ev_counter[i] = counter;
+            self.queue.push(Queued {
+                time: t,
+                disk: i as u32,
+                seq: self.seq[i],
+            });
+        } else {
+            self.ev_time[i] = f64::INFINITY;
+            self.ev_partner[i] = NONE;
+        }
+    }
+
+    /// Runs the events before `until` (at most the synchronisation time).
+    fn run_events(&mut self, until: f64) -> Result<Option<Progress>> {
+        while let Some(&q) = self.queue.peek() {
+            if q.time >= until {
+                break;
+            }
+            self.queue.pop();
+            let i = q.disk as usize;
+            if q.seq != self.seq[i] {
+                continue; // superseded prediction
+            }
+            if self.counts.popped() >= self.event_limit {
+                return Ok(Some(Progress::EventLimit));
+            }
+            if self.counts.popped() & 0xfff == 0 {
+                if let Some(flag) = self.interrupt {
+                    if flag.load(Ordering::Relaxed) {
+                        return Ok(Some(Progress::Interrupted));
+                    }
+                }
+            }
+            self.now = q.time.max(self.now);
+            self.fire(i);
+        }
+        Ok(None)
+    }
+
+    fn fire(&mut self, i: usize) {
+        let now = self.now;
+        let who = self.ev_partner[i];
+        match who {
+            LEFT | RIGHT => {
+                self.bring(i, now);
+                let side = if who == LEFT { Side::Left } else { Side::Right };
+                let before = self.disks.motion[i].vx;
+                let after = self.sides.bounce(before, side);
+                self.disks.motion[i].vx = after;
+                self.flow.dissipated +=
+                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.counts.wall += 1;
+                self.moved(i);
+            }
+            LID => {
+                self.bring(i, now);
+                let before = self.disks.motion[i].vy;
+                let after = self.top.bounce(before);
+                self.disks.motion[i].vy = after;
+                self.flow.dissipated +=
+                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                self.counts.lid += 1;
+                self.moved(i);
+            }
+            FLOOR => {
+                self.bring(i, now);
+                let floor = self.floor.as_ref().expect("floor events need a floor");
+                let g = self.flight.g();
+                let a = self.disks.radius[i];
+                let before = self.disks.motion[i].vy;
+                let hd = floor.velocity(now);
+                let mut after = floor.bounce_on(before, hd);
+                if floor.comes_to_rest(after - hd, a, g, now) {
+                    let (_, hd_ride) = floor.ride(now);
+                    after = hd_ride + (2.0 * g * REST_HOP * a).sqrt();
+                    self.counts.rest += 1;
+                }
+                self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
+                self.disks.motion[i].vy = after;
+                self.counts.floor += 1;
+                self.moved(i);
+            }
+            RECHECK => {
+                self.counts.recheck += 1;
+                self.bring(i, now);
+                self.predict(i);
+            }
+            NONE => {}
+            j => {
+                let j = j as usize;
+                if self.disks.counter[j] != self.ev_counter[i] {
+                    self.counts.stale += 1;
+                    self.bring(i, now);
+                    self.predict(i);
+                    return;
+                }
+                self.pair(i, j);
+            }
+        }
+    }
+
+    fn moved(&mut self, i: usize) {
+        self.disks.counter[i] = self.disks.counter[i].wrapping_add(1);
+        self.predict(i);
+    }
+
+    fn pair(&mut self, i: usize, j: usize) {
+        let now = self.now;
+        self.bring(i, now);
+        self.bring(j, now);
+        let d = &self.disks;
+        let (mi, mj) = (d.motion[i], d.motion[j]);
+        let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
+        let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
+        let s = d.radius[i] + d.radius[j];
+        let e = if self.restitution.e == 1.0 {
+            1.0
+        } else {
+            let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
+            let since = |k: usize| {
+                self.last_collision
+                    .get(k)
+                    .map_or(f64::INFINITY, |&t| now - t)
+            };
+            self.restitution.of(u, since(i), since(j))
+        };
+        if !self.last_collision.is_empty() {
+            self.last_collision[i] = now;
+            self.last_collision[j] = now;
+        }
+        let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
+        let overlap = s - imp.distance;
+        if overlap > OVERLAP_TOLERANCE * s {
+            self.stats.overlapped_collisions += 1;
+            self.max_overlap = self.max_overlap.max(overlap);
+            if overlap > super::time_step::DEEP_OVERLAP * s {
+                self.stats.deep_overlaps += 1;
+            }
+        }
+        let m = &mut self.disks.motion;
+        m[i].vx += imp.dvx_i;
+        m[i].vy += imp.dvy_i;
+        m[j].vx += imp.dvx_j;
+        m[j].vy += imp.dvy_j;
+        self.flow.dissipated += imp.energy_lost;
+        self.virial += imp.distance * imp.momentum;
+        self.counts.pair += 1;
+        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
+        self.moved(i);
+        self.predict(j);
+    }
+}
+
+impl<F: Flight> Integrator for SpaceTime<F> {
+    fn set_interrupt(&mut self, flag: &'static AtomicBool) {
+        self.interrupt = Some(flag);
+    }
+    fn disks(&self) -> &Disks {
+        &self.disks
+    }
+    fn time(&self) -> f64 {
+        self.now
+    }
+    fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        loop {
+            if self.sync_end <= target {
+                if let Some(p) = self.run_events(self.sync_end)? {
+                    return Ok(p);
+                }
+                self.now = self.sync_end;
+                self.synchronise();
+                self.stats.step = self.now / self.stats.steps.saturating_sub(1).max(1) as f64;
+            } else {
+                if let Some(p) = self.run_events(target)? {
+                    return Ok(p);
+                }
+                self.now = self.now.max(target);
+                return Ok(Progress::Reached);
+            }
+        }
+    }
+    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        free_flight_snapshot(
+            self.flight,
+            &self.disks,
+            self.sides,
+            self.top,
+            self.floor.as_ref(),
+            t,
+            out,
+        );
+    }
+    fn counts(&self) -> EventCounts {
+        self.counts
+    }
+    fn energy_flow_at(&self, _t: f64) -> EnergyFlow {
+        self.flow
+    }
+    fn virial(&self) -> f64 {
+        self.virial
+    }
+    fn max_overlap(&self) -> f64 {
+        self.max_overlap
+    }
+    fn check_state(&self, _snap: &Snapshot) -> Result<()> {
+        Ok(())
+    }
+    fn setup(&self) -> Setup {
+        Setup {
+            scheme: "space-time",
+            mask: format!("3×3 linked cells, D = {:.4}", self.sync_distance),
+            cell: self.cells.cell(),
+            grid: "linked-cells".into(),
+            bytes: self.disks.bytes()
+                + self.cells.bytes()
+                + 4 * (self.start.capacity() + self.partners.capacity())
+                + 8 * self.ev_time.capacity()
+                + 4 * (self.ev_partner.capacity()
+                    + self.ev_counter.capacity()
+                    + self.seq.capacity())
+                + 24 * self.queue.capacity(),
+        }
+    }
+    fn approximation(&self) -> Option<SchemeStats> {
+        Some(self.stats)
+    }
+}

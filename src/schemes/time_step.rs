@@ -1,0 +1,425 @@
+//! The time-step scheme: one global step dt for every disk (ReMoDy's standard scheme, with the
+//! neighbour-list tutorial's cell and Verlet lists).
+//!
+//! A step flies every disk exactly over dt (straight line or parabola), then looks for overlaps:
+//! pairs from a Verlet list of radius `2 a_max + skin`, built from a cell list (head-of-chain +
+//! linked list, cells at least the Verlet radius) and rebuilt when any disk has moved more than
+//! half the skin since the last build. An overlapping pair that approaches gets the pair
+//! collision rule with the scene's restitution law (TC, speed cutoff included); an overlapping
+//! pair that recedes is left alone. Walls, the lid and the floor likewise: a disk below the floor
+//! (its position as in the exact model, or y = 0 in the fixed-position model) that moves down
+//! relative to it bounces with the floor's velocity at that time. Energy changes only at the
+//! bounces, where they are booked, so the energy budget closes to round-off.
+
+use super::cells::CellList;
+use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use crate::disks::Disks;
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::interactions::{collide, contact_time, Restitution};
+use crate::locals::floor::Floor;
+use crate::locals::{Side, SideBounds, Top};
+use crate::scenario::{Engine, FloorModel};
+use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Default Verlet skin in units of the smallest radius.
+pub const DEFAULT_SKIN: f64 = 1.0;
+
+/// Overlap (relative to the contact distance) beyond which a collision counts as overlapped.
+const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// Overlap (relative to the contact distance) counted as deep.
+pub const DEEP_OVERLAP: f64 = 0.1;
+
+/// The default step: 0.1 × the smallest radius over the largest speed at the start, that speed
+/// being at least √(g·a_min) (a disk falling its own radius) and the floor's peak speed Aω.
+/// `None` when nothing moves and nothing will (no speed, no gravity, no moving floor).
+pub fn default_dt(scene: &Scene, disks: &Disks) -> Option<f64> {
+    let (a_min, _) = disks.radius_range();
+    let v_disks = disks
+        .motion
+        .iter()
+        .map(|m| (m.vx * m.vx + m.vy * m.vy).sqrt())
+        .fold(0.0f64, f64::max);
+    let v_fall = (scene.gravity.unwrap_or(0.0) * a_min).sqrt();
+    let v_floor = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
+    let v = v_disks.max(v_fall).max(v_floor);
+    (v > 0.0).then(|| 0.1 * a_min / v)
+}
+
+/// The time-step engine.
+#[derive(Debug)]
+pub struct TimeStep<F: Flight> {
+    flight: F,
+    disks: Disks,
+    sides: SideBounds,
+    top: Top,
+    floor: Option<Floor>,
+    restitution: Restitution,
+    last_collision: Vec<f64>,
+    dt: f64,
+    skin: f64,
+    verlet: f64,
+    cell: f64,
+    cells: CellList,
+    pairs: Vec<(u32, u32)>,
+    built_x: Vec<f64>,
+    built_y: Vec<f64>,
+    flight_vx: Vec<f64>,
+    flight_vy: Vec<f64>,
+    step: u64,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    stats: SchemeStats,
+    event_limit: u64,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl<F: Flight> TimeStep<F> {
+    /// Sets up the scheme for `scene` with its knobs from `engine` (`dt`, `verlet_skin`,
+    /// `cell_size`).
+    pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<TimeStep<F>> {
+        let n = disks.len();
+        let (a_min, a_max) = disks.radius_range();
+        let dt = match engine.dt {
+            Some(dt) => dt,
+            None => default_dt(scene, &disks).ok_or_else(|| {
+                Error::input(
+                    "engine.dt",
+                    "cannot be chosen from the scene (nothing moves): give it",
+                )
+            })?,
+        };
+        let skin = engine.verlet_skin.unwrap_or(DEFAULT_SKIN) * a_min;
+        let verlet = 2.0 * a_max + skin;
+        let cell = match engine.cell_size {
+            Some(c) if c * a_min < verlet => {
+                return Err(Error::input(
+                    "engine.cell_size",
+                    format!(
+                        "must be at least the Verlet radius 2 a_max + skin = {:.4} radii",
+                        verlet / a_min
+                    ),
+                ))
+            }
+            Some(c) => c * a_min,
+            None => verlet,
+        };
+        let mut ts = TimeStep {
+            flight,
+            disks,
+            sides: scene.sides,
+            top: scene.top,
+            floor: scene.floor.clone(),
+            restitution: Restitution {
+                e: scene.restitution,
+                tc: scene.tc,
+                speed_cutoff: scene.speed_cutoff,
+            },
+            last_collision: if scene.tc.is_some() {
+                vec![f64::NEG_INFINITY; n]
+            } else {
+                Vec::new()
+            },
+            dt,
+            skin,
+            verlet,
+            cell,
+            cells: CellList::default(),
+            pairs: Vec::new(),
+            built_x: vec![0.0; n],
+            built_y: vec![0.0; n],
+            flight_vx: vec![0.0; n],
+            flight_vy: vec![0.0; n],
+            step: 0,
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            stats: SchemeStats {
+                step: dt,
+                ..SchemeStats::default()
+            },
+            event_limit: scene.max_events.unwrap_or(u64::MAX),
+            interrupt: None,
+        };
+        for m in &mut ts.disks.motion {
+            m.t = 0.0;
+        }
+        wrap_positions(ts.sides, ts.top, &mut ts.disks);
+        ts.rebuild();
+        Ok(ts)
+    }
+
+    /// The step dt.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    fn now(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    /// Rebuilds the cell list and, from it, the Verlet list.
+    fn rebuild(&mut self) {
+        let n = self.disks.len();
+        let motion = &self.disks.motion;
+        self.cells.build(
+            n,
+            |i| (motion[i].x, motion[i].y),
+            self.cell,
+            self.sides,
+            self.top,
+        );
+        self.pairs.clear();
+        let (sides, top, skin) = (self.sides, self.top, self.skin);
+        let (radius, pairs) = (&self.disks.radius, &mut self.pairs);
+        self.cells.for_each_pair(|i, j| {
+            let (dx, dy) = min_image(
+                sides,
+                top,
+                motion[i].x - motion[j].x,
+                motion[i].y - motion[j].y,
+            );
+            let reach = radius[i] + radius[j] + skin;
+            if dx * dx + dy * dy <= reach * reach {
+                pairs.push((i as u32, j as u32));
+            }
+        });
+        for (i, m) in motion.iter().enumerate() {
+            self.built_x[i] = m.x;
+            self.built_y[i] = m.y;
+        }
+        self.counts.rebuild += 1;
+    }
+
+    /// One step of dt.
+    fn one_step(&mut self) {
+        let dt = self.dt;
+        let t1 = (self.step + 1) as f64 * self.dt;
+        let flight = self.flight;
+        for (i, m) in self.disks.motion.iter_mut().enumerate() {
+            let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
+            *m = crate::disks::Motion {
+                x,
+                y,
+                vx,
+                vy,
+                t: t1,
+            };
+            self.flight_vx[i] = vx;
+            self.flight_vy[i] = vy;
+        }
+        self.step += 1;
+        wrap_positions(self.sides, self.top, &mut self.disks);
+        let half = 0.5 * self.skin;
+        let moved_far = self.disks.motion.iter().enumerate().any(|(i, m)| {
+            let (dx, dy) = min_image(
+                self.sides,
+                self.top,
+                m.x - self.built_x[i],
+                m.y - self.built_y[i],
+            );
+            dx * dx + dy * dy > half * half
+        });
+        if moved_far {
+            self.rebuild();
+        }
+        self.pairs_step(t1);
+        self.boundaries_step(t1);
+        self.stats.steps = self.step;
+    }
+
+    /// Finds overlapping pairs and resolves the approaching ones; counts the missed ones.
+    fn pairs_step(&mut self, now: f64) {
+        let dt = self.dt;
+        let (sides, top) = (self.sides, self.top);
+        for k in 0..self.pairs.len() {
+            let (i, j) = (self.pairs[k].0 as usize, self.pairs[k].1 as usize);
+            let d = &self.disks;
+            let (mi, mj) = (d.motion[i], d.motion[j]);
+            let (dx, dy) = min_image(sides, top, mi.x - mj.x, mi.y - mj.y);
+            let s = d.radius[i] + d.radius[j];
+            let d2 = dx * dx + dy * dy;
+            if d2 >= s * s {
+                // Did their paths touch during the step? Relative motion is straight.
+                let (fvx, fvy) = (
+                    self.flight_vx[i] - self.flight_vx[j],
+                    self.flight_vy[i] - self.flight_vy[j],
+                );
+                if let Some(tc) = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s) {
+                    if tc < dt {
+                        self.stats.missed += 1;
+                    }
+                }
+                continue;
+            }
+            let overlap = s - d2.sqrt();
+            self.max_overlap = self.max_overlap.max(overlap);
+            let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
+            if dx * dvx + dy * dvy >= 0.0 {
+                continue; // receding: left alone
+            }
+            if overlap > OVERLAP_TOLERANCE * s {
+                self.stats.overlapped_collisions += 1;
+            }
+            if overlap > DEEP_OVERLAP * s {
+                self.stats.deep_overlaps += 1;
+            }
+            let e = if self.restitution.e == 1.0 {
+                1.0
+            } else {
+                let u = -(dx * dvx + dy * dvy) / d2.sqrt();
+                let since = |q: usize| {
+                    self.last_collision
+                        .get(q)
+                        .map_or(f64::INFINITY, |&t| now - t)
+                };
+                self.restitution.of(u, since(i), since(j))
+            };
+            if !self.last_collision.is_empty() {
+                self.last_collision[i] = now;
+                self.last_collision[j] = now;
+            }
+            let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
+            let m = &mut self.disks.motion;
+            m[i].vx += imp.dvx_i;
+            m[i].vy += imp.dvy_i;
+            m[j].vx += imp.dvx_j;
+            m[j].vy += imp.dvy_j;
+            self.flow.dissipated += imp.energy_lost;
+            self.virial += imp.distance * imp.momentum;
+            self.counts.pair += 1;
+        }
+    }
+
+    /// Bounces disks that are past a wall, the lid or the floor and still moving into it.
+    fn boundaries_step(&mut self, now: f64) {
+        let floor_now = self.floor.as_ref().map(|f| {
+            let h = match f.model {
+                FloorModel::Exact => f.height(now),
+                FloorModel::FixedPosition => 0.0,
+            };
+            (h, f.velocity(now))
+        });
+        for i in 0..self.disks.len() {
+            let a = self.disks.radius[i];
+            let mass = self.disks.mass[i];
+            let m = &mut self.disks.motion[i];
+            if let SideBounds::Walls { width, .. } = self.sides {
+                let hit = if m.x - a < 0.0 && m.vx < 0.0 {
+                    Some((Side::Left, a - m.x))
+                } else if m.x + a > width && m.vx > 0.0 {
+                    Some((Side::Right, m.x + a - width))
+                } else {
+                    None
+                };
+                if let Some((side, depth)) = hit {
+                    let after = self.sides.bounce(m.vx, side);
+                    self.flow.dissipated += 0.5 * mass * (m.vx * m.vx - after * after);
+                    m.vx = after;
+                    self.counts.wall += 1;
+                    self.stats.max_boundary_penetration =
+                        self.stats.max_boundary_penetration.max(depth);
+                }
+            }
+            if let Top::Lid { height, .. } = self.top {
+                if m.y + a > height && m.vy > 0.0 {
+                    let after = self.top.bounce(m.vy);
+                    self.flow.dissipated += 0.5 * mass * (m.vy * m.vy - after * after);
+                    self.stats.max_boundary_penetration =
+                        self.stats.max_boundary_penetration.max(m.y + a - height);
+                    m.vy = after;
+                    self.counts.lid += 1;
+                }
+            }
+            if let (Some(floor), Some((h, hd))) = (&self.floor, floor_now) {
+                if m.y - a < h && m.vy < hd {
+                    let after = floor.bounce_on(m.vy, hd);
+                    self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
+                    self.stats.max_boundary_penetration =
+                        self.stats.max_boundary_penetration.max(h - (m.y - a));
+                    m.vy = after;
+                    self.counts.floor += 1;
+                }
+            }
+        }
+    }
+}
+
+impl<F: Flight> Integrator for TimeStep<F> {
+    fn set_interrupt(&mut self, flag: &'static AtomicBool) {
+        self.interrupt = Some(flag);
+    }
+    fn disks(&self) -> &Disks {
+        &self.disks
+    }
+    fn time(&self) -> f64 {
+        self.now()
+    }
+    fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        // Whole steps only: the state between steps is free flight (see `snapshot_into`).
+        while (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt {
+            if self.counts.popped() >= self.event_limit {
+                return Ok(Progress::EventLimit);
+            }
+            if self.step & 0xff == 0 {
+                if let Some(flag) = self.interrupt {
+                    if flag.load(Ordering::Relaxed) {
+                        return Ok(Progress::Interrupted);
+                    }
+                }
+            }
+            self.one_step();
+        }
+        Ok(Progress::Reached)
+    }
+    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        free_flight_snapshot(
+            self.flight,
+            &self.disks,
+            self.sides,
+            self.top,
+            self.floor.as_ref(),
+            t,
+            out,
+        );
+    }
+    fn counts(&self) -> EventCounts {
+        self.counts
+    }
+    fn energy_flow_at(&self, _t: f64) -> EnergyFlow {
+        self.flow
+    }
+    fn virial(&self) -> f64 {
+        self.virial
+    }
+    fn max_overlap(&self) -> f64 {
+        self.max_overlap
+    }
+    fn check_state(&self, _snap: &Snapshot) -> Result<()> {
+        Ok(())
+    }
+    fn setup(&self) -> Setup {
+        Setup {
+            scheme: "time-step",
+            mask: format!("verlet r={:.4}", self.verlet),
+            cell: self.cells.cell(),
+            grid: "cell-list".into(),
+            bytes: self.disks.bytes()
+                + self.cells.bytes()
+                + 8 * self.pairs.capacity()
+                + 8 * (self.built_x.capacity()
+                    + self.built_y.capacity()
+                    + self.flight_vx.capacity()
+                    + self.flight_vy.capacity()
+                    + self.last_collision.capacity()),
+        }
+    }
+    fn approximation(&self) -> Option<SchemeStats> {
+        Some(self.stats)
+    }
+}

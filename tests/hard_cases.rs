@@ -1,0 +1,625 @@
+//! Hard cases (issue 4, DESIGN.md §3): every scenario in `scenarios/hard/` runs to its end
+//! through `vibrobed::run::run` with the invariant checks on, and must show
+//!
+//! - `ending == completed` and `sim_time == run.duration` (time reaches the end);
+//! - events (popped + re-mappings) per unit simulated time below a bound stated per file
+//!   (generous — a few times what the engine needs — but finite: a Zeno or collapse freeze
+//!   piles up events while time stands still);
+//! - `max_overlap` below 1e-9 of a diameter;
+//! - no disk lost: every frame (including one at exactly `run.duration`) holds every disk at a
+//!   finite position inside the domain (between the walls, in [0, width) where periodic, not
+//!   below the floor, not above the lid);
+//! - energy budget `balance_error < 1e-9`.
+//!
+//! The engine itself checks, with `engine.check_invariants`, that no event is scheduled in the
+//! past and that the budget and the overlaps hold at every sample.
+//!
+//! Cases that expose an engine bug are `#[ignore = "bug: …"]` with the observation; their
+//! scenario files stay in the suite unchanged, and `scenarios/hard/bug_*.json` are minimal
+//! reproductions.
+//!
+//! Besides the per-file checks: the 1D column with and without the TC cure, a ball riding a
+//! Γ < 1 floor, the take-off phase at Γ slightly above 1 (found by bisection), the floor phase
+//! after 10^7 periods, and impossible input (overlap beyond tolerance) as a clear error.
+
+mod common;
+
+use std::f64::consts::TAU;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+use vibrobed::output::frame::FrameView;
+use vibrobed::run::{run, FrameSink, RunOptions};
+use vibrobed::scenario::{XBoundary, YBoundary};
+use vibrobed::summary::{Ending, Summary};
+use vibrobed::Scenario;
+
+/// Relative tolerance of overlaps and boundary crossings (of a diameter or radius).
+const TOLERANCE: f64 = 1e-9;
+
+fn read(file: &str) -> String {
+    let path = common::crate_path(&format!("scenarios/hard/{file}"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
+}
+
+fn load(file: &str, sets: &[&str]) -> Scenario {
+    let mut all: Vec<String> = vec!["engine.check_invariants=true".into()];
+    all.extend(sets.iter().map(|s| s.to_string()));
+    Scenario::from_json_with_overrides(&read(file), &all)
+        .unwrap_or_else(|e| panic!("{file} is invalid: {e}"))
+}
+
+/// The scenario as JSON text (for building a `Simulation` with `common::ballistic`).
+fn json_of(s: &Scenario) -> String {
+    serde_json::to_string(s).unwrap()
+}
+
+/// What the frame checker saw.
+#[derive(Default)]
+struct Seen {
+    frames: u64,
+    last_time: f64,
+    /// First problem found, if any.
+    problem: Option<String>,
+}
+
+/// A frame sink that checks every disk of every frame against the domain.
+struct Checker {
+    seen: Arc<Mutex<Seen>>,
+    n: usize,
+    width: f64,
+    x_periodic: bool,
+    /// Lid height, or the period in y.
+    top: Option<(f64, bool)>,
+}
+
+impl Checker {
+    fn check(&self, f: &FrameView) -> Result<(), String> {
+        if f.x.len() != self.n || f.y.len() != self.n {
+            return Err(format!(
+                "{} disks in the frame, {} expected",
+                f.x.len(),
+                self.n
+            ));
+        }
+        for i in 0..self.n {
+            let (x, y, a) = (f.x[i], f.y[i], f.radius[i]);
+            let tol = TOLERANCE * a;
+            let where_ = || format!("disk {i} at ({x}, {y}), time {}", f.time);
+            if !(x.is_finite() && y.is_finite() && f.vx[i].is_finite() && f.vy[i].is_finite()) {
+                return Err(format!("non-finite state: {}", where_()));
+            }
+            // Periodic cells: [0, width] (a position wrapped to exactly `width` is the same
+            // point as 0; that the snapshot should give [0, width) is tested apart in
+            // `snapshot_wraps_into_the_half_open_cell`).
+            if self.x_periodic {
+                if !(0.0..=self.width).contains(&x) {
+                    return Err(format!("outside the periodic cell: {}", where_()));
+                }
+            } else if x < a - tol || x > self.width - a + tol {
+                return Err(format!("through a side wall: {}", where_()));
+            }
+            if let Some(h) = f.floor_height {
+                if y - a < h - tol * (1.0 + h.abs()) {
+                    return Err(format!("below the floor (at {h}): {}", where_()));
+                }
+            }
+            match self.top {
+                Some((height, true)) if !(0.0..=height).contains(&y) => {
+                    return Err(format!("outside the periodic cell in y: {}", where_()));
+                }
+                Some((height, false)) if y + a > height + tol => {
+                    return Err(format!("through the lid: {}", where_()));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+impl FrameSink for Checker {
+    fn frame(&mut self, f: &FrameView) -> vibrobed::Result<()> {
+        let verdict = self.check(f);
+        let mut seen = self.seen.lock().unwrap();
+        if f.time < seen.last_time {
+            let p = format!("frame at {} after one at {}", f.time, seen.last_time);
+            seen.problem.get_or_insert(p);
+        }
+        seen.frames += 1;
+        seen.last_time = f.time;
+        if let Err(p) = verdict {
+            seen.problem.get_or_insert(p);
+        }
+        Ok(())
+    }
+    fn log_text(&mut self, _: f64, _: &str, _: &str) -> vibrobed::Result<()> {
+        Ok(())
+    }
+    fn finish(self: Box<Self>) -> vibrobed::Result<()> {
+        Ok(())
+    }
+}
+
+/// Runs a scenario with a checking frame sink; returns the summary, what the frames showed and
+/// the wall time.
+fn run_checked(s: &Scenario) -> (Summary, Seen, f64) {
+    let seen = Arc::new(Mutex::new(Seen::default()));
+    let checker = Checker {
+        seen: seen.clone(),
+        n: s.disk_count(),
+        width: s.domain.width,
+        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+        top: match s.domain.y_boundary {
+            YBoundary::Open => None,
+            YBoundary::Lid => Some((s.domain.height.expect("hard cases state heights"), false)),
+            YBoundary::Periodic => Some((s.domain.height.expect("hard cases state heights"), true)),
+        },
+    };
+    let opts = RunOptions {
+        sink: Some(Box::new(checker)),
+        ..RunOptions::default()
+    };
+    let clock = Instant::now();
+    let summary = run(s, opts).unwrap_or_else(|e| panic!("{}: the run failed: {e}", s.name));
+    let wall = clock.elapsed().as_secs_f64();
+    let seen = std::mem::take(&mut *seen.lock().unwrap());
+    (summary, seen, wall)
+}
+
+/// Events popped from the queue plus re-mappings, per unit simulated time.
+fn event_rate(s: &Summary) -> f64 {
+    (s.events.popped() + s.events.rebuild) as f64 / s.sim_time.max(f64::MIN_POSITIVE)
+}
+
+/// Runs one hard-case file to its end and checks everything listed at the top of the file.
+fn hard_case(file: &str, max_rate: f64) -> Summary {
+    let s = load(file, &[]);
+    let frame_dt = s
+        .output
+        .frame_interval
+        .expect("hard cases state a frame interval");
+    assert!(
+        (s.run.duration / frame_dt).fract() == 0.0,
+        "{file}: the frame interval must divide the duration (a frame at the very end)"
+    );
+    let (sum, seen, wall) = run_checked(&s);
+    let rate = event_rate(&sum);
+    eprintln!(
+        "{file}: {:?} at t = {} in {wall:.2} s; {} events/time; counts {:?}; overlap {:e}; balance {:e}",
+        sum.ending, sum.sim_time, rate, sum.events, sum.max_overlap, sum.energy.balance_error
+    );
+    assert_eq!(
+        sum.ending,
+        Ending::Completed,
+        "{file}: the run stopped at t = {} of {} ({} events/time, counts {:?})",
+        sum.sim_time,
+        s.run.duration,
+        rate,
+        sum.events
+    );
+    assert_eq!(
+        sum.sim_time, s.run.duration,
+        "{file}: time did not reach the end"
+    );
+    assert!(
+        rate <= max_rate,
+        "{file}: {rate} events per unit time, more than the bound {max_rate}"
+    );
+    let (a_min, _) = s.radius_range();
+    assert!(
+        sum.max_overlap < TOLERANCE * 2.0 * a_min,
+        "{file}: overlap {:e}",
+        sum.max_overlap
+    );
+    assert_eq!(sum.particles, s.disk_count(), "{file}: disks lost");
+    if let Some(p) = seen.problem {
+        panic!("{file}: {p}");
+    }
+    assert_eq!(
+        seen.last_time, s.run.duration,
+        "{file}: no frame at the end of the run"
+    );
+    assert!(
+        seen.frames as f64 >= s.run.duration / frame_dt,
+        "{file}: frames missing"
+    );
+    assert!(
+        sum.energy.balance_error < 1e-9,
+        "{file}: energy budget off by {:e}",
+        sum.energy.balance_error
+    );
+    sum
+}
+
+macro_rules! hard_cases {
+    ($($(#[$attr:meta])* $name:ident: $file:literal, $rate:expr;)*) => {
+        $(
+            $(#[$attr])*
+            #[test]
+            fn $name() {
+                hard_case($file, $rate);
+            }
+        )*
+        /// Every scenario file in `scenarios/hard/` has a test here.
+        #[test]
+        fn every_hard_scenario_file_is_tested() {
+            let listed = [$($file),*];
+            let dir = common::crate_path("scenarios/hard");
+            let mut missing = Vec::new();
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+                if name.ends_with(".json") && !listed.contains(&name.as_str()) {
+                    missing.push(name);
+                }
+            }
+            assert!(missing.is_empty(), "untested hard cases: {missing:?}");
+        }
+    };
+}
+
+// Bounds: events (popped + re-mappings) per unit simulated time, at least five times what the
+// engine needed when the suite was written (in brackets; the rates move with the mask and the
+// DUTC margin, e.g. far_above_bed went from 172 to 57 with the auto mask of 2d78e11).
+hard_cases! {
+    // Inelastic collapse without gravity: uncured, this gas collapses near t = 9.5
+    // (`inelastic_gas_without_a_cure_collapses`).
+    collapse_tc: "collapse_tc.json", 2e4; // [3.1e3]
+    collapse_speed_cutoff: "collapse_speed_cutoff.json", 2e4; // [3.3e3]
+    // Inelastic collapse with gravity.
+    vibrated_inelastic_tc: "vibrated_inelastic_tc.json", 2e4;
+    vibrated_inelastic_speed_cutoff: "vibrated_inelastic_speed_cutoff.json", 1e5;
+    // Rest on the floor.
+    column_tc: "column_tc.json", 3e5;
+    rest_static_floor: "rest_static_floor.json", 100.0; // [3.5]
+    bed_at_rest_tc: "bed_at_rest_tc.json", 5e6;
+    // A ball on a sine floor.
+    ball_gamma_0_5: "ball_gamma_0.5.json", 50.0; // [1.0]
+    ball_gamma_1_01: "ball_gamma_1.01.json", 100.0; // [8.6]
+    ball_gamma_0_001: "ball_gamma_0.001.json", 50.0; // [1.9]
+    ball_gamma_50: "ball_gamma_50.json", 100.0; // [2.7]
+    single_disk: "single_disk.json", 50.0; // [1.5]
+    two_disks: "two_disks.json", 100.0; // [7.4]
+    // Beds at extreme Γ and restitution.
+    bed_gamma_50: "bed_gamma_50.json", 1e4; // [1.8e3]
+    bed_gamma_0_001: "bed_gamma_0.001.json", 5e6;
+    restitution_0: "restitution_0.json", 5e7;
+    restitution_1: "restitution_1.json", 1e4; // [1.1e3]
+    dense_bed: "dense_bed.json", 3e5; // [5.2e4]
+    far_above_bed: "far_above_bed.json", 1e3; // [57]
+    zero_gravity_floor: "zero_gravity_floor.json", 500.0; // [31]
+    // Round-off geometry.
+    touching_start: "touching_start.json", 100.0; // [1.2]
+    touching_start_floor: "touching_start_floor.json", 2e3;
+    cell_borders: "cell_borders.json", 2e3; // [4.2e2]
+    grazing: "grazing.json", 100.0; // [1.1]
+    parallel: "parallel.json", 300.0; // [12]
+    // Piecewise-linear floors.
+    bed_triangle: "bed_triangle.json", 5e3; // [9.2e2]
+    bed_sawtooth: "bed_sawtooth.json", 1e4; // [1.1e3]
+    // Long runs: re-basing of times and of the floor phase.
+    long_run_riding: "long_run_riding.json", 20.0; // [0.84]
+    long_run_takeoff: "long_run_takeoff.json", 1e3;
+    // Minimal reproductions of the bugs above.
+    bug_stack_on_rider: "bug_stack_on_rider.json", 3e4;
+    bug_roundoff_recollision: "bug_roundoff_recollision.json", 100.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 1D column: with the cure, at rest in finite time; without it, the guard stops the run.
+
+/// The column of `column_tc.json` comes to rest: every disk at (nearly) zero speed, stacked at
+/// y = ½ + k.
+///
+/// Known limitation (issue 4 stays open on it): there is no resting contact between disks. The
+/// bottom disk comes to rest on the floor and rides it, but each disk above keeps bouncing on
+/// the one below with the smallest rebound (`PAIR_REST_HEIGHT`, 10⁻⁶ radii) or, under TC,
+/// elastically: the column makes progress (about 1.3·10⁵ events per unit time for 10 disks)
+/// but never stops moving.
+#[test]
+#[ignore = "limitation: no resting contacts between disks; the column micro-bounces instead of coming to rest"]
+fn column_comes_to_rest_with_the_tc_cure() {
+    let s = load("column_tc.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let end = s.run.duration;
+    let p = sim.advance_to(end).unwrap();
+    assert_eq!(
+        p,
+        vibrobed::simulation::Progress::Reached,
+        "stopped at {}",
+        sim.time()
+    );
+    let snap = sim.snapshot(end);
+    let mut y = snap.y.clone();
+    y.sort_by(f64::total_cmp);
+    for (k, (&y, (&vx, &vy))) in y.iter().zip(snap.vx.iter().zip(&snap.vy)).enumerate() {
+        assert!((y - (0.5 + k as f64)).abs() < 1e-6, "disk {k} at {y}");
+        assert!(
+            vx.abs() + vy.abs() < 1e-3,
+            "disk {k} still moves: ({vx}, {vy})"
+        );
+    }
+}
+
+/// Without a cure the column is an inelastic collapse (1D, N = 10, e = 0.5: (1 − e) N > π).
+/// Observed: the run does not hang; the collapse makes the event rate explode, and the guard
+/// `run.max_events` stops it with `event-limit` and a summary (invariants intact) long before
+/// the end (t ≈ 2.8 of 10 after 2·10⁵ events). Time still creeps on: the floor of the rebound on
+/// a rider and the rest on the floor keep every event at a later time.
+#[test]
+fn column_without_a_cure_stops_at_the_event_limit() {
+    let cure_off = [
+        r#"collisions={"restitution": 0.5}"#,
+        "run.max_events=200000",
+    ];
+    let s = load("column_tc.json", &cure_off);
+    let clock = Instant::now();
+    let sum = run(&s, RunOptions::default()).unwrap();
+    let wall = clock.elapsed().as_secs_f64();
+    eprintln!(
+        "column without cure: {:?} at t = {} after {:?} ({wall:.2} s)",
+        sum.ending, sum.sim_time, sum.events
+    );
+    assert_eq!(sum.ending, Ending::EventLimit);
+    assert!(sum.sim_time < 0.5 * s.run.duration);
+    assert!(sum.events.popped() >= 200_000);
+    assert!(sum.max_overlap < TOLERANCE);
+    assert!(sum.energy.balance_error < 1e-9);
+}
+
+/// The dense inelastic gas of `collapse_tc.json` without its cure collapses: the event guard
+/// stops it long before the end.
+#[test]
+fn inelastic_gas_without_a_cure_collapses() {
+    let s = load(
+        "collapse_tc.json",
+        &[
+            r#"collisions={"restitution": 0.5}"#,
+            "run.max_events=1000000",
+        ],
+    );
+    let sum = run(&s, RunOptions::default()).unwrap();
+    eprintln!("uncured gas: {:?} at t = {}", sum.ending, sum.sim_time);
+    assert_eq!(sum.ending, Ending::EventLimit);
+    assert!(sum.sim_time < 0.5 * s.run.duration);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A ball on a sine floor.
+
+/// Γ = 0.5, e = 0.5: the ball comes to rest and then rides the floor: y − a − h(t) = 0 and
+/// v_y = h'(t) at every later time.
+#[test]
+fn ball_on_a_slow_floor_ends_up_riding_it() {
+    let s = load("ball_gamma_0.5.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let fl = sim.floor().unwrap().clone();
+    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let mut t = 0.0;
+    let mut resting_since = None;
+    while t < s.run.duration {
+        t += 0.0625;
+        sim.advance_to(t).unwrap();
+        let snap = sim.snapshot(t);
+        let th = phi0 + w * t;
+        let (h, hd) = (fl.amplitude * th.sin(), fl.amplitude * w * th.cos());
+        let gap = snap.y[0] - 0.5 - h;
+        if sim.riders() == 1 {
+            resting_since.get_or_insert(t);
+            assert!(gap.abs() < 1e-12, "riding at {t} but {gap:e} off the floor");
+            assert!(
+                (snap.vy[0] - hd).abs() < 1e-12,
+                "riding at {t} with v_y − h' = {:e}",
+                snap.vy[0] - hd
+            );
+        } else {
+            assert!(
+                resting_since.is_none(),
+                "left the floor at {t} (Γ < 1 cannot throw it)"
+            );
+            assert!(gap > -1e-12, "below the floor at {t}: {gap:e}");
+        }
+    }
+    let since = resting_since.expect("the ball never came to rest");
+    eprintln!(
+        "Γ = 0.5: riding from t ≈ {since} after {} impacts",
+        sim.counts().floor
+    );
+    assert!(since < 0.5 * s.run.duration);
+    assert_eq!(sim.counts().rest, 1);
+    assert_eq!(sim.counts().takeoff, 0);
+    assert!(sim.counts().floor < 100, "finitely many bounces");
+}
+
+/// Time of the `k`-th take-off of the scenario's disk 0 by bisection over fresh runs: the
+/// latest `t` with `takeoff < k` after `advance_to(t)` (events at exactly `t` are left for
+/// later), to the resolution of f64 times.
+fn kth_takeoff_time(json: &str, k: u64, mut lo: f64, mut hi: f64) -> f64 {
+    let count_by = |t: f64| {
+        let mut sim = common::ballistic(json);
+        sim.advance_to(t).unwrap();
+        sim.counts().takeoff
+    };
+    assert!(
+        count_by(lo) < k && count_by(hi) >= k,
+        "bracket [{lo}, {hi}] misses take-off {k}"
+    );
+    while hi - lo > 2.0 * f64::EPSILON * hi {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if count_by(mid) < k {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Phases of the first take-offs of a ball resting on a floor at Γ = 1.01 match the predicted
+/// sin(ωt + φ0) = 1/Γ.
+///
+/// Tolerance 1e-9 rad. The bisection locates a take-off to the f64 resolution of t (ulp(t)·ω
+/// ≈ 1e-14 rad here, ~1e-11 rad at t = 10^4); the engine's own phase carries the round-off of
+/// asin near 1/Γ (amplified by 1/√(1 − Γ⁻²) ≈ 7: ~1e-15 rad) and of re-basing (≤ ulp(2π)
+/// ≈ 1e-15 rad per re-mapping, ~10^4 re-mappings at most). A wrong root, a missed ride end
+/// or a phase that drifts with the re-basing would be off by far more.
+#[test]
+fn ball_takes_off_at_the_predicted_phase() {
+    let s = load("ball_gamma_1.01.json", &[]);
+    let json = json_of(&s);
+    let f = s.floor.as_ref().unwrap();
+    let (gamma, phi0, w) = (f.gamma.unwrap(), f.phase, TAU * f.frequency.unwrap());
+    let crit = (1.0 / gamma).asin();
+    // Bracket each take-off by a coarse scan of one run, then bisect.
+    let mut sim = common::ballistic(&json);
+    let dt = 1e-3;
+    let mut brackets = Vec::new();
+    let mut t = 0.0;
+    while brackets.len() < 4 {
+        let before = sim.counts().takeoff;
+        sim.advance_to(t + dt).unwrap();
+        if sim.counts().takeoff > before {
+            assert_eq!(
+                sim.counts().takeoff,
+                before + 1,
+                "two take-offs within {dt}"
+            );
+            brackets.push((before + 1, t, t + dt));
+        }
+        t += dt;
+        assert!(t < 20.0, "fewer than 4 take-offs in 20 periods");
+    }
+    for (k, lo, hi) in brackets {
+        let tk = kth_takeoff_time(&json, k, lo, hi);
+        let phase = (phi0 + w * tk).rem_euclid(TAU);
+        eprintln!(
+            "take-off {k} at t = {tk}: phase {phase}, asin(1/Γ) = {crit}, off by {:e}",
+            phase - crit
+        );
+        assert!(
+            (phase - crit).abs() < 1e-9,
+            "take-off {k} at phase {phase}, predicted {crit}"
+        );
+    }
+}
+
+/// `φ0 + ω t` reduced to [0, 2π), for f64 `ω` and `t`, to about 1e-15 rad even when `ω t` is
+/// ~10^8 rad: the product is split exactly with an FMA and reduced with 2π in double-double.
+fn exact_phase(phi0: f64, omega: f64, t: f64) -> f64 {
+    const TAU_LO: f64 = 2.449_293_598_294_706_4e-16; // 2π − TAU
+    let p = omega * t;
+    let p_err = omega.mul_add(t, -p);
+    let k = (p / TAU).floor();
+    // p − k·2π: the FMA is exact up to one rounding of a small result.
+    let r = (-k).mul_add(TAU, p) - k * TAU_LO + p_err;
+    (phi0 + r).rem_euclid(TAU)
+}
+
+/// After 10^7 floor periods (f = 100, t = 10^5, 1.7·10^5 re-mappings) the ball riding the
+/// floor is exactly where the floor is at that absolute time: the engine's clock and the floor
+/// phase kept full precision through the re-basings.
+///
+/// Tolerance 1e-8 rad of phase (1e-8 A in height, 1e-8 Aω in velocity): the engine reduces the
+/// phase modulo the f64 `TAU`, which is 2.4e-16 short of 2π, so it drifts by 2.4e-16 rad a
+/// period (2.4e-9 rad after 10^7 periods), plus at most ulp(2π)/2 per re-mapping (< 1e-10).
+#[test]
+fn floor_phase_is_exact_after_ten_million_periods() {
+    let s = load("long_run_riding.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let end = s.run.duration;
+    sim.advance_to(end).unwrap();
+    let snap = sim.snapshot(end);
+    let fl = sim.floor().unwrap();
+    let th = exact_phase(s.floor.as_ref().unwrap().phase, fl.omega, end);
+    let (amp, w) = (fl.amplitude, fl.omega);
+    let (h, hd) = (amp * th.sin(), amp * w * th.cos());
+    let (dy, dv) = (snap.y[0] - 0.5 - h, snap.vy[0] - hd);
+    eprintln!(
+        "after 1e7 periods: {} re-mappings, y − a − h = {dy:e} (A = {amp:e}), v − h' = {dv:e} (Aω = {:e})",
+        sim.counts().rebuild,
+        amp * w
+    );
+    assert_eq!(sim.riders(), 1);
+    assert!(dy.abs() < 1e-8 * amp, "height off by {:e} A", dy / amp);
+    assert!(
+        dv.abs() < 1e-8 * amp * w,
+        "velocity off by {:e} Aω",
+        dv / (amp * w)
+    );
+    assert!((snap.floor_height.unwrap() - h).abs() < 1e-8 * amp);
+}
+
+/// The disk 10^7 diameters up in `far_above_bed.json` falls on its parabola, untouched by the
+/// bed below and by the re-mappings (each brings it forward and re-bases its time: 2000 to 7500
+/// of them depending on the mask's margin, each rounding y to ulp(10^7) ≈ 2e-9: 1.5e-5 at most
+/// in all; observed 1.3e-8).
+#[test]
+fn far_disk_follows_its_parabola() {
+    let s = load("far_above_bed.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let end = s.run.duration;
+    sim.advance_to(end).unwrap();
+    let snap = sim.snapshot(end);
+    let top = snap.y.len() - 1;
+    let exact = 1.0e7 - 0.5 * end * end;
+    eprintln!(
+        "far disk after {} re-mappings: y − exact = {:e}, v + g t = {:e}",
+        sim.counts().rebuild,
+        snap.y[top] - exact,
+        snap.vy[top] + end
+    );
+    assert!(
+        (snap.y[top] - exact).abs() < 1e-4,
+        "y = {} vs {exact}",
+        snap.y[top]
+    );
+    assert!((snap.vy[top] + end).abs() < 1e-9);
+    assert_eq!(snap.x[top], 10.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Impossible input.
+
+/// Overlap beyond tolerance at the start is an input error that names both disks.
+#[test]
+fn overlap_beyond_tolerance_is_a_clear_error() {
+    let s = load(
+        "touching_start.json",
+        &[
+            "particles.placement.positions.24=[20.0, 25.0]",
+            "particles.placement.positions.25=[20.999999, 25.0]",
+        ],
+    );
+    let err = match run(&s, RunOptions::default()) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("an overlap of 1e-6 diameters was accepted"),
+    };
+    eprintln!("{err}");
+    assert!(
+        err.contains("24") && err.contains("25") && err.contains("overlap"),
+        "{err}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Periodic wrapping.
+
+/// Snapshots wrap periodic positions into [0, width). A disk at x = 0.3 moving at −0.1 is at
+/// 0.3 − 0.1·3 = −5.6e-17 at t = 3 in f64, and `(-5.6e-17).rem_euclid(10.0)` rounds to exactly
+/// 10.0 (observed in touching_start.json: a disk at y = 30.0 = height at t = 12.5).
+#[test]
+fn snapshot_wraps_into_the_half_open_cell() {
+    let json = r#"{"name": "wrap", "domain": {"width": 10, "height": 10,
+        "x_boundary": "periodic", "y_boundary": "periodic"},
+        "particles": {"count": 1, "radius": 0.5,
+            "placement": {"positions": [[0.3, 5.0]], "velocities": [[-0.1, 0.0]]}},
+        "run": {"duration": 5}}"#;
+    let mut sim = common::straight(json);
+    for t in [1.0, 2.0, 3.0, 4.0] {
+        sim.advance_to(t).unwrap();
+        let x = sim.snapshot(t).x[0];
+        assert!((0.0..10.0).contains(&x), "x = {x} at t = {t}");
+    }
+}
