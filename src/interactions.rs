@@ -269,7 +269,9 @@ pub fn rider_contact(
                 // No normal approach, and nothing pressing the pair together: no collision now
                 // (colliding would exchange nothing). Look again once the floor's motion could
                 // have changed that: after the time to move by a rest height under g + h''.
-                let wait = (2.0 * crate::locals::floor::PAIR_REST_HEIGHT * s / k.max(f64::MIN_POSITIVE)).sqrt();
+                let wait = (2.0 * crate::locals::floor::PAIR_REST_HEIGHT * s
+                    / k.max(f64::MIN_POSITIVE))
+                .sqrt();
                 let t_next = t + wait;
                 return (t_next <= limit).then_some(RiderContact::Recheck(t_next));
             }

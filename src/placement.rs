@@ -226,9 +226,9 @@ pub fn melt_mc(
     rng: &mut Xoshiro256PlusPlus,
 ) {
     let n = pos.len();
-    let (a_min, a_max) = radius
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    let (a_min, a_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
+        (lo.min(a), hi.max(a))
+    });
     let width = r.x1 - r.x0;
     let height = r.y1 - r.y0;
     let cell = 2.0 * a_max;

@@ -16,7 +16,9 @@
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 use std::f64::consts::{PI, TAU};
-use vibrobed::interactions::{collide_rebounding, collide, contact_time, rider_contact, RiderContact};
+use vibrobed::interactions::{
+    collide, collide_rebounding, contact_time, rider_contact, RiderContact,
+};
 use vibrobed::locals::floor::{Floor, FloorEvent};
 use vibrobed::scenario::{FloorModel, Waveform};
 
@@ -679,10 +681,7 @@ macro_rules! floor_properties {
 
 floor_properties!(sine_floor, Waveform::Sine,);
 floor_properties!(sawtooth_floor, Waveform::Sawtooth,);
-floor_properties!(
-    triangle_floor,
-    Waveform::Triangle,
-);
+floor_properties!(triangle_floor, Waveform::Triangle,);
 
 /// A triangle floor impact found by the property test: the engine reports the impact at
 /// t = 1.95396 where the disk is already 0.242 below the floor; the first crossing is at
@@ -1020,7 +1019,16 @@ fn flyer_resting_on_a_rider_makes_progress() {
         return; // no contact reported: nothing to loop on
     };
     // Pressed together by g = 1: the collision rebounds at least at the resting speed.
-    let imp = collide_rebounding(0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.5, Floor::pair_rest_speed(0.5, 1.0));
+    let imp = collide_rebounding(
+        0.0,
+        1.0,
+        0.0,
+        0.0,
+        1.0,
+        1.0,
+        0.5,
+        Floor::pair_rest_speed(0.5, 1.0),
+    );
     assert!(
         t > 0.0 || imp.momentum > 0.0,
         "contact now (t = {t}) with zero normal speed: the collision exchanges nothing ({imp:?})"

@@ -94,13 +94,7 @@ impl Mask {
     /// per collision at the scene's packing fraction `phi` (measured for equal disks at
     /// N = 2500: R6 below φ = 0.2, R5 below 0.4, R4 below 0.6, R3 above), or the smallest
     /// larger one whose neighbour-list margin `reach·l_g − 2 a_max` is at least `0.5 a_min`.
-    pub fn choose(
-        choice: MaskChoice,
-        cell: f64,
-        a_min: f64,
-        a_max: f64,
-        phi: f64,
-    ) -> Option<Mask> {
+    pub fn choose(choice: MaskChoice, cell: f64, a_min: f64, a_max: f64, phi: f64) -> Option<Mask> {
         let fits = |m: &Mask| m.reach() * cell - 2.0 * a_max > 0.0;
         let index = match choice {
             MaskChoice::Auto => {

@@ -897,7 +897,11 @@ impl<F: Flight> Simulation<F> {
             let dist = (dx * dx + dy * dy).sqrt();
             // Acceleration of i relative to j along n = (r_i − r_j)/|r_i − r_j|.
             let ride_acc = floor.ride_acceleration(now);
-            let (ai, aj) = if rode[0] { (ride_acc, -g) } else { (-g, ride_acc) };
+            let (ai, aj) = if rode[0] {
+                (ride_acc, -g)
+            } else {
+                (-g, ride_acc)
+            };
             let press = -(ai - aj) * dy / dist;
             if press > 0.0 {
                 let a = self.disks.radius[i].min(self.disks.radius[j]);
