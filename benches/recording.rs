@@ -7,14 +7,16 @@
 //!     cargo bench --bench recording
 //! ```
 //!
-//! For every frame interval it prints (medians over the repetitions): wall seconds of the whole
-//! run (set-up, event loop, closing the file), CPU seconds of the process (all threads: Rerun
-//! encodes and writes on its own threads), frames per second of wall time, bytes per frame, the
-//! peak resident memory of the run (`VmHWM`, reset before each run through
-//! `/proc/self/clear_refs`) and the slowdown (median wall time recorded / median wall time
-//! plain). Environment: `VIBROBED_BENCH_REPS` (default 5), `VIBROBED_BENCH_DURATION` (simulated
-//! time, default 50; warm-up 10), `VIBROBED_BENCH_FRAME_INTERVALS` (default `0.5,0.05`; 0.5 is the
-//! scenario's own), `VIBROBED_BENCH_PARTICLES` (default: the scenario's 1000).
+//! Every run is a fresh process (this executable again, with `VIBROBED_BENCH_CHILD` set), so that
+//! its peak memory is its own. For every frame interval it prints (medians over the repetitions):
+//! wall seconds of `run()` (set-up, event loop, closing the file), CPU seconds of the process
+//! (all threads: Rerun batches, encodes and writes on threads of its own), frames per second of
+//! wall time, bytes per frame (file size / frames), the peak resident memory of the process
+//! (`VmHWM`) and the slowdown (median wall time recorded / median wall time plain).
+//! Environment: `VIBROBED_BENCH_REPS` (default 5), `VIBROBED_BENCH_DURATION` (simulated time,
+//! default 100 of the scenario's 200; warm-up a fifth of it), `VIBROBED_BENCH_FRAME_INTERVALS`
+//! (default `0.5,0.05`; 0.5 is the scenario's own), `VIBROBED_BENCH_PARTICLES` (default: the
+//! scenario's 1000).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -37,11 +39,6 @@ fn status_kb(field: &str) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
-/// Resets the peak resident set size of this process to the current one (Linux ≥ 4.0).
-fn reset_peak() -> bool {
-    std::fs::write("/proc/self/clear_refs", "5").is_ok()
-}
-
 /// User + system CPU seconds of this process (all threads), from `/proc/self/stat`.
 fn cpu_seconds() -> Option<f64> {
     let text = std::fs::read_to_string("/proc/self/stat").ok()?;
@@ -61,11 +58,11 @@ struct Measured {
     bytes: u64,
 }
 
-fn one_run(s: &Scenario, rrd: Option<&Path>) -> Measured {
+/// Runs `s` in this process (the child side) and prints the measurements on stdout.
+fn child(s: &Scenario, rrd: Option<&Path>) {
     if let Some(p) = rrd {
         let _ = std::fs::remove_file(p);
     }
-    let peak_ok = reset_peak();
     let cpu0 = cpu_seconds().unwrap_or(f64::NAN);
     let start = Instant::now();
     let summary = run(
@@ -79,18 +76,43 @@ fn one_run(s: &Scenario, rrd: Option<&Path>) -> Measured {
     let wall = start.elapsed().as_secs_f64();
     let cpu = cpu_seconds().unwrap_or(f64::NAN) - cpu0;
     assert_eq!(summary.ending, vibrobed::summary::Ending::Completed);
+    let bytes = rrd
+        .and_then(|p| std::fs::metadata(p).ok())
+        .map_or(0, |m| m.len());
+    println!("{wall} {cpu} {} {bytes}", status_kb("VmHWM:").unwrap_or(0));
+}
+
+/// One run in a fresh process.
+fn one_run(sets: &[String], rrd: Option<&Path>) -> Measured {
+    let out = std::process::Command::new(std::env::current_exe().expect("own path"))
+        .env("VIBROBED_BENCH_CHILD", sets.join("\n"))
+        .env(
+            "VIBROBED_BENCH_CHILD_RRD",
+            rrd.map_or(String::new(), |p| p.display().to_string()),
+        )
+        .output()
+        .expect("child run");
+    assert!(
+        out.status.success(),
+        "child failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let f: Vec<f64> = text
+        .split_whitespace()
+        .map(|v| v.parse().expect("child output"))
+        .collect();
     Measured {
-        wall,
-        cpu,
-        peak_kb: if peak_ok {
-            status_kb("VmHWM:").unwrap_or(0)
-        } else {
-            0
-        },
-        bytes: rrd
-            .and_then(|p| std::fs::metadata(p).ok())
-            .map_or(0, |m| m.len()),
+        wall: f[0],
+        cpu: f[1],
+        peak_kb: f[2] as u64,
+        bytes: f[3] as u64,
     }
+}
+
+fn scenario(sets: &[String]) -> Scenario {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/vibrated_bed.json");
+    Scenario::load(&path, sets).expect("scenario loads")
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -105,17 +127,22 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() {
     // `cargo bench` passes `--bench`; a name filter is not supported (there is one benchmark).
+    if let Ok(sets) = std::env::var("VIBROBED_BENCH_CHILD") {
+        let sets: Vec<String> = sets.lines().map(str::to_owned).collect();
+        let rrd = std::env::var("VIBROBED_BENCH_CHILD_RRD").unwrap_or_default();
+        child(&scenario(&sets), (!rrd.is_empty()).then(|| Path::new(&rrd)));
+        return;
+    }
     let reps: usize = env_or("VIBROBED_BENCH_REPS", 5).max(1);
-    let duration: f64 = env_or("VIBROBED_BENCH_DURATION", 50.0);
+    let duration: f64 = env_or("VIBROBED_BENCH_DURATION", 100.0);
     let intervals: Vec<f64> = std::env::var("VIBROBED_BENCH_FRAME_INTERVALS")
         .unwrap_or_else(|_| "0.5,0.05".into())
         .split(',')
         .filter_map(|v| v.trim().parse().ok())
         .collect();
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut sets = vec![
         format!("run.duration={duration}"),
-        format!("run.warmup={}", (duration / 5.0).min(10.0)),
+        format!("run.warmup={}", duration / 5.0),
     ];
     if let Ok(n) = std::env::var("VIBROBED_BENCH_PARTICLES") {
         sets.push(format!("particles.count={n}"));
@@ -135,14 +162,12 @@ fn main() {
     for &dt in &intervals {
         let mut sets = sets.clone();
         sets.push(format!("output.frame_interval={dt}"));
-        let s = Scenario::load(&manifest.join("scenarios/vibrated_bed.json"), &sets)
-            .expect("scenario loads");
         // Warm the caches (and the page cache of the file) once.
-        one_run(&s, None);
+        one_run(&sets, Some(&rrd));
         let (mut plain, mut recorded) = (Vec::new(), Vec::new());
         for _ in 0..reps {
-            plain.push(one_run(&s, None));
-            recorded.push(one_run(&s, Some(&rrd)));
+            plain.push(one_run(&sets, None));
+            recorded.push(one_run(&sets, Some(&rrd)));
         }
         let c = read_back(&rrd).expect("the recording reads back");
         assert!(c.has_footer);

@@ -720,7 +720,7 @@ impl Report {
         );
         let _ = writeln!(
             out,
-            "{:<11} {:<34} {:>9} {:>6} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {}",
+            "{:<11} {:<34} {:>9} {:>6} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} note",
             "family",
             "variant",
             "s/t",
@@ -734,7 +734,6 @@ impl Report {
             "ovl/d",
             "deep",
             "missed",
-            "note"
         );
         for r in &self.rows {
             let e = r.errors;
@@ -776,14 +775,13 @@ impl Report {
             );
             let _ = writeln!(
                 out,
-                "{:<28} {:<34} {:>12} {:>12} {:>9} {:>9} {}",
+                "{:<28} {:<34} {:>12} {:>12} {:>9} {:>9} note",
                 "effect",
                 "added to the scene without it",
                 "µs/coll w/o",
                 "µs/coll with",
                 "×/coll",
                 "×/time",
-                "note"
             );
             for e in &self.effects {
                 let _ = writeln!(
@@ -982,7 +980,7 @@ fn plot(report: &Report, path: &Path) -> Result<()> {
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(SeriesLabelPosition::LowerLeft)
             .border_style(BLACK.mix(0.3))
             .background_style(WHITE.mix(0.8))
             .label_font(("sans-serif", 12))
@@ -992,6 +990,9 @@ fn plot(report: &Report, path: &Path) -> Result<()> {
     root.present().map_err(|e| err(e.to_string()))?;
     Ok(())
 }
+
+/// One effect: its name, the base scene, the overrides without and with it, what is added.
+type EffectPair<'a> = (&'static str, &'a Value, Vec<String>, Vec<String>, String);
 
 /// What each effect costs: pairs of scenes (without, with) built around the scenario's disks,
 /// run on the exact engine; the minimum over repetitions of the wall time per collision and per
@@ -1037,7 +1038,7 @@ fn effects_table(
     let gravity = vec![format!("gravity={g:e}")];
     let tc = format!("collisions.tc={:e}", 1e-3 * 2.0 * a);
     // (effect, base scene, without, with, label of what is added)
-    let mut pairs: Vec<(&str, &Value, Vec<String>, Vec<String>, String)> = vec![
+    let mut pairs: Vec<EffectPair> = vec![
         (
             "walls vs periodic",
             &gas,

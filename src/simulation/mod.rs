@@ -834,8 +834,10 @@ impl<F: Flight> Simulation<F> {
         let g = self.flight.g();
         let floor = self.floor.as_ref().expect("floor impacts need a floor");
         let after = floor.bounce_on(self.disks.motion[i].vy, hd);
-        let rests = floor.comes_to_rest(after - hd, self.disks.radius[i], g, now);
+        // Rebound relative to what a resting disk would do: move with the floor (exact model)
+        // or stay put (fixed-position model).
         let (h, hd_ride) = floor.ride(now);
+        let rests = floor.comes_to_rest(after - hd_ride, self.disks.radius[i], g, now);
         let lift = floor.max_speed();
         self.set_vy(i, after);
         self.counts.floor += 1;
