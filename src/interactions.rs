@@ -93,6 +93,7 @@ pub struct Impulse {
 /// lifts the pair apart by a negligible height (see `Floor::rest_speed`). The energy lost is then
 /// whatever the velocities lost (slightly negative when the floor of the rebound acts).
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub fn collide_rebounding(
     dx: f64,
     dy: f64,
