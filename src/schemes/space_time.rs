@@ -20,7 +20,7 @@ use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeS
 use crate::disks::{Disks, Motion};
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time, Restitution};
+use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::{Floor, FloorEvent};
 use crate::locals::{Side, SideBounds, Top};
 use crate::scenario::Engine;
@@ -86,8 +86,7 @@ pub struct SpaceTime<F: Flight> {
     sides: SideBounds,
     top: Top,
     floor: Option<Floor>,
-    restitution: Restitution,
-    last_collision: Vec<f64>,
+    restitution: CollisionLaw,
     sync_distance: f64,
     cell: f64,
     cells: CellList,
@@ -136,16 +135,14 @@ impl<F: Flight> SpaceTime<F> {
             sides: scene.sides,
             top: scene.top,
             floor: scene.floor.clone(),
-            restitution: Restitution {
-                e: scene.restitution,
-                tc: scene.tc,
-                speed_cutoff: scene.speed_cutoff,
-            },
-            last_collision: if scene.tc.is_some() {
-                vec![f64::NEG_INFINITY; n]
-            } else {
-                Vec::new()
-            },
+            restitution: CollisionLaw::new(
+                Restitution {
+                    e: scene.restitution,
+                    tc: scene.tc,
+                    speed_cutoff: scene.speed_cutoff,
+                },
+                n,
+            ),
             sync_distance,
             cell,
             cells: CellList::default(),
@@ -451,21 +448,7 @@ impl<F: Flight> SpaceTime<F> {
         let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
         let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
         let s = d.radius[i] + d.radius[j];
-        let e = if self.restitution.e == 1.0 {
-            1.0
-        } else {
-            let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
-            let since = |k: usize| {
-                self.last_collision
-                    .get(k)
-                    .map_or(f64::INFINITY, |&t| now - t)
-            };
-            self.restitution.of(u, since(i), since(j))
-        };
-        if !self.last_collision.is_empty() {
-            self.last_collision[i] = now;
-            self.last_collision[j] = now;
-        }
+        let e = self.restitution.collision(i, j, now, dx, dy, dvx, dvy);
         let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
         let overlap = s - imp.distance;
         if overlap > OVERLAP_TOLERANCE * s {
@@ -556,7 +539,8 @@ impl<F: Flight> Integrator for SpaceTime<F> {
                 + 4 * (self.ev_partner.capacity()
                     + self.ev_counter.capacity()
                     + self.seq.capacity())
-                + 24 * self.queue.capacity(),
+                + 24 * self.queue.capacity()
+                + self.restitution.bytes(),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

@@ -16,7 +16,7 @@ use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeS
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time, Restitution};
+use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::Floor;
 use crate::locals::{Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
@@ -56,8 +56,7 @@ pub struct TimeStep<F: Flight> {
     sides: SideBounds,
     top: Top,
     floor: Option<Floor>,
-    restitution: Restitution,
-    last_collision: Vec<f64>,
+    restitution: CollisionLaw,
     dt: f64,
     skin: f64,
     verlet: f64,
@@ -114,16 +113,14 @@ impl<F: Flight> TimeStep<F> {
             sides: scene.sides,
             top: scene.top,
             floor: scene.floor.clone(),
-            restitution: Restitution {
-                e: scene.restitution,
-                tc: scene.tc,
-                speed_cutoff: scene.speed_cutoff,
-            },
-            last_collision: if scene.tc.is_some() {
-                vec![f64::NEG_INFINITY; n]
-            } else {
-                Vec::new()
-            },
+            restitution: CollisionLaw::new(
+                Restitution {
+                    e: scene.restitution,
+                    tc: scene.tc,
+                    speed_cutoff: scene.speed_cutoff,
+                },
+                n,
+            ),
             dt,
             skin,
             verlet,
@@ -269,21 +266,7 @@ impl<F: Flight> TimeStep<F> {
             if overlap > DEEP_OVERLAP * s {
                 self.stats.deep_overlaps += 1;
             }
-            let e = if self.restitution.e == 1.0 {
-                1.0
-            } else {
-                let u = -(dx * dvx + dy * dvy) / d2.sqrt();
-                let since = |q: usize| {
-                    self.last_collision
-                        .get(q)
-                        .map_or(f64::INFINITY, |&t| now - t)
-                };
-                self.restitution.of(u, since(i), since(j))
-            };
-            if !self.last_collision.is_empty() {
-                self.last_collision[i] = now;
-                self.last_collision[j] = now;
-            }
+            let e = self.restitution.collision(i, j, now, dx, dy, dvx, dvy);
             let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
             let m = &mut self.disks.motion;
             m[i].vx += imp.dvx_i;
@@ -415,8 +398,8 @@ impl<F: Flight> Integrator for TimeStep<F> {
                 + 8 * (self.built_x.capacity()
                     + self.built_y.capacity()
                     + self.flight_vx.capacity()
-                    + self.flight_vy.capacity()
-                    + self.last_collision.capacity()),
+                    + self.flight_vy.capacity())
+                + self.restitution.bytes(),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

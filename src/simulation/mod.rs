@@ -15,7 +15,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::interactions::{
-    collide_rebounding, contact_time, rider_contact, Restitution, RiderContact,
+    collide_rebounding, contact_time, rider_contact, CollisionLaw, Restitution, RiderContact,
 };
 use crate::locals::floor::{Floor, FloorEvent, RideEnd};
 use crate::locals::{Side, SideBounds, Top};
@@ -195,9 +195,7 @@ pub struct Simulation<F: Flight> {
     sides: SideBounds,
     top: Top,
     floor: Option<Floor>,
-    restitution: Restitution,
-    /// Local time of each disk's last pair collision (TC model only; else empty).
-    last_collision: Vec<f64>,
+    restitution: CollisionLaw,
     margin: f64,
     base: Epoch,
     now: f64,
@@ -263,16 +261,14 @@ impl<F: Flight> Simulation<F> {
             sides: scene.sides,
             top: scene.top,
             floor,
-            restitution: Restitution {
-                e: scene.restitution,
-                tc: scene.tc,
-                speed_cutoff: scene.speed_cutoff,
-            },
-            last_collision: if scene.tc.is_some() {
-                vec![f64::NEG_INFINITY; n]
-            } else {
-                Vec::new()
-            },
+            restitution: CollisionLaw::new(
+                Restitution {
+                    e: scene.restitution,
+                    tc: scene.tc,
+                    speed_cutoff: scene.speed_cutoff,
+                },
+                n,
+            ),
             margin: mask_margin,
             base: Epoch::default(),
             now: 0.0,
@@ -400,6 +396,8 @@ impl<F: Flight> Simulation<F> {
             + self.tree.bytes()
             + self.cells.bytes()
             + self.lists.bytes()
+            + self.restitution.bytes()
+            + self.riding.capacity()
     }
 
     /// `true` when disk `i` rides the floor.
@@ -872,25 +870,15 @@ impl<F: Flight> Simulation<F> {
         let d = &self.disks;
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
         let contact = d.radius[i] + d.radius[j];
-        let e = if self.restitution.e == 1.0 {
-            1.0
-        } else {
-            let (dvx, dvy) = (
-                d.motion[i].vx - d.motion[j].vx,
-                d.motion[i].vy - d.motion[j].vy,
-            );
-            let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
-            let since = |k: usize| {
-                self.last_collision
-                    .get(k)
-                    .map_or(f64::INFINITY, |&t| now - t)
-            };
-            self.restitution.of(u, since(i), since(j))
-        };
-        if !self.last_collision.is_empty() {
-            self.last_collision[i] = now;
-            self.last_collision[j] = now;
-        }
+        let e = self.restitution.collision(
+            i,
+            j,
+            now,
+            dx,
+            dy,
+            d.motion[i].vx - d.motion[j].vx,
+            d.motion[i].vy - d.motion[j].vy,
+        );
         // A disk landing on a rider (or a rider hit from above) is pressed onto it by gravity
         // and the floor: a rebound of at least the resting speed keeps the pair from Zeno.
         let min_rebound = if rode[0] != rode[1] {
@@ -983,9 +971,7 @@ impl<F: Flight> Simulation<F> {
         }
         self.base.advance(now);
         self.now = 0.0;
-        for t in &mut self.last_collision {
-            *t -= now;
-        }
+        self.restitution.rebase(now);
         if let Some(floor) = &mut self.floor {
             floor.rebase(now);
         }
