@@ -15,8 +15,9 @@
 //! (`VmHWM`) and the slowdown (median wall time recorded / median wall time plain).
 //! Environment: `VIBROBED_BENCH_REPS` (default 5), `VIBROBED_BENCH_DURATION` (simulated time,
 //! default 100 of the scenario's 200; warm-up a fifth of it), `VIBROBED_BENCH_FRAME_INTERVALS`
-//! (default `0.5,0.05`; 0.5 is the scenario's own), `VIBROBED_BENCH_PARTICLES` (default: the
-//! scenario's 1000).
+//! (default `0.5,0.05`; 0.5 is the scenario's own), `VIBROBED_BENCH_SET` (more scenario
+//! overrides, `KEY=VALUE` separated by spaces, e.g. `particles.count=10000 domain.width=2000`
+//! for ten times the disks in the same five layers).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -144,8 +145,8 @@ fn main() {
         format!("run.duration={duration}"),
         format!("run.warmup={}", duration / 5.0),
     ];
-    if let Ok(n) = std::env::var("VIBROBED_BENCH_PARTICLES") {
-        sets.push(format!("particles.count={n}"));
+    if let Ok(more) = std::env::var("VIBROBED_BENCH_SET") {
+        sets.extend(more.split_whitespace().map(str::to_owned));
     }
     let dir: PathBuf = std::env::temp_dir().join(format!("vibrobed-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch directory");
