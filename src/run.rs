@@ -43,14 +43,25 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
         .rrd
         .clone()
         .or_else(|| s.output.rrd.as_ref().map(PathBuf::from));
-    let sink = match (opts.sink.take(), rrd) {
-        (Some(sink), _) => Some(sink),
-        (None, Some(path)) => Some(open_recording(&path, s, &disks)?),
-        (None, None) => None,
-    };
+    let sink = opts.sink.take();
     match scene.gravity {
-        Some(g) => run_with(Ballistic { g }, s, &scene, disks, sink, &opts),
-        None => run_with(Straight, s, &scene, disks, sink, &opts),
+        Some(g) => run_with(Ballistic { g }, s, &scene, disks, sink, rrd, &opts),
+        None => run_with(Straight, s, &scene, disks, sink, rrd, &opts),
+    }
+}
+
+/// The frame sink: the caller's, else a recording opened only now that the engine has accepted
+/// the initial state (a refused scene leaves no file behind).
+fn sink_for(
+    sink: Option<Box<dyn FrameSink>>,
+    rrd: Option<PathBuf>,
+    s: &Scenario,
+    disks: &crate::disks::Disks,
+) -> Result<Option<Box<dyn FrameSink>>> {
+    match (sink, rrd) {
+        (Some(sink), _) => Ok(Some(sink)),
+        (None, Some(path)) => Ok(Some(open_recording(&path, s, disks)?)),
+        (None, None) => Ok(None),
     }
 }
 
@@ -61,19 +72,23 @@ fn run_with<F: Flight>(
     scene: &Scene,
     disks: crate::disks::Disks,
     sink: Option<Box<dyn FrameSink>>,
+    rrd: Option<PathBuf>,
     opts: &RunOptions,
 ) -> Result<Summary> {
     match s.engine.scheme {
         Scheme::EventDriven => {
             let sim = Simulation::new(flight, scene, disks)?;
+            let sink = sink_for(sink, rrd, s, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::TimeStep => {
             let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
+            let sink = sink_for(sink, rrd, s, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::SpaceTime => {
             let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
+            let sink = sink_for(sink, rrd, s, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
     }
@@ -211,7 +226,7 @@ fn drive<E: Integrator>(
     let mut last_frame_collisions = 0u64;
     let clock = Instant::now();
     let ending = loop {
-        let t_sample = k_sample as f64 * sample_dt;
+        let t_sample = frame_time(k_sample, sample_dt, duration);
         let t_frame = if sink.is_some() {
             frame_time(k_frame, frame_dt, duration)
         } else {
