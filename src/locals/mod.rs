@@ -109,6 +109,15 @@ impl Top {
     }
 }
 
+/// Sets the velocity component `v` of a disk of mass `m` to `after` (a wall or lid rebound) and
+/// returns the kinetic energy that lost — the one place every scheme books such losses.
+#[inline]
+pub fn rebound(v: &mut f64, after: f64, m: f64) -> f64 {
+    let lost = 0.5 * m * (*v * *v - after * after);
+    *v = after;
+    lost
+}
+
 /// Time for a disk to fall onto a static plane `h` below it (exported for the reference engine).
 #[inline]
 pub fn static_floor_impact(y: f64, vy: f64, a: f64, g: f64) -> Option<f64> {

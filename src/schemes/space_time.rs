@@ -22,7 +22,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::{Floor, FloorEvent};
-use crate::locals::{Side, SideBounds, Top};
+use crate::locals::{rebound, Side, SideBounds, Top};
 use crate::scenario::Engine;
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::cmp::Ordering as CmpOrdering;
@@ -379,21 +379,17 @@ impl<F: Flight> SpaceTime<F> {
             LEFT | RIGHT => {
                 self.bring(i, now);
                 let side = if who == LEFT { Side::Left } else { Side::Right };
-                let before = self.disks.motion[i].vx;
-                let after = self.sides.bounce(before, side);
-                self.disks.motion[i].vx = after;
-                self.flow.dissipated +=
-                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                let m = &mut self.disks.motion[i];
+                let after = self.sides.bounce(m.vx, side);
+                self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
                 self.counts.wall += 1;
                 self.moved(i);
             }
             LID => {
                 self.bring(i, now);
-                let before = self.disks.motion[i].vy;
-                let after = self.top.bounce(before);
-                self.disks.motion[i].vy = after;
-                self.flow.dissipated +=
-                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                let m = &mut self.disks.motion[i];
+                let after = self.top.bounce(m.vy);
+                self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
                 self.counts.lid += 1;
                 self.moved(i);
             }

@@ -18,7 +18,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::Floor;
-use crate::locals::{Side, SideBounds, Top};
+use crate::locals::{rebound, Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -302,8 +302,7 @@ impl<F: Flight> TimeStep<F> {
                 };
                 if let Some((side, depth)) = hit {
                     let after = self.sides.bounce(m.vx, side);
-                    self.flow.dissipated += 0.5 * mass * (m.vx * m.vx - after * after);
-                    m.vx = after;
+                    self.flow.dissipated += rebound(&mut m.vx, after, mass);
                     self.counts.wall += 1;
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(depth);
@@ -312,10 +311,9 @@ impl<F: Flight> TimeStep<F> {
             if let Top::Lid { height, .. } = self.top {
                 if m.y + a > height && m.vy > 0.0 {
                     let after = self.top.bounce(m.vy);
-                    self.flow.dissipated += 0.5 * mass * (m.vy * m.vy - after * after);
+                    self.flow.dissipated += rebound(&mut m.vy, after, mass);
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(m.y + a - height);
-                    m.vy = after;
                     self.counts.lid += 1;
                 }
             }

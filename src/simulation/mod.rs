@@ -18,7 +18,7 @@ use crate::interactions::{
     collide_rebounding, contact_time, rider_contact, CollisionLaw, Restitution, RiderContact,
 };
 use crate::locals::floor::{Floor, FloorEvent, RideEnd};
-use crate::locals::{Side, SideBounds, Top};
+use crate::locals::{rebound, Side, SideBounds, Top};
 use crate::reference::{Collision, Partner};
 use crate::scenario::GridChoice;
 use crate::scheduler::CompleteBinaryTree;
@@ -736,21 +736,17 @@ impl<F: Flight> Simulation<F> {
                 } else {
                     Side::Right
                 };
-                let before = self.disks.motion[i].vx;
-                let after = self.sides.bounce(before, side);
-                self.disks.motion[i].vx = after;
-                self.flow.dissipated +=
-                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                let m = &mut self.disks.motion[i];
+                let after = self.sides.bounce(m.vx, side);
+                self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
                 self.counts.wall += 1;
                 self.moved(i);
             }
             partner::LID => {
                 self.bring(i, now);
-                let before = self.disks.motion[i].vy;
-                let after = self.top.bounce(before);
-                self.disks.motion[i].vy = after;
-                self.flow.dissipated +=
-                    0.5 * self.disks.mass[i] * (before * before - after * after);
+                let m = &mut self.disks.motion[i];
+                let after = self.top.bounce(m.vy);
+                self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
                 self.counts.lid += 1;
                 self.moved(i);
             }
