@@ -271,7 +271,10 @@ hard_cases! {
     // Rest on the floor.
     column_tc: "column_tc.json", 3e5;
     rest_static_floor: "rest_static_floor.json", 100.0; // [3.5]
-    bed_at_rest_tc: "bed_at_rest_tc.json", 5e6;
+    bed_at_rest_tc: "bed_at_rest_tc.json", 3e4; // [5.4e3]
+    // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
+    stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
+    stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
     // A ball on a sine floor.
     ball_gamma_0_5: "ball_gamma_0.5.json", 50.0; // [1.0]
     ball_gamma_1_01: "ball_gamma_1.01.json", 100.0; // [8.6]
@@ -307,56 +310,73 @@ hard_cases! {
 // ---------------------------------------------------------------------------------------------
 // The 1D column: with the cure, at rest in finite time; without it, the guard stops the run.
 
-/// The column of `column_tc.json` comes to rest: every disk at (nearly) zero speed, stacked at
-/// y = ½ + k.
-///
-/// Known limitation (issue 4 stays open on it): there is no resting contact between disks. The
-/// bottom disk comes to rest on the floor and rides it, but each disk above keeps bouncing on
-/// the one below with the smallest rebound (`PAIR_REST_HEIGHT`, 10⁻⁶ radii) or, under TC,
-/// elastically: the column makes progress (about 1.3·10⁵ events per unit time for 10 disks)
-/// but never stops moving.
+/// The column of `column_tc.json` comes to rest: the bottom disk rides the floor, the nine
+/// above rest on it (resting contacts), every disk at zero speed at y = ½ + k, and once at rest
+/// the column costs no events at all.
 #[test]
-#[ignore = "limitation: no resting contacts between disks; the column micro-bounces instead of coming to rest"]
 fn column_comes_to_rest_with_the_tc_cure() {
     let s = load("column_tc.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
     let end = s.run.duration;
-    let p = sim.advance_to(end).unwrap();
+    // At rest well before the end.
+    let p = sim.advance_to(0.5 * end).unwrap();
+    assert_eq!(p, vibrobed::simulation::Progress::Reached);
     assert_eq!(
-        p,
-        vibrobed::simulation::Progress::Reached,
-        "stopped at {}",
-        sim.time()
+        sim.riders(),
+        10,
+        "not every disk rests at t = {}",
+        0.5 * end
+    );
+    assert_eq!(sim.stacked(), 9);
+    let before = sim.counts();
+    let p = sim.advance_to(end).unwrap();
+    assert_eq!(p, vibrobed::simulation::Progress::Reached);
+    let after = sim.counts();
+    assert_eq!(
+        after.popped(),
+        before.popped(),
+        "a column at rest still has events: {before:?} → {after:?}"
     );
     let snap = sim.snapshot(end);
     let mut y = snap.y.clone();
     y.sort_by(f64::total_cmp);
     for (k, (&y, (&vx, &vy))) in y.iter().zip(snap.vx.iter().zip(&snap.vy)).enumerate() {
-        assert!((y - (0.5 + k as f64)).abs() < 1e-6, "disk {k} at {y}");
-        assert!(
-            vx.abs() + vy.abs() < 1e-3,
-            "disk {k} still moves: ({vx}, {vy})"
-        );
+        assert!((y - (0.5 + k as f64)).abs() < 1e-5, "disk {k} at {y}");
+        assert_eq!((vx, vy), (0.0, 0.0), "disk {k} still moves");
     }
 }
 
 /// Without a cure the column is an inelastic collapse (1D, N = 10, e = 0.5: (1 − e) N > π).
-/// Observed: the run does not hang; the collapse makes the event rate explode, and the guard
-/// `run.max_events` stops it with `event-limit` and a summary (invariants intact) long before
-/// the end (t ≈ 2.8 of 10 after 2·10⁵ events). Time still creeps on: the floor of the rebound on
-/// a rider and the rest on the floor keep every event at a later time.
+/// Observed with resting contacts (the default): the collapse happens against the floor, where
+/// each disk landing gently comes to rest, so the column still comes to rest (≈ 8·10³
+/// collisions). With resting contacts off as well, nothing ends the collapse: the event rate
+/// explodes and the guard `run.max_events` stops the run with `event-limit` and a summary
+/// (invariants intact) long before the end (t ≈ 2.8 of 10 after 2·10⁵ events). The run does
+/// not hang: the floor of the rebound on a rider and the rest on the floor keep every event at
+/// a later time. With TC but without resting contacts, the column never stops micro-bouncing
+/// (≈ 10⁵ events per unit time).
 #[test]
-fn column_without_a_cure_stops_at_the_event_limit() {
-    let cure_off = [
-        r#"collisions={"restitution": 0.5}"#,
+fn column_without_a_cure_rests_on_contacts_or_stops_at_the_event_limit() {
+    let no_cure = r#"collisions={"restitution": 0.5}"#;
+    let s = load("column_tc.json", &[no_cure]);
+    let sum = run(&s, RunOptions::default()).unwrap();
+    eprintln!(
+        "column without cure: {:?} at t = {} after {:?}",
+        sum.ending, sum.sim_time, sum.events
+    );
+    assert_eq!(sum.ending, Ending::Completed);
+    assert!(sum.events.collisions() < 100_000, "{:?}", sum.events);
+
+    let bare = [
+        r#"collisions={"restitution": 0.5, "resting_contacts": false}"#,
         "run.max_events=200000",
     ];
-    let s = load("column_tc.json", &cure_off);
+    let s = load("column_tc.json", &bare);
     let clock = Instant::now();
     let sum = run(&s, RunOptions::default()).unwrap();
     let wall = clock.elapsed().as_secs_f64();
     eprintln!(
-        "column without cure: {:?} at t = {} after {:?} ({wall:.2} s)",
+        "column without cure or resting contacts: {:?} at t = {} after {:?} ({wall:.2} s)",
         sum.ending, sum.sim_time, sum.events
     );
     assert_eq!(sum.ending, Ending::EventLimit);
@@ -364,6 +384,93 @@ fn column_without_a_cure_stops_at_the_event_limit() {
     assert!(sum.events.popped() >= 200_000);
     assert!(sum.max_overlap < TOLERANCE);
     assert!(sum.energy.balance_error < 1e-9);
+
+    let tc_only = [
+        r#"collisions={"restitution": 0.5, "tc": 0.001, "resting_contacts": false}"#,
+        "run.duration=5",
+    ];
+    let s = load("column_tc.json", &tc_only);
+    let sum = run(&s, RunOptions::default()).unwrap();
+    assert_eq!(sum.ending, Ending::Completed);
+    assert!(event_rate(&sum) > 1e4, "{}", event_rate(&sum));
+}
+
+/// A column of five on a sine floor with Γ = 0.5 (no cure) comes to rest and rides the floor as
+/// one stack: every disk at y = h(t) + ½ + k, moving with h'(t), and no events at all once at
+/// rest.
+#[test]
+fn stack_rides_a_slow_floor() {
+    let s = load("stack_gamma_0.5.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let fl = sim.floor().unwrap().clone();
+    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    sim.advance_to(25.0).unwrap();
+    assert_eq!((sim.riders(), sim.stacked()), (5, 4));
+    let before = sim.counts().popped();
+    for k in 1..=40 {
+        let t = 25.0 + 0.625 * k as f64;
+        sim.advance_to(t).unwrap();
+        let snap = sim.snapshot(t);
+        let th = phi0 + w * t;
+        let (h, hd) = (fl.amplitude * th.sin(), fl.amplitude * w * th.cos());
+        let mut order: Vec<usize> = (0..5).collect();
+        order.sort_by(|&a, &b| snap.y[a].total_cmp(&snap.y[b]));
+        for (k, &i) in order.iter().enumerate() {
+            let gap = snap.y[i] - h - (0.5 + k as f64);
+            assert!(
+                gap.abs() < 1e-5,
+                "disk {i} at {t}: {gap:e} off its place in the stack"
+            );
+            assert!(
+                (snap.vy[i] - hd).abs() < 1e-12,
+                "disk {i} at {t} does not move with the floor"
+            );
+        }
+    }
+    assert_eq!(sim.counts().popped(), before, "a stack at rest has events");
+}
+
+/// A column of five on a sine floor with Γ = 1.2 (no cure): the whole stack rests on the floor
+/// before the take-off phase and leaves it at once when the floor accelerates down faster than
+/// g (`sin(ωt + φ0) = 1/Γ`), every disk with the floor's velocity.
+#[test]
+fn stack_leaves_a_fast_floor_together() {
+    let s = load("stack_gamma_1.2.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let fl = sim.floor().unwrap().clone();
+    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let gamma = fl.amplitude * w * w;
+    let mut whole_stack_left = 0;
+    for k in 0..20 {
+        let t_off = ((1.0 / gamma).asin() - phi0 + std::f64::consts::TAU * k as f64) / w;
+        if t_off - 1e-6 <= sim.time() {
+            continue;
+        }
+        sim.advance_to(t_off - 1e-6).unwrap();
+        if sim.riders() < 5 {
+            continue; // still settling from the last flight
+        }
+        assert_eq!(sim.stacked(), 4);
+        sim.advance_to(t_off + 1e-6).unwrap();
+        assert_eq!(
+            sim.riders(),
+            0,
+            "the stack did not leave the floor at {t_off}"
+        );
+        let snap = sim.snapshot(t_off + 1e-6);
+        let vy0 = snap.vy[0];
+        assert!(
+            snap.vy.iter().all(|&v| (v - vy0).abs() < 1e-12),
+            "{:?}",
+            snap.vy
+        );
+        assert!((vy0 - fl.amplitude * w * (w * t_off + phi0).cos()).abs() < 1e-5);
+        whole_stack_left += 1;
+    }
+    assert!(
+        whole_stack_left >= 5,
+        "the stack left the floor at rest only {whole_stack_left} times"
+    );
 }
 
 /// The dense inelastic gas of `collapse_tc.json` without its cure collapses: the event guard

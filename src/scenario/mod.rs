@@ -262,6 +262,19 @@ pub struct Collisions {
     /// A collision is elastic when the normal approach speed is below this. Absent: off.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_cutoff: Option<f64>,
+    /// A disk landing gently (rebound below 10⁻⁶ radii) in a stable place on disks at rest comes
+    /// to rest too and moves with the floor: a bed at rest costs no events. Off: it keeps
+    /// bouncing with that smallest rebound. Only matters with a floor and gravity.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub resting_contacts: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_yes(b: &bool) -> bool {
+    *b
 }
 
 impl Default for Collisions {
@@ -270,6 +283,7 @@ impl Default for Collisions {
             restitution: 1.0,
             tc: None,
             speed_cutoff: None,
+            resting_contacts: true,
         }
     }
 }

@@ -6,6 +6,8 @@
 //! absolute time is `base + now`. The floor's phase is re-based at the same moment.
 
 pub mod dutc;
+mod resting;
+pub mod riders;
 pub mod scene;
 
 pub use scene::Scene;
@@ -23,6 +25,7 @@ use crate::reference::{Collision, Partner};
 use crate::scenario::GridChoice;
 use crate::scheduler::CompleteBinaryTree;
 use dutc::Dutc;
+use riders::Riders;
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -34,8 +37,10 @@ mod partner {
     pub const LID: u32 = u32::MAX - 3;
     pub const FLOOR: u32 = u32::MAX - 4;
     pub const RIDE_END: u32 = u32::MAX - 5;
+    /// A disk resting on disks loses a support (they slide apart).
+    pub const UNMOUNT: u32 = u32::MAX - 6;
     /// Lowest code of an event that involves no partner disk.
-    pub const RECHECK: u32 = u32::MAX - 6;
+    pub const RECHECK: u32 = u32::MAX - 7;
 }
 
 /// Relative overlap (of the contact distance) beyond which the invariant check fails.
@@ -120,12 +125,14 @@ pub struct EventCounts {
     pub floor: u64,
     /// Contact searches (floor or riding disk) that needed a second look (no velocity change).
     pub recheck: u64,
-    /// Disks that came to rest on the floor (started riding it).
+    /// Disks that came to rest: on the floor (riding it), or on disks at rest.
     pub rest: u64,
     /// Riding disks thrown off by the floor.
     pub takeoff: u64,
     /// Predicted pair events found stale (the partner moved on); the disk was re-predicted.
     pub stale: u64,
+    /// Disks resting on disks that slid off a support (the supports moved apart).
+    pub unmount: u64,
     /// Grid re-mappings (DUTC).
     pub rebuild: u64,
 }
@@ -138,7 +145,7 @@ impl EventCounts {
 
     /// Every event popped from the queue (collisions, stale events, rechecks).
     pub fn popped(&self) -> u64 {
-        self.collisions() + self.recheck + self.stale + self.takeoff
+        self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount
     }
 }
 
@@ -208,8 +215,12 @@ pub struct Simulation<F: Flight> {
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
     log: Option<Vec<Collision>>,
-    /// Disks at rest on (riding) the floor; empty for scenes without a floor.
-    riding: Vec<bool>,
+    /// Disks at rest on (riding) the floor or on resting disks; empty without a floor.
+    riders: Riders,
+    /// Disks resting on disks that rest move with the floor (`collisions.resting_contacts`).
+    resting_contacts: bool,
+    /// Scratch stack of the release cascade.
+    releasing: Vec<u32>,
 }
 
 impl<F: Flight> Simulation<F> {
@@ -281,10 +292,12 @@ impl<F: Flight> Simulation<F> {
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
             log: None,
-            riding: Vec::new(),
+            riders: Riders::default(),
+            resting_contacts: scene.resting_contacts,
+            releasing: Vec::new(),
         };
         if sim.floor.is_some() {
-            sim.riding = vec![false; n];
+            sim.riders = Riders::new(n);
         }
         sim.check_initial_state()?;
         sim.remap().map_err(|e| match e {
@@ -397,13 +410,13 @@ impl<F: Flight> Simulation<F> {
             + self.cells.bytes()
             + self.lists.bytes()
             + self.restitution.bytes()
-            + self.riding.capacity()
+            + self.riders.bytes()
     }
 
     /// `true` when disk `i` rides the floor.
     #[inline(always)]
     fn is_riding(&self, i: usize) -> bool {
-        self.riding.get(i).copied().unwrap_or(false)
+        self.riders.is_riding(i)
     }
 
     /// State of disk `i` at local time `t`: on its parabola (or line), or carried by the floor.
@@ -412,7 +425,7 @@ impl<F: Flight> Simulation<F> {
         let m = &self.disks.motion[i];
         if self.is_riding(i) {
             let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(t);
-            return (m.x + m.vx * (t - m.t), h + self.disks.radius[i], m.vx, hd);
+            return (m.x + m.vx * (t - m.t), h + self.riders.lift(i), m.vx, hd);
         }
         self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
     }
@@ -425,7 +438,7 @@ impl<F: Flight> Simulation<F> {
         let mass = self.disks.mass[i];
         let g = self.flight.g();
         let m = &mut self.disks.motion[i];
-        if self.riding.get(i).copied().unwrap_or(false) {
+        if self.riders.is_riding(i) {
             self.flow.injected += mass * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
         }
         *m = crate::disks::Motion { x, y, vx, vy, t };
@@ -437,7 +450,7 @@ impl<F: Flight> Simulation<F> {
         let mut flow = self.flow;
         let local = self.base.local(t);
         let g = self.flight.g();
-        for i in (0..self.riding.len()).filter(|&i| self.riding[i]) {
+        for i in self.riders.iter() {
             let (_, y, _, vy) = self.state_at(i, local);
             let m = &self.disks.motion[i];
             flow.injected += self.disks.mass[i] * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
@@ -445,9 +458,14 @@ impl<F: Flight> Simulation<F> {
         flow
     }
 
-    /// Number of disks riding the floor now.
+    /// Number of disks at rest now: riding the floor, or resting on disks that rest.
     pub fn riders(&self) -> usize {
-        self.riding.iter().filter(|&&r| r).count()
+        self.riders.count()
+    }
+
+    /// Number of disks resting on other disks now (part of [`riders`](Self::riders)).
+    pub fn stacked(&self) -> usize {
+        self.riders.stacked()
     }
 
     /// Contact search between riding disk `r` and flying disk `f` from now to `limit`.
@@ -467,7 +485,7 @@ impl<F: Flight> Simulation<F> {
             vxf - vxr,
             yf,
             vyf,
-            self.disks.radius[r],
+            self.riders.lift(r),
             self.disks.radius[r] + self.disks.radius[f],
             g,
             floor.max_acceleration(),
@@ -563,6 +581,13 @@ impl<F: Flight> Simulation<F> {
                         counter = matches!(end, RideEnd::Kick { .. }) as u32;
                     }
                 }
+                if !self.riders.on_floor(i) {
+                    let t_off = self.unmount_time(i);
+                    if t_off < t {
+                        t = t_off;
+                        who = partner::UNMOUNT;
+                    }
+                }
             } else {
                 if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
                     if now + dt < t {
@@ -607,7 +632,7 @@ impl<F: Flight> Simulation<F> {
         best.fill(f64::INFINITY);
         let mut who = std::mem::take(&mut self.ev_partner);
         who.fill(partner::NONE);
-        let any_rider = self.riding.contains(&true);
+        let any_rider = self.riders.any();
         for (i, j) in
             (0..n).flat_map(|i| self.lists.half_of(i).iter().map(move |&j| (i, j as usize)))
         {
@@ -720,7 +745,7 @@ impl<F: Flight> Simulation<F> {
                 partner::RIGHT => Some(Partner::Right),
                 partner::LID => Some(Partner::Lid),
                 partner::FLOOR => Some(Partner::Floor),
-                partner::RECHECK | partner::RIDE_END | partner::NONE => None,
+                partner::RECHECK | partner::RIDE_END | partner::UNMOUNT | partner::NONE => None,
                 j if self.disks.counter[j as usize] == self.ev_counter[i] => Some(Partner::Disk(j)),
                 _ => None,
             };
@@ -731,6 +756,7 @@ impl<F: Flight> Simulation<F> {
         match who {
             partner::LEFT | partner::RIGHT => {
                 self.bring(i, now);
+                self.unsettle(i);
                 let side = if who == partner::LEFT {
                     Side::Left
                 } else {
@@ -741,6 +767,7 @@ impl<F: Flight> Simulation<F> {
                 self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
                 self.counts.wall += 1;
                 self.moved(i);
+                self.release_carried(i, None);
             }
             partner::LID => {
                 self.bring(i, now);
@@ -759,7 +786,8 @@ impl<F: Flight> Simulation<F> {
             }
             partner::RIDE_END => {
                 self.bring(i, now);
-                self.riding[i] = false;
+                let on_floor = self.riders.on_floor(i);
+                self.riders.dismount(i);
                 let floor = self.floor.as_ref().expect("riders need a floor");
                 let g = self.flight.g();
                 let kick = self.ev_counter[i] == 1;
@@ -767,23 +795,38 @@ impl<F: Flight> Simulation<F> {
                 let end = floor
                     .ride_end(now - 1e-9 * floor.period_or_one(), g)
                     .map(|(_, e)| e);
-                match end {
+                // Disks resting on disks leave with the floor's velocity before a kick (the disk
+                // below then hits them) or with the launch velocity (they all fly together).
+                let vy = match end {
                     Some(RideEnd::Kick { before, after }) if kick => {
                         self.set_vy(i, before);
-                        self.floor_impact(i, after);
+                        if on_floor {
+                            self.floor_impact(i, after);
+                        }
+                        before
                     }
                     Some(RideEnd::TakeOff { launch }) if !kick => {
                         self.counts.takeoff += 1;
                         self.set_vy(i, launch);
+                        launch
                     }
                     _ => {
                         // Round-off moved us past the end: fly with the floor's velocity.
                         self.counts.takeoff += 1;
                         let hd = floor.velocity(now);
                         self.set_vy(i, hd);
+                        hd
                     }
-                }
+                };
                 self.moved(i);
+                self.release_carried(i, Some(vy));
+            }
+            partner::UNMOUNT => {
+                self.bring(i, now);
+                self.counts.unmount += 1;
+                self.riders.dismount(i);
+                self.moved(i);
+                self.release_carried(i, None);
             }
             partner::RECHECK => {
                 self.counts.recheck += 1;
@@ -843,7 +886,7 @@ impl<F: Flight> Simulation<F> {
                 mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
             m.y = h + a;
             m.vy = hd_ride;
-            self.riding[i] = true;
+            self.riders.mount_on_floor(i, a);
             self.counts.rest += 1;
             let vx = m.vx.abs();
             self.dutc.ride(now, vx + lift, g);
@@ -854,18 +897,9 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         self.bring(i, now);
         self.bring(j, now);
-        // Riders leave the floor's grip for the collision; if it pushes them into the floor,
-        // the floor answers at once (sequential impulses).
         let rode = [self.is_riding(i), self.is_riding(j)];
-        if rode[0] {
-            self.riding[i] = false;
-        }
-        if rode[1] {
-            self.riding[j] = false;
-        }
         let d = &self.disks;
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
-        let contact = d.radius[i] + d.radius[j];
         let e = self.restitution.collision(
             i,
             j,
@@ -898,6 +932,23 @@ impl<F: Flight> Simulation<F> {
         } else {
             0.0
         };
+        if rode[0] != rode[1] && self.resting_contacts && min_rebound > 0.0 {
+            let (k, s) = if rode[0] { (j, i) } else { (i, j) };
+            if self.try_rest_on(k, s, e, min_rebound)? {
+                return Ok(());
+            }
+        }
+        // Riders leave the floor's grip for the collision; if it pushes a disk riding the floor
+        // into it, the floor answers at once (sequential impulses).
+        let on_floor = [
+            rode[0] && self.riders.on_floor(i),
+            rode[1] && self.riders.on_floor(j),
+        ];
+        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
+            if rode {
+                self.riders.dismount(k);
+            }
+        }
         let d = &self.disks;
         let imp = collide_rebounding(
             dx,
@@ -909,16 +960,7 @@ impl<F: Flight> Simulation<F> {
             e,
             min_rebound,
         );
-        let overlap = contact - imp.distance;
-        if overlap > self.max_overlap {
-            self.max_overlap = overlap;
-            if self.check && overlap > OVERLAP_TOLERANCE * contact {
-                return Err(Error::Runtime(format!(
-                    "disks {i} and {j} overlap by {overlap:e} at time {}",
-                    self.time()
-                )));
-            }
-        }
+        self.check_contact(i, j, imp.distance)?;
         let d = &mut self.disks;
         d.motion[i].vx += imp.dvx_i;
         d.motion[i].vy += imp.dvy_i;
@@ -927,8 +969,8 @@ impl<F: Flight> Simulation<F> {
         self.flow.dissipated += imp.energy_lost;
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;
-        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
-            if rode {
+        for (k, on_floor) in [(i, on_floor[0]), (j, on_floor[1])] {
+            if on_floor {
                 let floor = self.floor.as_ref().expect("riders need a floor");
                 let (_, hd) = floor.ride(now);
                 if self.disks.motion[k].vy < hd {
@@ -943,6 +985,29 @@ impl<F: Flight> Simulation<F> {
             self.dutc.observe(self.now, s);
         }
         self.predict(j);
+        // What rested on them rested on disks that have now moved.
+        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
+            if rode {
+                self.release_carried(k, None);
+            }
+        }
+        Ok(())
+    }
+
+    /// Books the overlap of disks `i` and `j` colliding at centre distance `distance`, and fails
+    /// if it is beyond tolerance while the invariant checks are on.
+    fn check_contact(&mut self, i: usize, j: usize, distance: f64) -> Result<()> {
+        let contact = self.disks.radius[i] + self.disks.radius[j];
+        let overlap = contact - distance;
+        if overlap > self.max_overlap {
+            self.max_overlap = overlap;
+            if self.check && overlap > OVERLAP_TOLERANCE * contact {
+                return Err(Error::Runtime(format!(
+                    "disks {i} and {j} overlap by {overlap:e} at time {}",
+                    self.time()
+                )));
+            }
+        }
         Ok(())
     }
 
@@ -999,7 +1064,7 @@ impl<F: Flight> Simulation<F> {
                 }
             })
             .fold(0.0f64, f64::max);
-        let accel = if self.riding.contains(&true) {
+        let accel = if self.riders.any() {
             self.flight.g()
         } else {
             0.0

@@ -35,6 +35,8 @@ pub struct Scene {
     pub tc: Option<f64>,
     /// Normal-speed cutoff of restitution, if on.
     pub speed_cutoff: Option<f64>,
+    /// Disks landing gently on disks at rest come to rest on them.
+    pub resting_contacts: bool,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
     /// Grid storage choice.
@@ -147,6 +149,7 @@ impl Scene {
             restitution: s.collisions.restitution,
             tc: s.collisions.tc,
             speed_cutoff: s.collisions.speed_cutoff,
+            resting_contacts: s.collisions.resting_contacts,
             mask: s.engine.mask,
             grid: s.engine.grid,
             packing: match height {

@@ -1,0 +1,208 @@
+//! Disks at rest: riding the floor, or resting on disks that rest (a bed at rest).
+//!
+//! A disk *rides* when its vertical motion is the floor's, `y(t) = h(t) + lift`, and it slides
+//! horizontally at constant speed. Disks that ride directly on the floor have `lift` = their
+//! radius. A disk that lands gently on riding disks in a stable position (its weight carried by
+//! supports on both sides of the vertical, or by one support straight below) rides too, with the
+//! lift it had at landing and its supports' horizontal velocity: the stack moves rigidly with the
+//! floor and costs no events. Each such disk records up to two supporting disks (or a side wall),
+//! and each disk the disks it carries, so that a support that leaves the floor's grip (hit, thrown
+//! off, kicked) releases everything resting on it at once.
+//!
+//! The carried lists are validated lazily: an entry counts only while the carried disk still
+//! rides and still names the carrier among its supports.
+
+/// No disk (an empty support or carried slot, or "supported by the floor").
+pub const NO_DISK: u32 = u32::MAX;
+/// A support code: the left side wall.
+pub const LEFT_WALL: u32 = u32::MAX - 1;
+/// A support code: the right side wall.
+pub const RIGHT_WALL: u32 = u32::MAX - 2;
+/// How many resting disks one disk can carry (a disk in a triangular packing carries two).
+pub const CARRIED: usize = 4;
+
+/// Who rides the floor and what rests on what; empty for scenes without a floor.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Riders {
+    riding: Vec<bool>,
+    lift: Vec<f64>,
+    support: Vec<[u32; 2]>,
+    carries: Vec<[u32; CARRIED]>,
+}
+
+impl Riders {
+    /// Room for `n` disks, none riding.
+    pub fn new(n: usize) -> Riders {
+        Riders {
+            riding: vec![false; n],
+            lift: vec![0.0; n],
+            support: vec![[NO_DISK; 2]; n],
+            carries: vec![[NO_DISK; CARRIED]; n],
+        }
+    }
+
+    /// `true` when disk `i` rides (on the floor or on riding disks).
+    #[inline(always)]
+    pub fn is_riding(&self, i: usize) -> bool {
+        self.riding.get(i).copied().unwrap_or(false)
+    }
+
+    /// Height of riding disk `i` above the floor's surface: `y = h(t) + lift`.
+    #[inline(always)]
+    pub fn lift(&self, i: usize) -> f64 {
+        self.lift[i]
+    }
+
+    /// `true` when riding disk `i` rests on the floor itself (not on other disks).
+    #[inline]
+    pub fn on_floor(&self, i: usize) -> bool {
+        self.support[i] == [NO_DISK; 2]
+    }
+
+    /// What disk `i` rests on: disk numbers, wall codes or [`NO_DISK`].
+    #[inline]
+    pub fn supports(&self, i: usize) -> [u32; 2] {
+        self.support[i]
+    }
+
+    /// Disk `i` starts riding the floor directly, its centre `lift` above the floor's surface.
+    pub fn mount_on_floor(&mut self, i: usize, lift: f64) {
+        self.riding[i] = true;
+        self.lift[i] = lift;
+        self.support[i] = [NO_DISK; 2];
+    }
+
+    /// Disk `k` starts resting on `supports` (disks or walls), `lift` above the floor's surface.
+    /// Refused (returns `false`, nothing changes) when a supporting disk already carries
+    /// [`CARRIED`] disks.
+    pub fn mount_on_disks(&mut self, k: usize, lift: f64, supports: [u32; 2]) -> bool {
+        let disks = || supports.into_iter().filter(|&s| s < RIGHT_WALL);
+        for s in disks() {
+            self.purge(s as usize);
+            if !self.carries[s as usize].contains(&NO_DISK) {
+                return false;
+            }
+        }
+        self.riding[k] = true;
+        self.lift[k] = lift;
+        self.support[k] = supports;
+        for s in disks() {
+            let slots = &mut self.carries[s as usize];
+            if !slots.contains(&(k as u32)) {
+                let free = slots
+                    .iter()
+                    .position(|&c| c == NO_DISK)
+                    .expect("room checked");
+                slots[free] = k as u32;
+            }
+        }
+        true
+    }
+
+    /// Drops the carried entries of `s` that are no longer valid.
+    fn purge(&mut self, s: usize) {
+        for slot in 0..CARRIED {
+            let c = self.carries[s][slot];
+            if c != NO_DISK && !self.rests_on(c as usize, s) {
+                self.carries[s][slot] = NO_DISK;
+            }
+        }
+    }
+
+    /// `true` when disk `k` rides resting on disk `s`.
+    #[inline]
+    fn rests_on(&self, k: usize, s: usize) -> bool {
+        self.riding[k] && self.support[k].contains(&(s as u32))
+    }
+
+    /// Disk `i` stops riding.
+    #[inline]
+    pub fn dismount(&mut self, i: usize) {
+        self.riding[i] = false;
+    }
+
+    /// The disks resting on `s` now (clears its carried list).
+    pub fn take_carried(&mut self, s: usize) -> [u32; CARRIED] {
+        let mut out = std::mem::replace(&mut self.carries[s], [NO_DISK; CARRIED]);
+        for c in &mut out {
+            if *c != NO_DISK && !self.rests_on(*c as usize, s) {
+                *c = NO_DISK;
+            }
+        }
+        out
+    }
+
+    /// `true` when disk `s` carries any resting disk (without clearing anything).
+    #[inline]
+    pub fn carries_any(&self, s: usize) -> bool {
+        self.carries.get(s).is_some_and(|slots| {
+            slots
+                .iter()
+                .any(|&c| c != NO_DISK && self.rests_on(c as usize, s))
+        })
+    }
+
+    /// Number of riding disks.
+    pub fn count(&self) -> usize {
+        self.riding.iter().filter(|&&r| r).count()
+    }
+
+    /// Number of riding disks that rest on other disks.
+    pub fn stacked(&self) -> usize {
+        (0..self.riding.len())
+            .filter(|&i| self.riding[i] && !self.on_floor(i))
+            .count()
+    }
+
+    /// `true` when any disk rides.
+    pub fn any(&self) -> bool {
+        self.riding.contains(&true)
+    }
+
+    /// Indices of the riding disks.
+    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.riding.len()).filter(|&i| self.riding[i])
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        self.riding.capacity()
+            + 8 * self.lift.capacity()
+            + 8 * self.support.capacity()
+            + 4 * CARRIED * self.carries.capacity()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn carried_lists_follow_the_supports() {
+        let mut r = Riders::new(4);
+        r.mount_on_floor(0, 0.5);
+        assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK]));
+        assert!(r.carries_any(0));
+        // Disk 1 leaves and lands elsewhere: 0 no longer carries it.
+        r.dismount(1);
+        assert!(!r.carries_any(0));
+        r.mount_on_floor(2, 0.5);
+        assert!(r.mount_on_disks(1, 1.4, [2, LEFT_WALL]));
+        assert_eq!(r.take_carried(0), [NO_DISK; CARRIED]);
+        assert_eq!(r.take_carried(2)[0], 1);
+        assert!(!r.carries_any(2));
+    }
+
+    #[test]
+    fn a_full_carrier_refuses() {
+        let mut r = Riders::new(6);
+        r.mount_on_floor(0, 0.5);
+        for k in 1..=CARRIED {
+            assert!(r.mount_on_disks(k, 1.5, [0, NO_DISK]));
+        }
+        assert!(!r.mount_on_disks(5, 1.5, [0, NO_DISK]));
+        assert!(!r.is_riding(5));
+        assert_eq!(r.count(), 1 + CARRIED);
+        assert_eq!(r.stacked(), CARRIED);
+    }
+}
