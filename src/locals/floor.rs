@@ -60,9 +60,10 @@ pub const REST_HEIGHT: f64 = 1e-9;
 
 /// A disk landing on a disk that rides the floor rebounds at least so fast that it would rise
 /// `PAIR_REST_HEIGHT` radii against the acceleration pressing the two together (see
-/// `interactions::collide_rebounding`). Larger than [`REST_HEIGHT`]: a disk resting on a rider
-/// keeps bouncing (there is no resting contact between disks), and this sets how often — about
-/// 1/(2·√(2·10⁻⁶ a/g)) ≈ 500 bounces per unit time for a = 0.5, g = 1.
+/// `interactions::collide_rebounding`), unless it comes to rest on it (resting contacts,
+/// `simulation::resting`): a landing gentler than that in a stable place ends at rest. Without
+/// resting contacts a disk on a rider keeps bouncing, about 1/(2·√(2·10⁻⁶ a/g)) ≈ 500 bounces
+/// per unit time for a = 0.5, g = 1.
 pub const PAIR_REST_HEIGHT: f64 = 1e-6;
 
 /// How a ride on the floor ends.
