@@ -68,10 +68,10 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let (h, hd) = floor.ride(now);
         let lift_speed = floor.max_speed();
+        self.check_contact(k, s, dist)?;
         if !self.riders.mount_on_disks(k, mk.y - h, supports) {
             return Ok(false);
         }
-        self.check_contact(k, s, dist)?;
         let mass = self.disks.mass[k];
         let relative = 0.5 * mass * (dvx * dvx + (mk.vy - hd).powi(2));
         self.flow.dissipated += relative;
