@@ -6,22 +6,25 @@
 //! and near-contact pairs (no cancellation between `−b` and `√disc`).
 
 /// Earliest `t ≥ 0` at which two disks at separation `(dx, dy)` with relative velocity
-/// `(dvx, dvy)` reach centre distance `s`; `None` if they recede or miss.
+/// `(dvx, dvy)` reach centre distance `s`; `None` if they recede or miss. `speed` is the scale
+/// of the two velocities themselves (e.g. the sum of their components' magnitudes; 0 if
+/// unknown): a pair in contact approaching slower than their round-off is not a collision.
 ///
 /// Receding pairs (`b ≥ 0`) are rejected before any square root. A pair that already overlaps
 /// by round-off while approaching collides now (`Some(0)`), never in the past.
 #[inline(always)]
-pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> Option<f64> {
+pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, speed: f64) -> Option<f64> {
     let b = dx * dvx + dy * dvy;
     if b >= 0.0 {
         return None;
     }
     let dv2 = dvx * dvx + dvy * dvy;
     let c = dx * dx + dy * dy - s * s;
-    if c <= 1e-12 * s * s && b * b <= 1e-26 * s * s * dv2 {
+    if c <= 1e-12 * s * s && b * b <= 1e-26 * s * s * dv2.max(speed * speed) {
         // In contact, approaching only within the round-off of b (a pair that just collided
-        // with e = 0, or slides tangentially): not a collision. Colliding would change the
-        // velocities by less than an ulp and repeat forever.
+        // with e = 0, or slides tangentially), or of the velocities (two disks of a column moving
+        // together): not a collision. Colliding would change the velocities by less than an ulp
+        // and repeat forever.
         return None;
     }
     let disc = b * b - dv2 * c;
@@ -72,18 +75,21 @@ impl Restitution {
 pub struct CollisionLaw {
     /// The law.
     pub law: Restitution,
+    /// Time of each disk's last collision (with a disk or a boundary).
     last: Vec<f64>,
+    /// Whether that collision was with another disk.
+    paired: Vec<bool>,
 }
 
 impl CollisionLaw {
     /// The law for `n` disks.
     pub fn new(law: Restitution, n: usize) -> CollisionLaw {
-        let last = if law.tc.is_some() {
-            vec![f64::NEG_INFINITY; n]
-        } else {
-            Vec::new()
-        };
-        CollisionLaw { law, last }
+        let cured = law.tc.is_some() || law.speed_cutoff.is_some();
+        CollisionLaw {
+            law,
+            last: vec![f64::NEG_INFINITY; if law.tc.is_some() { n } else { 0 }],
+            paired: vec![false; if cured { n } else { 0 }],
+        }
     }
 
     /// Restitution of a collision of disks `i` and `j` happening at `now`, with separation
@@ -111,7 +117,30 @@ impl CollisionLaw {
             self.last[i] = now;
             self.last[j] = now;
         }
+        if !self.paired.is_empty() {
+            self.paired[i] = true;
+            self.paired[j] = true;
+        }
         e
+    }
+
+    /// Whether a cure makes the impact of disk `i` on a wall, the lid or the floor at `now`,
+    /// with normal approach speed `u ≥ 0`, elastic; records the impact. A cure acts on a boundary
+    /// impact only when the disk's previous collision was with another disk (the disk is pressed
+    /// between a disk and the boundary): the TC model when that collision was less than `tc` ago,
+    /// the speed cutoff when `u` is below it. A disk alone on the floor keeps the boundary's
+    /// restitution, so it can come to rest.
+    #[inline]
+    pub fn boundary_elastic(&mut self, i: usize, now: f64, u: f64) -> bool {
+        let Some(paired) = self.paired.get_mut(i) else {
+            return false;
+        };
+        let after_pair = std::mem::replace(paired, false);
+        let recent = match (self.law.tc, self.last.get_mut(i)) {
+            (Some(tc), Some(last)) => std::mem::replace(last, now) > now - tc,
+            _ => false,
+        };
+        after_pair && (recent || self.law.speed_cutoff.is_some_and(|v| u < v))
     }
 
     /// The clock's origin moved forward by `dt`.
@@ -123,7 +152,7 @@ impl CollisionLaw {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        8 * self.last.capacity()
+        8 * self.last.capacity() + self.paired.capacity()
     }
 }
 
@@ -152,7 +181,8 @@ pub struct Impulse {
 /// least `min_rebound` (0 for a plain collision). The floor of the rebound is used for a disk
 /// landing on a disk that rides the floor: they are pressed together, and without it a contact
 /// at zero normal speed would exchange nothing and repeat (Zeno); `min_rebound` is the speed that
-/// lifts the pair apart by a negligible height (see `Floor::rest_speed`). The energy lost is then
+/// lifts the pair apart by a negligible height (see `Floor::rest_speed`); a pressed pair found in
+/// contact while receding slower than that (round-off) gets it too. The energy lost is then
 /// whatever the velocities lost (slightly negative when the floor of the rebound acts).
 #[inline]
 #[allow(clippy::too_many_arguments)]
@@ -169,11 +199,13 @@ pub fn collide_rebounding(
     let distance = (dx * dx + dy * dy).sqrt();
     let (nx, ny) = (dx / distance, dy / distance);
     let u = dvx * nx + dvy * ny;
-    if u > 0.0 || (u == 0.0 && min_rebound == 0.0) {
+    if u >= min_rebound || (u == 0.0 && min_rebound == 0.0) {
         return collide(dx, dy, dvx, dvy, m_i, m_j, e);
     }
     let mu = m_i * m_j / (m_i + m_j);
-    let after = (-e * u).max(min_rebound); // normal speed after, ≥ 0
+    // Normal speed after, ≥ 0. A pressed pair that touches while receding slower than the
+    // floor of the rebound (a contact found by round-off) is also lifted apart by it.
+    let after = (-e * u).max(u).max(min_rebound);
     let p = mu * (after - u);
     Impulse {
         dvx_i: p * nx / m_i,
@@ -182,7 +214,7 @@ pub fn collide_rebounding(
         dvy_j: -p * ny / m_j,
         energy_lost: 0.5 * mu * (u * u - after * after),
         momentum: p,
-        normal_speed: -u,
+        normal_speed: (-u).max(0.0),
         distance,
     }
 }
@@ -230,12 +262,16 @@ mod tests {
     #[test]
     fn head_on_contact_time() {
         // Two unit-radius disks 10 apart closing at speed 2: contact after (10 − 2)/2 = 4.
-        let t = contact_time(-10.0, 0.0, 2.0, 0.0, 2.0).unwrap();
+        let t = contact_time(-10.0, 0.0, 2.0, 0.0, 2.0, 0.0).unwrap();
         assert!((t - 4.0).abs() < 1e-15);
-        assert_eq!(contact_time(10.0, 0.0, 2.0, 0.0, 2.0), None, "receding");
-        assert_eq!(contact_time(-10.0, 5.0, 2.0, 0.0, 2.0), None, "miss");
         assert_eq!(
-            contact_time(-1.999, 0.0, 1.0, 0.0, 2.0),
+            contact_time(10.0, 0.0, 2.0, 0.0, 2.0, 0.0),
+            None,
+            "receding"
+        );
+        assert_eq!(contact_time(-10.0, 5.0, 2.0, 0.0, 2.0, 0.0), None, "miss");
+        assert_eq!(
+            contact_time(-1.999, 0.0, 1.0, 0.0, 2.0, 0.0),
             Some(0.0),
             "overlap"
         );
@@ -265,6 +301,65 @@ mod tests {
         assert!((imp.energy_lost - 0.75).abs() < 1e-15);
         let u_after = -(2.0 + imp.dvx_i - imp.dvx_j);
         assert!((u_after - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_pressed_pair_receding_by_round_off_is_lifted_apart() {
+        // Disk i above j, receding at 1e-15 while the floor of the rebound is 1e-3.
+        let imp = collide_rebounding(0.0, 1.0, 0.0, 1e-15, 1.0, 1.0, 1.0, 1e-3);
+        let after = 1e-15 + imp.dvy_i - imp.dvy_j;
+        assert!((after - 1e-3).abs() < 1e-15, "{after}");
+        assert_eq!(imp.normal_speed, 0.0);
+        // Receding faster than the floor: nothing happens.
+        let imp = collide_rebounding(0.0, 1.0, 0.0, 2e-3, 1.0, 1.0, 1.0, 1e-3);
+        assert_eq!((imp.dvy_i, imp.dvy_j, imp.momentum), (0.0, 0.0, 0.0));
+    }
+
+    fn law(tc: Option<f64>, speed_cutoff: Option<f64>) -> CollisionLaw {
+        CollisionLaw::new(
+            Restitution {
+                e: 0.5,
+                tc,
+                speed_cutoff,
+            },
+            2,
+        )
+    }
+
+    #[test]
+    fn tc_makes_a_boundary_impact_elastic_only_right_after_a_pair_collision() {
+        let mut tc = law(Some(1e-3), None);
+        // Alone on the floor: its own bounces never count, however frequent.
+        assert!(!tc.boundary_elastic(0, 0.0, 1e-6));
+        assert!(!tc.boundary_elastic(0, 1e-4, 1e-6));
+        // Pressed between a disk and the floor: elastic within tc of the pair collision...
+        assert_eq!(tc.collision(0, 1, 1.0, 0.0, 1.0, 0.0, -1.0), 0.5);
+        assert!(tc.boundary_elastic(0, 1.0 + 5e-4, 1.0));
+        // ...once: the next floor impact follows a floor impact.
+        assert!(!tc.boundary_elastic(0, 1.0 + 6e-4, 1.0));
+        // A floor impact within tc makes the next pair collision elastic.
+        assert_eq!(tc.collision(0, 1, 1.0 + 7e-4, 0.0, 1.0, 0.0, -1.0), 1.0);
+        // Too late after the pair collision: the floor's own restitution.
+        assert!(!tc.boundary_elastic(0, 1.1, 1.0));
+        assert!(!tc.boundary_elastic(1, 2.0, 1.0));
+    }
+
+    #[test]
+    fn the_speed_cutoff_acts_on_a_boundary_impact_after_a_pair_collision() {
+        let mut cut = law(None, Some(1e-2));
+        assert!(
+            !cut.boundary_elastic(0, 0.0, 1e-3),
+            "alone: the floor's own restitution"
+        );
+        cut.collision(0, 1, 1.0, 0.0, 1.0, 0.0, -1.0);
+        assert!(!cut.boundary_elastic(1, 5.0, 0.1), "faster than the cutoff");
+        assert!(cut.boundary_elastic(0, 5.0, 1e-3));
+        assert!(!cut.boundary_elastic(0, 5.0, 1e-3));
+        // No cure: nothing is allocated and every boundary keeps its restitution.
+        let mut none = law(None, None);
+        none.collision(0, 1, 1.0, 0.0, 1.0, 0.0, -1.0);
+        assert!(!none.boundary_elastic(0, 1.0, 0.0));
+        assert_eq!(none.bytes(), 0);
     }
 }
 

@@ -124,9 +124,14 @@ impl<F: Flight> Reference<F> {
             for j in i + 1..n {
                 let (dx, dy) = self.wrap(self.x[i] - self.x[j], self.y[i] - self.y[j]);
                 let s = self.radius[i] + self.radius[j];
-                if let Some(dt) =
-                    contact_time(dx, dy, self.vx[i] - self.vx[j], self.vy[i] - self.vy[j], s)
-                {
+                if let Some(dt) = contact_time(
+                    dx,
+                    dy,
+                    self.vx[i] - self.vx[j],
+                    self.vy[i] - self.vy[j],
+                    s,
+                    0.0,
+                ) {
                     consider(dt, i, Partner::Disk(j as u32));
                 }
             }
@@ -198,9 +203,9 @@ impl<F: Flight> Reference<F> {
                     self.vx[j] += imp.dvx_j;
                     self.vy[j] += imp.dvy_j;
                 }
-                Partner::Left => self.vx[i] = self.sides.bounce(self.vx[i], Side::Left),
-                Partner::Right => self.vx[i] = self.sides.bounce(self.vx[i], Side::Right),
-                Partner::Lid => self.vy[i] = self.top.bounce(self.vy[i]),
+                Partner::Left => self.vx[i] = self.sides.bounce(self.vx[i], Side::Left, false),
+                Partner::Right => self.vx[i] = self.sides.bounce(self.vx[i], Side::Right, false),
+                Partner::Lid => self.vy[i] = self.top.bounce(self.vy[i], false),
                 Partner::Floor => {
                     let floor = self.floor.as_ref().expect("floor");
                     self.vy[i] = floor.bounce(self.vy[i], self.time);

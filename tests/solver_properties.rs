@@ -170,7 +170,7 @@ fn pair_reference(p: &Pair) -> PairRef {
 /// `2R/|F'(t_r)| + 2√(R/Δv²)` (the second term covers grazing, where `F'` vanishes) plus the
 /// rounding of `t` itself.
 fn check_pair(p: &Pair) -> Result<(), TestCaseError> {
-    let engine = contact_time(p.dx, p.dy, p.dvx, p.dvy, p.s);
+    let engine = contact_time(p.dx, p.dy, p.dvx, p.dvy, p.s, 0.0);
     let reference = pair_reference(p);
     let dv2 = p.dv2();
     let r_abs = p.r();
@@ -314,7 +314,7 @@ proptest! {
         let (dvx, dvy) = rot(vth, v, 0.0);
         let p = Pair { dx: dx * len, dy: dy * len, dvx, dvy, s: s * len };
         check_pair(&p)?;
-        if let Some(t) = contact_time(p.dx, p.dy, p.dvx, p.dvy, p.s) {
+        if let Some(t) = contact_time(p.dx, p.dy, p.dvx, p.dvy, p.s, 0.0) {
             // Touching and approaching: now (or within the round-off of touching).
             prop_assert!(t <= 1e-9 * len / v, "touching pair meets only at {t}: {p:?}");
         }
@@ -340,7 +340,7 @@ proptest! {
         let imp = collide(dx, dy, vi.0 - vj.0, vi.1 - vj.1, mi, mj, e);
         let vi2 = (vi.0 + imp.dvx_i, vi.1 + imp.dvy_i);
         let vj2 = (vj.0 + imp.dvx_j, vj.1 + imp.dvy_j);
-        let again = contact_time(dx, dy, vi2.0 - vj2.0, vi2.1 - vj2.1, 1.0);
+        let again = contact_time(dx, dy, vi2.0 - vj2.0, vi2.1 - vj2.1, 1.0, 0.0);
         prop_assert!(again.is_none(), "collides again at {again:?} (u = {u:e})");
     }
 }
@@ -370,7 +370,7 @@ fn e0_collision_leaves_a_pair_that_collides_again_now() {
         let imp = collide(dx, dy, dvx, dvy, 1.0, 1.0, e);
         let (ai, bi) = (vxi + imp.dvx_i, vyi + imp.dvy_i);
         let (aj, bj) = (vxj + imp.dvx_j, vyj + imp.dvy_j);
-        let again = contact_time(dx, dy, ai - aj, bi - bj, 1.0);
+        let again = contact_time(dx, dy, ai - aj, bi - bj, 1.0, 0.0);
         assert!(
             again.is_none(),
             "e = {e}: the impulse {:e} changed the velocities by ({:e}, {:e}); contact again at {again:?}",

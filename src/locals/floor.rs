@@ -185,13 +185,14 @@ impl Floor {
     /// reflects it like a static floor (the disk must not pass y = 0).
     #[inline]
     pub fn bounce(&self, vy: f64, t: f64) -> f64 {
-        self.bounce_on(vy, self.velocity(t))
+        self.bounce_on(vy, self.velocity(t), false)
     }
 
-    /// [`bounce`](Self::bounce) on a floor moving with vertical velocity `hd`.
+    /// [`bounce`](Self::bounce) on a floor moving with vertical velocity `hd`; `elastic` when a
+    /// cure of inelastic collapse overrides the floor's restitution.
     #[inline]
-    pub fn bounce_on(&self, vy: f64, hd: f64) -> f64 {
-        let e = self.restitution;
+    pub fn bounce_on(&self, vy: f64, hd: f64, elastic: bool) -> f64 {
+        let e = if elastic { 1.0 } else { self.restitution };
         let moving = hd - e * (vy - hd).min(0.0);
         match self.model {
             FloorModel::Exact => moving,

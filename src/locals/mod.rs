@@ -55,12 +55,13 @@ impl SideBounds {
         }
     }
 
-    /// Velocity after hitting a side wall (never pointing into the wall).
+    /// Velocity after hitting a side wall (never pointing into the wall); `elastic` when a cure
+    /// of inelastic collapse overrides the wall's restitution.
     #[inline]
-    pub fn bounce(&self, vx: f64, side: Side) -> f64 {
+    pub fn bounce(&self, vx: f64, side: Side, elastic: bool) -> f64 {
         let e = match *self {
-            SideBounds::Walls { e, .. } => e,
-            SideBounds::Periodic { .. } => 1.0,
+            SideBounds::Walls { e, .. } if !elastic => e,
+            _ => 1.0,
         };
         match side {
             Side::Left => (-e * vx).max(0.0),
@@ -99,11 +100,12 @@ impl Top {
         }
     }
 
-    /// Vertical velocity after hitting the lid.
+    /// Vertical velocity after hitting the lid; `elastic` when a cure of inelastic collapse
+    /// overrides the lid's restitution.
     #[inline]
-    pub fn bounce(&self, vy: f64) -> f64 {
+    pub fn bounce(&self, vy: f64, elastic: bool) -> f64 {
         match *self {
-            Top::Lid { e, .. } => (-e * vy).min(0.0),
+            Top::Lid { e, .. } => (-if elastic { 1.0 } else { e } * vy).min(0.0),
             _ => vy,
         }
     }

@@ -286,8 +286,9 @@ impl<F: Flight> SpaceTime<F> {
             let j = j as usize;
             let (xj, yj, vxj, vyj) = self.state_at(j, now);
             let (dx, dy) = min_image(self.sides, self.top, xi - xj, yi - yj);
-            if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
-            {
+            let speed = vxi.abs() + vyi.abs() + vxj.abs() + vyj.abs();
+            let s = ai + self.disks.radius[j];
+            if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, s, speed) {
                 if dt < best {
                     best = dt;
                     who = j as u32;
@@ -379,16 +380,22 @@ impl<F: Flight> SpaceTime<F> {
             LEFT | RIGHT => {
                 self.bring(i, now);
                 let side = if who == LEFT { Side::Left } else { Side::Right };
+                let elastic =
+                    self.restitution
+                        .boundary_elastic(i, now, self.disks.motion[i].vx.abs());
                 let m = &mut self.disks.motion[i];
-                let after = self.sides.bounce(m.vx, side);
+                let after = self.sides.bounce(m.vx, side, elastic);
                 self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
                 self.counts.wall += 1;
                 self.moved(i);
             }
             LID => {
                 self.bring(i, now);
+                let elastic = self
+                    .restitution
+                    .boundary_elastic(i, now, self.disks.motion[i].vy);
                 let m = &mut self.disks.motion[i];
-                let after = self.top.bounce(m.vy);
+                let after = self.top.bounce(m.vy, elastic);
                 self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
                 self.counts.lid += 1;
                 self.moved(i);
@@ -400,7 +407,10 @@ impl<F: Flight> SpaceTime<F> {
                 let a = self.disks.radius[i];
                 let before = self.disks.motion[i].vy;
                 let hd = floor.velocity(now);
-                let mut after = floor.bounce_on(before, hd);
+                let elastic = self
+                    .restitution
+                    .boundary_elastic(i, now, (hd - before).max(0.0));
+                let mut after = floor.bounce_on(before, hd, elastic);
                 if floor.comes_to_rest(after - hd, a, g, now) {
                     let (_, hd_ride) = floor.ride(now);
                     after = hd_ride + (2.0 * g * REST_HOP * a).sqrt();

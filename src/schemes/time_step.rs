@@ -247,7 +247,7 @@ impl<F: Flight> TimeStep<F> {
                     self.flight_vx[i] - self.flight_vx[j],
                     self.flight_vy[i] - self.flight_vy[j],
                 );
-                if let Some(tc) = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s) {
+                if let Some(tc) = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s, 0.0) {
                     if tc < dt {
                         self.stats.missed += 1;
                     }
@@ -301,7 +301,8 @@ impl<F: Flight> TimeStep<F> {
                     None
                 };
                 if let Some((side, depth)) = hit {
-                    let after = self.sides.bounce(m.vx, side);
+                    let elastic = self.restitution.boundary_elastic(i, now, m.vx.abs());
+                    let after = self.sides.bounce(m.vx, side, elastic);
                     self.flow.dissipated += rebound(&mut m.vx, after, mass);
                     self.counts.wall += 1;
                     self.stats.max_boundary_penetration =
@@ -310,7 +311,8 @@ impl<F: Flight> TimeStep<F> {
             }
             if let Top::Lid { height, .. } = self.top {
                 if m.y + a > height && m.vy > 0.0 {
-                    let after = self.top.bounce(m.vy);
+                    let elastic = self.restitution.boundary_elastic(i, now, m.vy);
+                    let after = self.top.bounce(m.vy, elastic);
                     self.flow.dissipated += rebound(&mut m.vy, after, mass);
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(m.y + a - height);
@@ -319,7 +321,8 @@ impl<F: Flight> TimeStep<F> {
             }
             if let (Some(floor), Some((h, hd))) = (&self.floor, floor_now) {
                 if m.y - a < h && m.vy < hd {
-                    let after = floor.bounce_on(m.vy, hd);
+                    let elastic = self.restitution.boundary_elastic(i, now, hd - m.vy);
+                    let after = floor.bounce_on(m.vy, hd, elastic);
                     self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(h - (m.y - a));

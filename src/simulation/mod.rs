@@ -526,7 +526,15 @@ impl<F: Flight> Simulation<F> {
                 // Both fly, or both ride the floor: relative motion is straight.
                 let (xj, yj, vxj, vyj) = self.state_at(j, now);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                contact_time(dx, dy, vxi - vxj, vyi - vyj, ai + self.disks.radius[j])
+                let speed = vxi.abs() + vyi.abs() + vxj.abs() + vyj.abs();
+                contact_time(
+                    dx,
+                    dy,
+                    vxi - vxj,
+                    vyi - vyj,
+                    ai + self.disks.radius[j],
+                    speed,
+                )
             } else {
                 let limit = (now + best).min(self.dutc.deadline);
                 let (r, f) = if rider { (i, j) } else { (j, i) };
@@ -642,7 +650,8 @@ impl<F: Flight> Simulation<F> {
             let (mi, mj) = (&self.disks.motion[i], &self.disks.motion[j]);
             let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
             let s = self.disks.radius[i] + self.disks.radius[j];
-            if let Some(dt) = contact_time(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s) {
+            let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
+            if let Some(dt) = contact_time(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed) {
                 if dt < best[i] {
                     best[i] = dt;
                     who[i] = j as u32;
@@ -762,8 +771,11 @@ impl<F: Flight> Simulation<F> {
                 } else {
                     Side::Right
                 };
+                let elastic =
+                    self.restitution
+                        .boundary_elastic(i, now, self.disks.motion[i].vx.abs());
                 let m = &mut self.disks.motion[i];
-                let after = self.sides.bounce(m.vx, side);
+                let after = self.sides.bounce(m.vx, side, elastic);
                 self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
                 self.counts.wall += 1;
                 self.moved(i);
@@ -771,8 +783,11 @@ impl<F: Flight> Simulation<F> {
             }
             partner::LID => {
                 self.bring(i, now);
+                let elastic = self
+                    .restitution
+                    .boundary_elastic(i, now, self.disks.motion[i].vy);
                 let m = &mut self.disks.motion[i];
-                let after = self.top.bounce(m.vy);
+                let after = self.top.bounce(m.vy, elastic);
                 self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
                 self.counts.lid += 1;
                 self.moved(i);
@@ -870,7 +885,11 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let g = self.flight.g();
         let floor = self.floor.as_ref().expect("floor impacts need a floor");
-        let after = floor.bounce_on(self.disks.motion[i].vy, hd);
+        let vy = self.disks.motion[i].vy;
+        let elastic = self
+            .restitution
+            .boundary_elastic(i, now, (hd - vy).max(0.0));
+        let after = floor.bounce_on(vy, hd, elastic);
         // Rebound relative to what a resting disk would do: move with the floor (exact model)
         // or stay put (fixed-position model).
         let (h, hd_ride) = floor.ride(now);

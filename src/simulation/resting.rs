@@ -60,13 +60,19 @@ impl<F: Flight> Simulation<F> {
             return Ok(false);
         };
         let floor = self.floor.as_ref().expect("riders need a floor");
+        let now = self.now;
+        let (h, hd) = floor.ride(now);
+        // Carried at s's velocity into a wall or a disk beside it, k would hit it at once, come
+        // to rest on s again, and so on in zero time: k is squeezed, it does not rest.
+        if self.squeezed(k, ms.vx, hd) {
+            return Ok(false);
+        }
+        let floor = self.floor.as_ref().expect("riders need a floor");
         if let Top::Lid { height, .. } = self.top {
             if mk.y + self.disks.radius[k] + 2.0 * floor.amplitude >= height {
                 return Ok(false); // the stack could be pushed into the lid
             }
         }
-        let now = self.now;
-        let (h, hd) = floor.ride(now);
         let lift_speed = floor.max_speed();
         self.check_contact(k, s, dist)?;
         if !self.riders.mount_on_disks(k, mk.y - h, supports) {
@@ -140,6 +146,31 @@ impl<F: Flight> Simulation<F> {
             }
         }
         Some([from_left?, from_right?])
+    }
+
+    /// Whether disk `k` (at now), given the velocity `(vx, vy)`, would move into a side wall it
+    /// touches, or into a disk it touches that is not above its centre (within [`TOUCH`] radii).
+    /// A disk above presses k onto its supports when it hits it; a wall or a disk beside or
+    /// below pushes k off them.
+    fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
+        let now = self.now;
+        let (xk, yk, _, _) = self.state_at(k, now);
+        let ak = self.disks.radius[k];
+        let touch = TOUCH * ak;
+        if let SideBounds::Walls { width, .. } = self.sides {
+            if (vx < 0.0 && xk - ak <= touch) || (vx > 0.0 && width - xk - ak <= touch) {
+                return true;
+            }
+        }
+        self.lists.of(k).iter().any(|&c| {
+            let c = c as usize;
+            let (xc, yc, vxc, vyc) = self.state_at(c, now);
+            let (dx, dy) = self.wrap(xk - xc, yk - yc);
+            let dist = (dx * dx + dy * dy).sqrt();
+            dy >= 0.0
+                && dist - (ak + self.disks.radius[c]) <= touch
+                && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
+        })
     }
 
     /// When resting disk `k` leaves its supports because they slide apart (a gap beyond
