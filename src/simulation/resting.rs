@@ -62,8 +62,7 @@ impl<F: Flight> Simulation<F> {
         let floor = self.floor.as_ref().expect("riders need a floor");
         let now = self.now;
         let (h, hd) = floor.ride(now);
-        // Carried at s's velocity into a wall or a disk beside it, k would hit it at once, come
-        // to rest on s again, and so on in zero time: k is squeezed, it does not rest.
+        // Carried at s's velocity into a wall or a disk it touches, k is squeezed: no rest.
         if self.squeezed(k, ms.vx, hd) {
             return Ok(false);
         }
@@ -148,10 +147,11 @@ impl<F: Flight> Simulation<F> {
         Some([from_left?, from_right?])
     }
 
-    /// Whether disk `k` (at now), given the velocity `(vx, vy)`, would move into a side wall it
-    /// touches, or into a disk it touches that is not above its centre (within [`TOUCH`] radii).
-    /// A disk above presses k onto its supports when it hits it; a wall or a disk beside or
-    /// below pushes k off them.
+    /// Whether disk `k` (at now), given the velocity `(vx, vy)`, would move into a side wall or a
+    /// disk it touches (within [`TOUCH`] radii), other than a flying disk above its centre. Such a
+    /// disk, pressed onto k, gets the floor of the rebound and leaves; a wall, a disk at rest, or
+    /// a flying disk beside or below would push k off its supports at once, k would come to rest
+    /// again, and so on in zero time.
     fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
         let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
@@ -167,7 +167,7 @@ impl<F: Flight> Simulation<F> {
             let (xc, yc, vxc, vyc) = self.state_at(c, now);
             let (dx, dy) = self.wrap(xk - xc, yk - yc);
             let dist = (dx * dx + dy * dy).sqrt();
-            dy >= 0.0
+            (dy >= 0.0 || self.is_riding(c))
                 && dist - (ak + self.disks.radius[c]) <= touch
                 && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
         })
