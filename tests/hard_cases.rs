@@ -271,7 +271,8 @@ hard_cases! {
     // Rest on the floor.
     column_tc: "column_tc.json", 3e5;
     rest_static_floor: "rest_static_floor.json", 100.0; // [3.5]
-    bed_at_rest_tc: "bed_at_rest_tc.json", 3e4; // [5.4e3]
+    bed_at_rest_tc: "bed_at_rest_tc.json", 5e5;
+    bed_at_rest_speed_cutoff: "bed_at_rest_speed_cutoff.json", 5e5;
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
@@ -395,6 +396,44 @@ fn column_without_a_cure_rests_on_contacts_or_stops_at_the_event_limit() {
     let rate = event_rate(&sum);
     eprintln!("column with TC, without resting contacts: {rate} events per unit time");
     assert!(rate > 1e3, "{rate}");
+}
+
+/// A bed at rest (24 disks, six layers, on a static floor) makes progress at a steady rate with
+/// either cure: once settled, the events per unit time of each 5-unit window stay within a
+/// factor 1.5 of each other (they would grow without bound in a collapse). The cures act on the
+/// floor and wall impacts of a disk pressed between them and the bed; without that, the floor
+/// drains the bed and it collapses there.
+#[test]
+fn bed_at_rest_progresses_at_a_steady_rate() {
+    for file in ["bed_at_rest_tc.json", "bed_at_rest_speed_cutoff.json"] {
+        let s = load(file, &[]);
+        let mut sim = common::ballistic(&json_of(&s));
+        let window = 5.0;
+        let mut rates = Vec::new();
+        let mut t = 0.0;
+        while t < s.run.duration {
+            let before = sim.counts().popped();
+            t += window;
+            let p = sim.advance_to(t).unwrap();
+            assert_eq!(
+                p,
+                vibrobed::simulation::Progress::Reached,
+                "{file} at t = {t}"
+            );
+            rates.push((sim.counts().popped() - before) as f64 / window);
+        }
+        eprintln!("{file}: events per unit time in windows of {window}: {rates:.3?}");
+        let settled = &rates[rates.len() / 2..];
+        let (lo, hi) = settled
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+                (lo.min(r), hi.max(r))
+            });
+        assert!(
+            lo > 0.0 && hi <= 1.5 * lo,
+            "{file}: the rate is not steady: {rates:?}"
+        );
+    }
 }
 
 /// A column of five on a sine floor with Γ = 0.5 (no cure) comes to rest and rides the floor as
