@@ -97,6 +97,13 @@ fn write_file(path: &Path, text: &str) -> Result<()> {
         .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))
 }
 
+/// Prints the scenario's advisories (likely unintended settings) on stderr.
+fn print_advisories(s: &Scenario) {
+    for note in s.advisories() {
+        eprintln!("vibrobed: note: {note}");
+    }
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> i32 {
     match execute(cli) {
@@ -114,6 +121,7 @@ fn execute(cli: Cli) -> Result<i32> {
             let s = Scenario::load(&scenario, &sets)?;
             // Also resolve the scene (placement, grid, mask) without running it.
             crate::simulation::Scene::build(&s)?;
+            print_advisories(&s);
             eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
             Ok(0)
         }
@@ -157,6 +165,7 @@ fn execute(cli: Cli) -> Result<i32> {
             quiet,
         } => {
             let s = Scenario::load(&scenario, &sets)?;
+            print_advisories(&s);
             let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
             let result = run(
                 &s,

@@ -127,6 +127,36 @@ fn check_accepts_a_shipped_scenario() {
     );
 }
 
+/// A bed that can rest in a width of exactly a whole number of diameters gets a note (it is
+/// valid, exit 0); a width off the multiple does not.
+#[test]
+fn check_notes_a_width_of_a_whole_number_of_diameters() {
+    let file = "scenarios/hard/bed_at_rest_tc.json";
+    let out = vibrobed(&["check", file, "--set", "domain.width=4"]);
+    assert_ok(&out);
+    let err = stderr(&out);
+    assert!(
+        err.contains("note: domain.width = 4 is exactly 4 disk diameters"),
+        "{}",
+        describe(&out)
+    );
+    let out = vibrobed(&["check", file]);
+    assert_ok(&out);
+    assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
+    // A floor vibrated with Γ > 1 does not let the bed rest: no note.
+    let shaken = [
+        "check",
+        file,
+        "--set",
+        "domain.width=4",
+        "--set",
+        r#"floor={"gamma": 2.0, "frequency": 1.0, "restitution": 0.5}"#,
+    ];
+    let out = vibrobed(&shaken);
+    assert_ok(&out);
+    assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
+}
+
 #[test]
 fn run_prints_the_summary_on_stdout() {
     let dir = scratch("stdout");

@@ -285,7 +285,7 @@ hard_cases! {
     two_disks: "two_disks.json", 100.0; // [7.4]
     // Beds at extreme Γ and restitution.
     bed_gamma_50: "bed_gamma_50.json", 1e4; // [1.8e3]
-    bed_gamma_0_001: "bed_gamma_0.001.json", 5e6;
+    bed_gamma_0_001: "bed_gamma_0.001.json", 1e6;
     restitution_0: "restitution_0.json", 5e7;
     restitution_1: "restitution_1.json", 1e4; // [1.1e3]
     dense_bed: "dense_bed.json", 3e5; // [5.2e4]
@@ -434,6 +434,28 @@ fn bed_at_rest_progresses_at_a_steady_rate() {
             "{file}: the rate is not steady: {rates:?}"
         );
     }
+}
+
+/// Limitation, documented: the same bed in a width of exactly four diameters. Its bottom row
+/// fills the width with no room to spare; disks pressed into it ring ever faster (≈3·10⁷ events
+/// per unit time by t ≈ 8, still advancing in time) and the guard `run.max_events` stops the run
+/// with its invariants intact. `vibrobed check` notes such widths.
+#[test]
+fn bed_in_a_width_of_whole_diameters_jams_and_the_guard_stops_it() {
+    let s = load(
+        "bed_at_rest_tc.json",
+        &["domain.width=4", "run.max_events=3000000"],
+    );
+    assert_eq!(s.advisories().len(), 1);
+    let sum = run(&s, RunOptions::default()).unwrap();
+    eprintln!(
+        "jammed bed: {:?} at t = {} after {:?}",
+        sum.ending, sum.sim_time, sum.events
+    );
+    assert_eq!(sum.ending, Ending::EventLimit);
+    assert!(sum.sim_time < 0.5 * s.run.duration);
+    assert!(sum.max_overlap < TOLERANCE);
+    assert!(sum.energy.balance_error < 1e-9);
 }
 
 /// A column of five on a sine floor with Γ = 0.5 (no cure) comes to rest and rides the floor as

@@ -318,3 +318,43 @@ pub fn mean_disk_area(s: &Scenario) -> f64 {
         }
     }
 }
+
+/// Things a valid scenario asks for that are likely not what its author wants, each a sentence
+/// for the user (the command line prints them as notes; they never stop a run).
+pub fn advisories(s: &Scenario) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some(note) = commensurate_row(s) {
+        notes.push(note);
+    }
+    notes
+}
+
+/// A bed that can come to rest (static floor or Γ < 1, with gravity), of equal disks, in a
+/// width of exactly a whole number of diameters: a bottom row fills it with no room to spare,
+/// and hard disks pressed into such a row collide ever more often (an exact jam).
+fn commensurate_row(s: &Scenario) -> Option<String> {
+    let floor = s.floor.as_ref()?;
+    let g = s.gravity.filter(|&g| g > 0.0)?;
+    let gamma = match (floor.gamma, floor.frequency) {
+        (Some(gamma), _) => gamma,
+        (None, Some(f)) => s.floor_amplitude() * (2.0 * std::f64::consts::PI * f).powi(2) / g,
+        (None, None) => 0.0,
+    };
+    let (a_min, a_max) = s.radius_range();
+    if gamma >= 1.0 || a_min != a_max {
+        return None;
+    }
+    let per_row = s.domain.width / (2.0 * a_min);
+    let whole = per_row.round();
+    if whole < 1.0 || (per_row - whole).abs() > 1e-9 * whole || s.disk_count() < whole as usize {
+        return None;
+    }
+    Some(format!(
+        "domain.width = {} is exactly {whole} disk diameters: a bottom row at rest fills it with \
+         no room to spare, and disks pressed into that row collide ever more often (the run may \
+         end at run.max_events); a width slightly off a whole number of diameters (e.g. {}) \
+         avoids this exact jam",
+        s.domain.width,
+        s.domain.width + 0.3 * 2.0 * a_min
+    ))
+}

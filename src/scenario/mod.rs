@@ -543,6 +543,12 @@ impl Scenario {
         }
     }
 
+    /// Notes on what this (valid) scenario asks for that is likely unintended; see
+    /// [`checks::advisories`].
+    pub fn advisories(&self) -> Vec<String> {
+        checks::advisories(self)
+    }
+
     /// Vibration amplitude of the floor (0 for a static floor or no floor).
     pub fn floor_amplitude(&self) -> f64 {
         let Some(floor) = &self.floor else { return 0.0 };
