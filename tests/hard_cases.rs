@@ -722,31 +722,49 @@ fn floor_phase_is_exact_after_ten_million_periods() {
 }
 
 /// The disk 10^7 diameters up in `far_above_bed.json` falls on its parabola, untouched by the
-/// bed below and by the re-mappings (each brings it forward and re-bases its time: 2000 to 7500
-/// of them depending on the mask's margin, each rounding y to ulp(10^7) ≈ 2e-9: 1.5e-5 at most
-/// in all; observed 1.3e-8).
+/// bed below and by the re-mappings, and lands at t = √(2·(10⁷ − bed top)) ≈ 4472. It is
+/// isolated at every mapping (its own DUTC deadline), so the bed's speeds set the mapping rate
+/// while it falls: a few thousand mappings instead of ~2·height/margin ≈ 10⁸ with it in `v_max`.
 #[test]
-fn far_disk_follows_its_parabola() {
+fn far_disk_follows_its_parabola_and_lands() {
     let s = load("far_above_bed.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
-    let end = s.run.duration;
-    sim.advance_to(end).unwrap();
-    let snap = sim.snapshot(end);
+    let before = 4470.0;
+    sim.advance_to(before).unwrap();
+    let snap = sim.snapshot(before);
     let top = snap.y.len() - 1;
-    let exact = 1.0e7 - 0.5 * end * end;
+    let exact = 1.0e7 - 0.5 * before * before;
+    let mappings = sim.counts().rebuild;
     eprintln!(
-        "far disk after {} re-mappings: y − exact = {:e}, v + g t = {:e}",
-        sim.counts().rebuild,
+        "far disk at t = {before} after {mappings} re-mappings: y = {} (exact {exact}), y − exact \
+         = {:e}, v + g t = {:e}",
+        snap.y[top],
         snap.y[top] - exact,
-        snap.vy[top] + end
+        snap.vy[top] + before
     );
     assert!(
         (snap.y[top] - exact).abs() < 1e-4,
         "y = {} vs {exact}",
         snap.y[top]
     );
-    assert!((snap.vy[top] + end).abs() < 1e-9);
+    assert!((snap.vy[top] + before).abs() < 1e-9 * before);
     assert_eq!(snap.x[top], 10.0);
+    assert!(mappings < 50_000, "{mappings} re-mappings while it fell");
+    // It lands on the bed (the floor is at y ≈ 0, the bed a few diameters high) and bounces.
+    let end = s.run.duration;
+    sim.advance_to(end).unwrap();
+    let snap = sim.snapshot(end);
+    eprintln!(
+        "far disk at t = {end}: y = {}, v_y = {} after {} re-mappings",
+        snap.y[top],
+        snap.vy[top],
+        sim.counts().rebuild
+    );
+    assert!(
+        (snap.vy[top] + end).abs() > 1.0,
+        "still in free fall at t = {end}: v_y = {}",
+        snap.vy[top]
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

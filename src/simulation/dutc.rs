@@ -10,6 +10,12 @@
 //! A disk riding the floor is not in free fall: in the falling frame its speed grows like
 //! `|vx| + max|h'| + g t`. While any disk rides, the bound is `v(t) = v_c + g t` (t since the
 //! mapping), and the margin used is its integral.
+//!
+//! One fast disk far above all the others (a disk dropped from 10⁷ diameters) would set `v_max`
+//! alone and force a mapping every `margin/(2 v)`: ~2·height/margin mappings during its fall. It
+//! is *isolated* instead: left out of `v_max`, it gets a deadline of its own — its clearance
+//! above the others' tops, closed at its speed plus theirs. The lists stay complete until the
+//! earlier of the two deadlines.
 
 /// The re-mapping deadline and what it is made of.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,6 +27,12 @@ pub struct Dutc {
     /// Growth rate of the bound (g while a disk rides the floor, else 0).
     accel: f64,
     since: f64,
+    /// Gap between the isolated disk and every other disk at the mapping (∞ if none).
+    iso_clearance: f64,
+    /// Falling-frame speed of the isolated disk.
+    iso_speed: f64,
+    /// Clearance used up to `since`.
+    iso_used: f64,
     /// Local time by which the grid must be re-mapped.
     pub deadline: f64,
 }
@@ -35,29 +47,71 @@ impl Dutc {
             vmax,
             accel,
             since: 0.0,
+            iso_clearance: f64::INFINITY,
+            iso_speed: 0.0,
+            iso_used: 0.0,
             deadline: f64::INFINITY,
         };
         d.deadline = d.horizon();
         d
     }
 
-    /// Margin used between `since` and `now` at the current bound.
+    /// As [`new`](Self::new), with one disk moving at `speed` (left out of `vmax`) isolated by
+    /// a gap `clearance` from every other disk.
+    pub fn with_isolated(margin: f64, vmax: f64, accel: f64, clearance: f64, speed: f64) -> Dutc {
+        let mut d = Dutc::new(margin, vmax, accel);
+        d.iso_clearance = clearance;
+        d.iso_speed = speed;
+        d.deadline = d.horizon();
+        d
+    }
+
+    /// Margin used between `since` and `now` at the current bound: two disks close in at
+    /// `2 v(t)`.
     fn spent(&self, now: f64) -> f64 {
         2.0 * self.vmax * (now - self.since) + self.accel * (now * now - self.since * self.since)
     }
 
-    /// The time T ≥ since at which the rest of the margin is used up.
-    fn horizon(&self) -> f64 {
-        let rest = (self.margin - self.used).max(0.0);
-        let s = self.since;
-        if self.accel > 0.0 {
-            // accel·T² + 2 v T = rest + accel·s² + 2 v s
-            let c = rest + self.accel * s * s + 2.0 * self.vmax * s;
-            c / (self.vmax + (self.vmax * self.vmax + self.accel * c).sqrt())
-        } else if self.vmax > 0.0 {
-            s + rest / (2.0 * self.vmax)
+    /// Clearance of the isolated disk used between `since` and `now`: it closes in on another
+    /// disk at `iso_speed + v(t)`.
+    fn iso_spent(&self, now: f64) -> f64 {
+        (self.iso_speed + self.vmax) * (now - self.since)
+            + 0.5 * self.accel * (now * now - self.since * self.since)
+    }
+
+    /// The time T ≥ since at which `rest` more is used when two disks close in at `w + a·t`:
+    /// `½ a (T² − s²) + w (T − s) = rest`.
+    fn time_to_use(rest: f64, w: f64, a: f64, s: f64) -> f64 {
+        if a > 0.0 {
+            let c = rest + 0.5 * a * s * s + w * s;
+            2.0 * c / (w + (w * w + 2.0 * a * c).sqrt())
+        } else if w > 0.0 {
+            s + rest / w
         } else {
             f64::INFINITY
+        }
+    }
+
+    /// The time T ≥ since at which the rest of the margin (or of the isolated disk's clearance)
+    /// is used up.
+    fn horizon(&self) -> f64 {
+        let s = self.since;
+        let lists = Self::time_to_use(
+            (self.margin - self.used).max(0.0),
+            2.0 * self.vmax,
+            2.0 * self.accel,
+            s,
+        );
+        if self.iso_clearance.is_finite() {
+            let iso = Self::time_to_use(
+                (self.iso_clearance - self.iso_used).max(0.0),
+                self.iso_speed + self.vmax,
+                self.accel,
+                s,
+            );
+            lists.min(iso)
+        } else {
+            lists
         }
     }
 
@@ -68,6 +122,9 @@ impl Dutc {
 
     fn rebound(&mut self, now: f64, vmax: f64, accel: f64) {
         self.used += self.spent(now);
+        if self.iso_clearance.is_finite() {
+            self.iso_used += self.iso_spent(now);
+        }
         self.since = now;
         self.vmax = vmax;
         self.accel = accel;
@@ -107,6 +164,25 @@ mod tests {
         d.observe(0.3, 1.0); // slower: no change
         assert!((d.deadline - 0.375).abs() < 1e-15);
         assert_eq!(Dutc::new(1.0, 0.0, 0.0).deadline, f64::INFINITY);
+    }
+
+    #[test]
+    fn an_isolated_disk_has_a_deadline_of_its_own() {
+        // Lists: 1/(2·1) = 0.5; isolated: clearance 100 closed at 999 + 1 → 0.1.
+        let d = Dutc::with_isolated(1.0, 1.0, 0.0, 100.0, 999.0);
+        assert!((d.deadline - 0.1).abs() < 1e-15);
+        // Far enough: the lists decide.
+        let d = Dutc::with_isolated(1.0, 1.0, 0.0, 1e4, 999.0);
+        assert_eq!(d.deadline, 0.5);
+        // A faster disk at t = 0.05 (half the clearance used): 50 left at 999 + 9 → 0.05 + 50/1008.
+        let mut d = Dutc::with_isolated(1.0, 1.0, 0.0, 100.0, 999.0);
+        d.observe(0.05, 81.0);
+        let lists: f64 = 0.05 + 0.9 / 18.0;
+        assert!((d.deadline - lists.min(0.05 + 50.0 / 1008.0)).abs() < 1e-15);
+        // With a rider: ½·2·T² + 1000 T = 100.
+        let d = Dutc::with_isolated(1e9, 1.0, 2.0, 100.0, 999.0);
+        let t = (-1000.0 + (1e6f64 + 400.0).sqrt()) / 2.0;
+        assert!((d.deadline - t).abs() < 1e-12, "{} vs {t}", d.deadline);
     }
 
     #[test]

@@ -1074,24 +1074,52 @@ impl<F: Flight> Simulation<F> {
         self.cells
             .rebuild(geometry, &self.mask, n, cell, &mut self.lists, near)?;
         let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
-        let vmax = (0..n)
-            .map(|i| {
-                if self.is_riding(i) {
-                    self.disks.motion[i].vx.abs() + lift
-                } else {
-                    self.falling_speed_sq(i).sqrt()
-                }
-            })
-            .fold(0.0f64, f64::max);
+        let speed = |i: usize| {
+            if self.is_riding(i) {
+                self.disks.motion[i].vx.abs() + lift
+            } else {
+                self.falling_speed_sq(i).sqrt()
+            }
+        };
+        // The fastest disk, and the largest speed of the others.
+        let (mut fastest, mut v1, mut v2) = (0, 0.0f64, 0.0f64);
+        for i in 0..n {
+            let v = speed(i);
+            if v > v1 {
+                (fastest, v1, v2) = (i, v, v1);
+            } else {
+                v2 = v2.max(v);
+            }
+        }
         let accel = if self.riders.any() {
             self.flight.g()
         } else {
             0.0
         };
-        self.dutc = Dutc::new(margin, vmax, accel);
+        self.dutc = match self.isolation(fastest, v2) {
+            Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
+            None => Dutc::new(margin, v1, accel),
+        };
         self.predict_all();
         self.counts.rebuild += 1;
         Ok(())
+    }
+
+    /// At a mapping: the gap between flying disk `f` and every other disk if `f` is above all
+    /// of them by more than the list margin and faster than all of them (`others` is their
+    /// largest speed), so that it can get a DUTC deadline of its own; `None` otherwise.
+    fn isolation(&self, f: usize, others: f64) -> Option<f64> {
+        let n = self.disks.len();
+        let fast = n > 1 && !self.is_riding(f) && self.falling_speed_sq(f).sqrt() > others;
+        if !fast || matches!(self.top, Top::Periodic { .. }) {
+            return None;
+        }
+        let top = (0..n)
+            .filter(|&j| j != f)
+            .map(|j| self.disks.motion[j].y + self.disks.radius[j])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let clearance = self.disks.motion[f].y - self.disks.radius[f] - top;
+        (clearance > self.margin).then_some(clearance)
     }
 
     /// Every disk's state at absolute time `t ≥` [`time`](Self::time), without touching the
