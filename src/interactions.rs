@@ -304,6 +304,19 @@ mod tests {
     }
 
     #[test]
+    fn touching_disks_approaching_below_their_velocities_round_off_do_not_collide() {
+        // Two disks of a column flying together at 5e-4 (bed_at_rest with TC, seed 1): one
+        // centre 7e-11 off the vertical, horizontal velocities 1.3e-12 apart. An impulse of
+        // ~1e-22 is below ulp(5e-4) ≈ 1e-19: colliding would change nothing and repeat.
+        let (dx, dy, dvx) = (7e-11, -1.0, -1.27e-12);
+        assert_eq!(contact_time(dx, dy, dvx, 0.0, 1.0, 2e-3), None);
+        // Without the velocities' scale it would be a contact now.
+        assert_eq!(contact_time(dx, dy, dvx, 0.0, 1.0, 0.0), Some(0.0));
+        // A real approach of the same pair is still found.
+        assert_eq!(contact_time(dx, dy, 0.0, 1e-9, 1.0, 2e-3), Some(0.0));
+    }
+
+    #[test]
     fn a_pressed_pair_receding_by_round_off_is_lifted_apart() {
         // Disk i above j, receding at 1e-15 while the floor of the rebound is 1e-3.
         let imp = collide_rebounding(0.0, 1.0, 0.0, 1e-15, 1.0, 1.0, 1.0, 1e-3);
