@@ -66,7 +66,6 @@ impl<F: Flight> Simulation<F> {
         if self.squeezed(k, ms.vx, hd) {
             return Ok(false);
         }
-        let floor = self.floor.as_ref().expect("riders need a floor");
         if let Top::Lid { height, .. } = self.top {
             if mk.y + self.disks.radius[k] + 2.0 * floor.amplitude >= height {
                 return Ok(false); // the stack could be pushed into the lid
