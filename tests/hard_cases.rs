@@ -437,8 +437,8 @@ fn bed_at_rest_progresses_at_a_steady_rate() {
 }
 
 /// Limitation, documented: the same bed in a width of exactly four diameters. Its bottom row
-/// fills the width with no room to spare; disks pressed into it ring ever faster (≈3·10⁷ events
-/// per unit time by t ≈ 8, still advancing in time) and the guard `run.max_events` stops the run
+/// fills the width with no room to spare; disks pressed into it ring ever faster (≈2·10⁶ events
+/// per unit time over t = 7.5–8, events 3·10⁻⁸ apart at t ≈ 8.04; time still advances) and the guard `run.max_events` stops the run
 /// with its invariants intact. `vibrobed check` notes such widths.
 #[test]
 fn bed_in_a_width_of_whole_diameters_jams_and_the_guard_stops_it() {

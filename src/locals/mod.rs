@@ -2,7 +2,9 @@
 
 pub mod floor;
 
+use crate::disks::Motion;
 use crate::dynamics::{time_to_fall, time_to_rise};
+use crate::interactions::CollisionLaw;
 
 /// What bounds the domain in x.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,6 +57,24 @@ impl SideBounds {
         }
     }
 
+    /// Disk `i` (state `m` at `now`, mass `mass`) hits wall `side`: the collision law says
+    /// whether a cure makes the impact elastic, `m.vx` is reflected, and the kinetic energy lost
+    /// is returned — the one place every scheme handles a wall impact.
+    #[inline]
+    pub fn hit(
+        &self,
+        side: Side,
+        law: &mut CollisionLaw,
+        i: usize,
+        now: f64,
+        m: &mut Motion,
+        mass: f64,
+    ) -> f64 {
+        let elastic = law.boundary_elastic(i, now, m.vx.abs());
+        let after = self.bounce(m.vx, side, elastic);
+        rebound(&mut m.vx, after, mass)
+    }
+
     /// Velocity after hitting a side wall (never pointing into the wall); `elastic` when a cure
     /// of inelastic collapse overrides the wall's restitution.
     #[inline]
@@ -100,6 +120,22 @@ impl Top {
         }
     }
 
+    /// Disk `i` (state `m` at `now`, mass `mass`) hits the lid: as [`SideBounds::hit`], for
+    /// `m.vy`.
+    #[inline]
+    pub fn hit(
+        &self,
+        law: &mut CollisionLaw,
+        i: usize,
+        now: f64,
+        m: &mut Motion,
+        mass: f64,
+    ) -> f64 {
+        let elastic = law.boundary_elastic(i, now, m.vy);
+        let after = self.bounce(m.vy, elastic);
+        rebound(&mut m.vy, after, mass)
+    }
+
     /// Vertical velocity after hitting the lid; `elastic` when a cure of inelastic collapse
     /// overrides the lid's restitution.
     #[inline]
@@ -112,9 +148,9 @@ impl Top {
 }
 
 /// Sets the velocity component `v` of a disk of mass `m` to `after` (a wall or lid rebound) and
-/// returns the kinetic energy that lost — the one place every scheme books such losses.
+/// returns the kinetic energy that lost.
 #[inline]
-pub fn rebound(v: &mut f64, after: f64, m: f64) -> f64 {
+fn rebound(v: &mut f64, after: f64, m: f64) -> f64 {
     let lost = 0.5 * m * (*v * *v - after * after);
     *v = after;
     lost

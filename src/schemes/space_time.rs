@@ -22,7 +22,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::{Floor, FloorEvent};
-use crate::locals::{rebound, Side, SideBounds, Top};
+use crate::locals::{Side, SideBounds, Top};
 use crate::scenario::Engine;
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::cmp::Ordering as CmpOrdering;
@@ -380,23 +380,16 @@ impl<F: Flight> SpaceTime<F> {
             LEFT | RIGHT => {
                 self.bring(i, now);
                 let side = if who == LEFT { Side::Left } else { Side::Right };
-                let elastic =
-                    self.restitution
-                        .boundary_elastic(i, now, self.disks.motion[i].vx.abs());
-                let m = &mut self.disks.motion[i];
-                let after = self.sides.bounce(m.vx, side, elastic);
-                self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated +=
+                    self.sides.hit(side, &mut self.restitution, i, now, m, mass);
                 self.counts.wall += 1;
                 self.moved(i);
             }
             LID => {
                 self.bring(i, now);
-                let elastic = self
-                    .restitution
-                    .boundary_elastic(i, now, self.disks.motion[i].vy);
-                let m = &mut self.disks.motion[i];
-                let after = self.top.bounce(m.vy, elastic);
-                self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
                 self.counts.lid += 1;
                 self.moved(i);
             }

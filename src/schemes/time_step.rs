@@ -18,7 +18,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
 use crate::locals::floor::Floor;
-use crate::locals::{rebound, Side, SideBounds, Top};
+use crate::locals::{Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -301,9 +301,8 @@ impl<F: Flight> TimeStep<F> {
                     None
                 };
                 if let Some((side, depth)) = hit {
-                    let elastic = self.restitution.boundary_elastic(i, now, m.vx.abs());
-                    let after = self.sides.bounce(m.vx, side, elastic);
-                    self.flow.dissipated += rebound(&mut m.vx, after, mass);
+                    self.flow.dissipated +=
+                        self.sides.hit(side, &mut self.restitution, i, now, m, mass);
                     self.counts.wall += 1;
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(depth);
@@ -311,9 +310,7 @@ impl<F: Flight> TimeStep<F> {
             }
             if let Top::Lid { height, .. } = self.top {
                 if m.y + a > height && m.vy > 0.0 {
-                    let elastic = self.restitution.boundary_elastic(i, now, m.vy);
-                    let after = self.top.bounce(m.vy, elastic);
-                    self.flow.dissipated += rebound(&mut m.vy, after, mass);
+                    self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(m.y + a - height);
                     self.counts.lid += 1;

@@ -20,7 +20,7 @@ use crate::interactions::{
     collide_rebounding, contact_time, rider_contact, CollisionLaw, Restitution, RiderContact,
 };
 use crate::locals::floor::{Floor, FloorEvent, RideEnd};
-use crate::locals::{rebound, Side, SideBounds, Top};
+use crate::locals::{Side, SideBounds, Top};
 use crate::reference::{Collision, Partner};
 use crate::scenario::GridChoice;
 use crate::scheduler::CompleteBinaryTree;
@@ -771,24 +771,17 @@ impl<F: Flight> Simulation<F> {
                 } else {
                     Side::Right
                 };
-                let elastic =
-                    self.restitution
-                        .boundary_elastic(i, now, self.disks.motion[i].vx.abs());
-                let m = &mut self.disks.motion[i];
-                let after = self.sides.bounce(m.vx, side, elastic);
-                self.flow.dissipated += rebound(&mut m.vx, after, self.disks.mass[i]);
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated +=
+                    self.sides.hit(side, &mut self.restitution, i, now, m, mass);
                 self.counts.wall += 1;
                 self.moved(i);
                 self.release_carried(i, None);
             }
             partner::LID => {
                 self.bring(i, now);
-                let elastic = self
-                    .restitution
-                    .boundary_elastic(i, now, self.disks.motion[i].vy);
-                let m = &mut self.disks.motion[i];
-                let after = self.top.bounce(m.vy, elastic);
-                self.flow.dissipated += rebound(&mut m.vy, after, self.disks.mass[i]);
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
                 self.counts.lid += 1;
                 self.moved(i);
             }
