@@ -279,6 +279,7 @@ impl<F: Flight> SpaceTime<F> {
         let now = self.now;
         let limit = self.sync_end;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let speed_i = vxi.abs() + vyi.abs();
         let ai = self.disks.radius[i];
         let mut best = f64::INFINITY;
         let mut who = NONE;
@@ -286,7 +287,7 @@ impl<F: Flight> SpaceTime<F> {
             let j = j as usize;
             let (xj, yj, vxj, vyj) = self.state_at(j, now);
             let (dx, dy) = min_image(self.sides, self.top, xi - xj, yi - yj);
-            let speed = vxi.abs() + vyi.abs() + vxj.abs() + vyj.abs();
+            let speed = speed_i + vxj.abs() + vyj.abs();
             let s = ai + self.disks.radius[j];
             if let Some(dt) = contact_time(dx, dy, vxi - vxj, vyi - vyj, s, speed) {
                 if dt < best {

@@ -515,6 +515,7 @@ impl<F: Flight> Simulation<F> {
     fn pair_event(&self, i: usize) -> (f64, u32, f64) {
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let speed_i = vxi.abs() + vyi.abs();
         let ai = self.disks.radius[i];
         let rider = self.is_riding(i);
         let mut best = f64::INFINITY;
@@ -526,7 +527,7 @@ impl<F: Flight> Simulation<F> {
                 // Both fly, or both ride the floor: relative motion is straight.
                 let (xj, yj, vxj, vyj) = self.state_at(j, now);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                let speed = vxi.abs() + vyi.abs() + vxj.abs() + vyj.abs();
+                let speed = speed_i + vxj.abs() + vyj.abs();
                 contact_time(
                     dx,
                     dy,
