@@ -1090,7 +1090,7 @@ impl<F: Flight> Simulation<F> {
         } else {
             0.0
         };
-        self.dutc = match self.isolation(fastest, v2) {
+        self.dutc = match self.isolation(fastest, v1, v2) {
             Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
             None => Dutc::new(margin, v1, accel),
         };
@@ -1099,12 +1099,12 @@ impl<F: Flight> Simulation<F> {
         Ok(())
     }
 
-    /// At a mapping: the gap between flying disk `f` and every other disk if `f` is above all
-    /// of them by more than the list margin and faster than all of them (`others` is their
-    /// largest speed), so that it can get a DUTC deadline of its own; `None` otherwise.
-    fn isolation(&self, f: usize, others: f64) -> Option<f64> {
+    /// At a mapping: the gap between flying disk `f` (speed `v`) and every other disk if `f` is
+    /// above all of them by more than the list margin and faster than all of them (`others` is
+    /// their largest speed), so that it can get a DUTC deadline of its own; `None` otherwise.
+    fn isolation(&self, f: usize, v: f64, others: f64) -> Option<f64> {
         let n = self.disks.len();
-        let fast = n > 1 && !self.is_riding(f) && self.falling_speed_sq(f).sqrt() > others;
+        let fast = n > 1 && !self.is_riding(f) && v > others;
         if !fast || matches!(self.top, Top::Periodic { .. }) {
             return None;
         }
