@@ -12,7 +12,8 @@ use crate::scenario::Scenario;
 use crate::summary::Ending;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::{Arc, LazyLock};
 
 /// Command-line arguments.
 #[derive(Debug, Parser)]
@@ -87,7 +88,50 @@ pub enum Command {
     },
 }
 
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+/// Set by SIGINT, SIGTERM or SIGHUP: the run stops at the next event (or stop) and ends cleanly.
+static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
+
+/// The signal that stopped the run (0: none).
+static SIGNAL: LazyLock<Arc<AtomicI32>> = LazyLock::new(|| Arc::new(AtomicI32::new(0)));
+
+/// Handles SIGINT (Ctrl-C), SIGTERM (batch systems at their time limit) and SIGHUP (a closed
+/// terminal) alike: the first asks the run to stop cleanly; a second SIGINT ends the process at
+/// once (exit 130), for a user who does not want to wait.
+fn install_signal_handlers() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    for sig in [SIGINT, SIGTERM, SIGHUP] {
+        if sig == SIGINT {
+            // Registered first, so it sees the flag as it was before this signal.
+            let _ = signal_hook::flag::register_conditional_shutdown(
+                sig,
+                130,
+                Arc::clone(&INTERRUPTED),
+            );
+        }
+        let _ = signal_hook::flag::register(sig, Arc::clone(&INTERRUPTED));
+        let which = Arc::clone(&SIGNAL);
+        // SAFETY: the action only stores into an atomic, which is async-signal-safe.
+        let _ = unsafe {
+            signal_hook::low_level::register(sig, move || {
+                which.store(sig, Ordering::Relaxed);
+            })
+        };
+    }
+}
+
+/// The flag the engine watches, as a `'static` reference.
+fn interrupt_flag() -> &'static AtomicBool {
+    &INTERRUPTED
+}
+
+/// Exit code of an interrupted run: 128 + the signal's number (130 SIGINT, 143 SIGTERM,
+/// 129 SIGHUP).
+fn interrupted_exit_code() -> i32 {
+    match SIGNAL.load(Ordering::Relaxed) {
+        0 => 130,
+        sig => 128 + sig,
+    }
+}
 
 /// Writes `text` to `path` atomically (a temporary file renamed into place).
 fn write_file(path: &Path, text: &str) -> Result<()> {
@@ -166,13 +210,13 @@ fn execute(cli: Cli) -> Result<i32> {
         } => {
             let s = Scenario::load(&scenario, &sets)?;
             print_advisories(&s);
-            let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
+            install_signal_handlers();
             let result = run(
                 &s,
                 RunOptions {
                     rrd,
                     sink: None,
-                    interrupt: Some(&INTERRUPTED),
+                    interrupt: Some(interrupt_flag()),
                     progress: !quiet,
                 },
             )?;
@@ -194,7 +238,7 @@ fn execute(cli: Cli) -> Result<i32> {
             }
             Ok(match result.ending {
                 Ending::Completed | Ending::EventLimit => 0,
-                Ending::Interrupted => 130,
+                Ending::Interrupted => interrupted_exit_code(),
             })
         }
     }

@@ -1,16 +1,18 @@
 //! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
 //! the next, measure, record, and summarise.
 
+use crate::disks::Disks;
 use crate::dynamics::{Ballistic, Flight, Straight};
 use crate::error::{Error, Result};
+use crate::locals::Top;
 use crate::measure::{Observables, Profiles};
 use crate::output::frame::FrameView;
 use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
-use crate::simulation::{Progress, Scene, Simulation, Snapshot};
+use crate::simulation::{EnergyFlow, Progress, Scene, Simulation, Snapshot};
 use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary, Temperature};
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Where frames go (the Rerun recorder, or a test's collector).
@@ -163,257 +165,442 @@ fn frame_time(k: u64, dt: f64, duration: f64) -> f64 {
 }
 
 /// The window over which averages are taken (from the end of the warm-up).
+#[derive(Debug, Clone, Copy)]
 struct Window {
     time: f64,
     virial: f64,
     floor_impacts: u64,
 }
 
-fn drive<E: Integrator>(
-    mut sim: E,
-    s: &Scenario,
-    scene: &Scene,
-    mut sink: Option<Box<dyn FrameSink>>,
-    opts: &RunOptions,
-) -> Result<Summary> {
-    if let Some(flag) = opts.interrupt {
-        sim.set_interrupt(flag);
+/// When the run next stops, and for what: samples, frames, the end of the warm-up, the end.
+#[derive(Debug, Clone, Copy)]
+struct Stops {
+    sample_dt: f64,
+    frame_dt: f64,
+    duration: f64,
+    warmup: f64,
+    /// Samples taken so far.
+    k_sample: u64,
+    /// Frames recorded so far.
+    k_frame: u64,
+}
+
+/// The next stop: its time and what is due then.
+#[derive(Debug, Clone, Copy)]
+struct Stop {
+    time: f64,
+    sample: bool,
+    frame: bool,
+    window: bool,
+}
+
+impl Stops {
+    fn new(s: &Scenario) -> Stops {
+        let duration = s.run.duration;
+        let default_dt = duration / 200.0;
+        Stops {
+            sample_dt: s
+                .output
+                .sample_interval
+                .or(s.output.frame_interval)
+                .unwrap_or(default_dt),
+            frame_dt: s.output.frame_interval.unwrap_or(default_dt),
+            duration,
+            warmup: s.run.warmup,
+            k_sample: 0,
+            k_frame: 0,
+        }
     }
-    let g = scene.gravity.unwrap_or(0.0);
-    let n = sim.disks().len();
-    let duration = s.run.duration;
-    let warmup = s.run.warmup;
-    let default_dt = duration / 200.0;
-    let frame_dt = s.output.frame_interval.unwrap_or(default_dt);
-    let sample_dt = s
-        .output
-        .sample_interval
-        .or(s.output.frame_interval)
-        .unwrap_or(default_dt);
-    let mut snap = Snapshot::default();
-    sim.snapshot_into(0.0, &mut snap);
-    let initial = Observables::of(&snap, sim.disks(), g);
-    let mut profiles = scene.gravity.map(|_| {
-        let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
-        let top = s.output.profile_height.unwrap_or_else(|| {
-            let highest = (0..n)
-                .map(|i| snap.y[i] + sim.disks().radius[i])
-                .fold(0.0, f64::max);
-            2.0 * highest.max(bottom + 1.0)
+
+    /// The next stop, given whether frames are recorded and whether the window is open.
+    fn next(&self, recording: bool, window_open: bool) -> Stop {
+        let t_sample = frame_time(self.k_sample, self.sample_dt, self.duration);
+        let t_frame = if recording {
+            frame_time(self.k_frame, self.frame_dt, self.duration)
+        } else {
+            f64::INFINITY
+        };
+        let t_window = if window_open {
+            f64::INFINITY
+        } else {
+            self.warmup
+        };
+        let time = t_sample.min(t_frame).min(t_window).min(self.duration);
+        Stop {
+            time,
+            sample: time == t_sample,
+            frame: time == t_frame,
+            window: time == t_window,
+        }
+    }
+}
+
+/// What is averaged over the window: temperatures, centre of mass, height profiles.
+#[derive(Debug, Clone)]
+struct Averages {
+    window: Option<Window>,
+    temperature: [f64; 2],
+    com_height: f64,
+    samples: usize,
+    profiles: Option<Profiles>,
+}
+
+impl Averages {
+    /// Adds one sample (after the warm-up only).
+    fn add(&mut self, snap: &Snapshot, disks: &Disks, o: &Observables) {
+        self.temperature[0] += o.temperature[0];
+        self.temperature[1] += o.temperature[1];
+        self.com_height += o.com_height;
+        self.samples += 1;
+        if let Some(p) = self.profiles.as_mut() {
+            p.add(snap, disks);
+        }
+    }
+
+    fn temperature(&self) -> Temperature {
+        let n = self.samples.max(1) as f64;
+        Temperature {
+            x: self.temperature[0] / n,
+            y: self.temperature[1] / n,
+            mean: 0.5 * (self.temperature[0] + self.temperature[1]) / n,
+        }
+    }
+}
+
+/// Empty height profiles for a gravity scene: from the floor's lowest point to
+/// `output.profile_height` (default: twice the highest disk top at the start).
+fn empty_profiles(s: &Scenario, scene: &Scene, snap: &Snapshot, disks: &Disks) -> Option<Profiles> {
+    scene.gravity?;
+    let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
+    let top = s.output.profile_height.unwrap_or_else(|| {
+        let highest = (0..disks.len())
+            .map(|i| snap.y[i] + disks.radius[i])
+            .fold(0.0, f64::max);
+        2.0 * highest.max(bottom + 1.0)
+    });
+    Some(Profiles::new(
+        s.output.profile_bins,
+        bottom,
+        top,
+        s.domain.width,
+    ))
+}
+
+/// The progress bar on stderr (hidden when stderr is not a terminal).
+fn progress_bar() -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(1000);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {percent}% sim time {msg}",
+        )
+        .expect("valid template"),
+    );
+    bar
+}
+
+/// One run of an engine from the start to its ending: the engine, where its frames go, and what
+/// is measured along the way.
+struct Driver<'a, E: Integrator> {
+    sim: E,
+    s: &'a Scenario,
+    scene: &'a Scene,
+    sink: Option<Box<dyn FrameSink>>,
+    g: f64,
+    snap: Snapshot,
+    initial: Observables,
+    stops: Stops,
+    averages: Averages,
+    last_frame_collisions: u64,
+    /// The caller's stop flag, also looked at between stops (a run with dense samples or
+    /// frames can spend its time there).
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl<'a, E: Integrator> Driver<'a, E> {
+    fn new(
+        mut sim: E,
+        s: &'a Scenario,
+        scene: &'a Scene,
+        sink: Option<Box<dyn FrameSink>>,
+        opts: &RunOptions,
+    ) -> Driver<'a, E> {
+        if let Some(flag) = opts.interrupt {
+            sim.set_interrupt(flag);
+        }
+        let g = scene.gravity.unwrap_or(0.0);
+        let mut snap = Snapshot::default();
+        sim.snapshot_into(0.0, &mut snap);
+        let initial = Observables::of(&snap, sim.disks(), g);
+        let profiles = empty_profiles(s, scene, &snap, sim.disks());
+        Driver {
+            sim,
+            s,
+            scene,
+            sink,
+            g,
+            snap,
+            initial,
+            stops: Stops::new(s),
+            averages: Averages {
+                window: None,
+                temperature: [0.0; 2],
+                com_height: 0.0,
+                samples: 0,
+                profiles,
+            },
+            last_frame_collisions: 0,
+            interrupt: opts.interrupt,
+        }
+    }
+
+    /// Runs from stop to stop until the duration, the event limit or an interrupt.
+    fn run(&mut self, bar: Option<&indicatif::ProgressBar>) -> Result<Ending> {
+        if let Some(sink) = self.sink.as_mut() {
+            let text = format!(
+                "start: {} disks, scene {}",
+                self.sim.disks().len(),
+                self.s.name
+            );
+            sink.log_text(0.0, "INFO", &text)?;
+        }
+        loop {
+            if self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                return Ok(Ending::Interrupted);
+            }
+            let stop = self
+                .stops
+                .next(self.sink.is_some(), self.averages.window.is_some());
+            match self.sim.advance_to(stop.time)? {
+                Progress::Reached => {}
+                Progress::EventLimit => return Ok(Ending::EventLimit),
+                Progress::Interrupted => return Ok(Ending::Interrupted),
+            }
+            self.sim.snapshot_into(stop.time, &mut self.snap);
+            if stop.window {
+                self.open_window(stop.time)?;
+            }
+            if stop.sample {
+                self.sample()?;
+            }
+            if stop.frame {
+                self.frame()?;
+            }
+            if let Some(bar) = bar {
+                bar.set_position((1000.0 * stop.time / self.stops.duration) as u64);
+                bar.set_message(format!("{:.4}", stop.time));
+            }
+            if stop.time >= self.stops.duration {
+                return Ok(Ending::Completed);
+            }
+        }
+    }
+
+    /// The warm-up is over: averaging starts.
+    fn open_window(&mut self, t: f64) -> Result<()> {
+        self.averages.window = Some(Window {
+            time: t,
+            virial: self.sim.virial(),
+            floor_impacts: self.sim.counts().floor,
         });
-        Profiles::new(s.output.profile_bins, bottom, top, s.domain.width)
-    });
-    let bar = opts.progress.then(|| {
-        let bar = indicatif::ProgressBar::new(1000);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:40} {percent}% sim time {msg}",
-            )
-            .expect("valid template"),
-        );
-        bar
-    });
-    if let Some(sink) = sink.as_mut() {
-        sink.log_text(
-            0.0,
-            "INFO",
-            &format!("start: {} disks, scene {}", n, s.name),
-        )?;
+        if let (Some(sink), true) = (self.sink.as_mut(), self.stops.warmup > 0.0) {
+            sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
+        }
+        Ok(())
     }
-    let (mut k_sample, mut k_frame) = (0u64, 0u64);
-    let mut window: Option<Window> = None;
-    let (mut t_sum, mut com_sum, mut samples) = ([0.0f64; 2], 0.0, 0usize);
-    let mut last_frame_collisions = 0u64;
-    let clock = Instant::now();
-    let ending = loop {
-        let t_sample = frame_time(k_sample, sample_dt, duration);
-        let t_frame = if sink.is_some() {
-            frame_time(k_frame, frame_dt, duration)
-        } else {
-            f64::INFINITY
-        };
-        let t_window = if window.is_none() {
-            warmup
-        } else {
-            f64::INFINITY
-        };
-        let t = t_sample.min(t_frame).min(t_window).min(duration);
-        match sim.advance_to(t)? {
-            Progress::Reached => {}
-            Progress::EventLimit => break Ending::EventLimit,
-            Progress::Interrupted => break Ending::Interrupted,
+
+    /// A sample: measured into the averages after the warm-up; invariants checked if asked.
+    fn sample(&mut self) -> Result<()> {
+        self.stops.k_sample += 1;
+        if self.averages.window.is_some() {
+            let o = Observables::of(&self.snap, self.sim.disks(), self.g);
+            self.averages.add(&self.snap, self.sim.disks(), &o);
         }
-        sim.snapshot_into(t, &mut snap);
-        if t == t_window {
-            window = Some(Window {
-                time: t,
-                virial: sim.virial(),
-                floor_impacts: sim.counts().floor,
-            });
-            if let (Some(sink), true) = (sink.as_mut(), warmup > 0.0) {
-                sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
-            }
+        if self.scene.check_invariants {
+            check_sample(&self.sim, &self.snap, &self.initial, self.g)?;
         }
-        if t == t_sample {
-            k_sample += 1;
-            if window.is_some() {
-                let o = Observables::of(&snap, sim.disks(), g);
-                t_sum[0] += o.temperature[0];
-                t_sum[1] += o.temperature[1];
-                com_sum += o.com_height;
-                samples += 1;
-                if let Some(p) = profiles.as_mut() {
-                    p.add(&snap, sim.disks());
-                }
-            }
-            if scene.check_invariants {
-                check_sample(&sim, &snap, &initial, g)?;
-            }
-        }
-        if t == t_frame {
-            k_frame += 1;
-            if let Some(sink) = sink.as_mut() {
-                let o = Observables::of(&snap, sim.disks(), g);
-                let flow = sim.energy_flow_at(snap.time);
-                let collisions = sim.counts().collisions();
-                let rate = (collisions - last_frame_collisions) as f64 / frame_dt;
-                last_frame_collisions = collisions;
-                let series = [
-                    ("temperature/x", o.temperature[0]),
-                    ("temperature/y", o.temperature[1]),
-                    ("energy/kinetic", o.kinetic),
-                    ("energy/potential", o.potential),
-                    ("energy/injected", flow.injected),
-                    ("energy/dissipated", flow.dissipated),
-                    ("com_height", o.com_height),
-                    ("collisions_per_time", if k_frame > 1 { rate } else { 0.0 }),
-                ];
-                let d = sim.disks();
-                sink.frame(&FrameView {
-                    index: k_frame - 1,
-                    time: t,
-                    x: &snap.x,
-                    y: &snap.y,
-                    vx: &snap.vx,
-                    vy: &snap.vy,
-                    radius: &d.radius,
-                    species: &d.species,
-                    floor_height: snap.floor_height,
-                    series: &series,
-                })?;
-            }
-        }
-        if let Some(bar) = &bar {
-            bar.set_position((1000.0 * t / duration) as u64);
-            bar.set_message(format!("{t:.4}"));
-        }
-        if t >= duration {
-            break Ending::Completed;
-        }
-    };
-    let wall = clock.elapsed().as_secs_f64();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
+        Ok(())
     }
-    let end_time = if ending == Ending::Completed {
-        duration
-    } else {
-        sim.time()
-    };
-    sim.snapshot_into(end_time, &mut snap);
-    let last = Observables::of(&snap, sim.disks(), g);
-    if let Some(mut sink) = sink {
-        let note = match ending {
-            Ending::Completed => "run completed".to_string(),
-            Ending::Interrupted => format!("interrupted at t = {end_time}"),
-            Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+
+    /// A frame: the disks and the time series, to the sink.
+    fn frame(&mut self) -> Result<()> {
+        self.stops.k_frame += 1;
+        let Some(sink) = self.sink.as_mut() else {
+            return Ok(());
         };
-        let level = if ending == Ending::Completed {
-            "INFO"
-        } else {
-            "WARN"
-        };
-        sink.log_text(end_time, level, &note)?;
-        sink.finish()?;
+        let sim = &self.sim;
+        let snap = &self.snap;
+        let o = Observables::of(snap, sim.disks(), self.g);
+        let flow = sim.energy_flow_at(snap.time);
+        let collisions = sim.counts().collisions();
+        let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
+        self.last_frame_collisions = collisions;
+        let series = [
+            ("temperature/x", o.temperature[0]),
+            ("temperature/y", o.temperature[1]),
+            ("energy/kinetic", o.kinetic),
+            ("energy/potential", o.potential),
+            ("energy/injected", flow.injected),
+            ("energy/dissipated", flow.dissipated),
+            ("com_height", o.com_height),
+            (
+                "collisions_per_time",
+                if self.stops.k_frame > 1 { rate } else { 0.0 },
+            ),
+        ];
+        let d = sim.disks();
+        sink.frame(&FrameView {
+            index: self.stops.k_frame - 1,
+            time: snap.time,
+            x: &snap.x,
+            y: &snap.y,
+            vx: &snap.vx,
+            vy: &snap.vy,
+            radius: &d.radius,
+            species: &d.species,
+            floor_height: snap.floor_height,
+            series: &series,
+        })
     }
-    let flow = sim.energy_flow_at(snap.time);
-    let balance = last.energy() - initial.energy() - flow.injected + flow.dissipated;
-    let scale = initial
-        .energy()
-        .abs()
-        .max(last.energy().abs())
-        .max(flow.injected.abs())
-        .max(flow.dissipated)
-        .max(f64::MIN_POSITIVE);
-    let samples_f = samples.max(1) as f64;
-    let temperature = Temperature {
-        x: t_sum[0] / samples_f,
-        y: t_sum[1] / samples_f,
-        mean: 0.5 * (t_sum[0] + t_sum[1]) / samples_f,
-    };
-    let measured = window
-        .as_ref()
-        .map(|w| (end_time - w.time, w))
-        .filter(|(dt, _)| *dt > 0.0);
-    let closed_elastic = scene.gravity.is_none()
+
+    /// Closes the recording with a note on how the run ended.
+    fn close_sink(&mut self, ending: Ending, end_time: f64) -> Result<()> {
+        if let Some(mut sink) = self.sink.take() {
+            let note = match ending {
+                Ending::Completed => "run completed".to_string(),
+                Ending::Interrupted => format!("interrupted at t = {end_time}"),
+                Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+            };
+            let level = if ending == Ending::Completed {
+                "INFO"
+            } else {
+                "WARN"
+            };
+            sink.log_text(end_time, level, &note)?;
+            sink.finish()?;
+        }
+        Ok(())
+    }
+
+    /// Ends the run: the final state, the recording closed, the summary.
+    fn finish(mut self, ending: Ending, wall: f64) -> Result<Summary> {
+        let end_time = if ending == Ending::Completed {
+            self.stops.duration
+        } else {
+            self.sim.time()
+        };
+        self.sim.snapshot_into(end_time, &mut self.snap);
+        self.close_sink(ending, end_time)?;
+        Ok(self.summarise(ending, end_time, wall))
+    }
+
+    /// The summary of a run that ended at `end_time`.
+    fn summarise(&self, ending: Ending, end_time: f64, wall: f64) -> Summary {
+        let (s, scene, sim) = (self.s, self.scene, &self.sim);
+        let n = sim.disks().len();
+        let last = Observables::of(&self.snap, sim.disks(), self.g);
+        let flow = sim.energy_flow_at(self.snap.time);
+        let avg = &self.averages;
+        let measured = avg
+            .window
+            .as_ref()
+            .map(|w| (end_time - w.time, w))
+            .filter(|(dt, _)| *dt > 0.0);
+        let compressibility_factor = match (closed_elastic(s, scene), measured) {
+            (true, Some((dt, w))) if avg.samples > 0 => {
+                let kt = last.kinetic / n as f64; // conserved in a closed elastic box
+                Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
+            }
+            _ => None,
+        };
+        let box_area = match scene.top {
+            Top::Lid { height, .. } | Top::Periodic { height } => Some(s.domain.width * height),
+            Top::Open => None,
+        };
+        let counts = sim.counts();
+        let setup = sim.setup();
+        Summary {
+            scenario: s.name.clone(),
+            seed: s.seed,
+            particles: n,
+            ending,
+            sim_time: end_time,
+            wall_seconds: wall,
+            events: counts,
+            collisions_per_second: counts.collisions() as f64 / wall.max(1e-9),
+            energy: EnergySummary {
+                initial: EnergyAt::from(&self.initial),
+                final_: EnergyAt::from(&last),
+                injected: flow.injected,
+                dissipated: flow.dissipated,
+                balance_error: balance_error(&self.initial, &last, &flow),
+            },
+            temperature: avg.temperature(),
+            compressibility_factor,
+            packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
+            max_overlap: sim.max_overlap(),
+            com_height: scene
+                .gravity
+                .map(|_| avg.com_height / avg.samples.max(1) as f64),
+            impacts_per_unit_time: match (&scene.floor, measured) {
+                (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
+                _ => None,
+            },
+            profiles: avg.profiles.as_ref().map(|p| p.table()),
+            engine: EngineSummary {
+                scheme: setup.scheme.into(),
+                mask: setup.mask,
+                cell: setup.cell,
+                grid: setup.grid,
+                bytes_per_disk: setup.bytes as f64 / n as f64,
+                samples: avg.samples,
+            },
+            approximation: sim.approximation(),
+        }
+    }
+}
+
+/// `true` for a closed elastic box without gravity, where the compressibility factor is defined.
+fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
+    scene.gravity.is_none()
         && s.domain.y_boundary != YBoundary::Open
         && scene.restitution == 1.0
         && s.domain.wall_restitution == 1.0
         && scene
             .floor
             .as_ref()
-            .is_none_or(|f| f.is_static() && f.restitution == 1.0);
-    let box_area = match scene.top {
-        crate::locals::Top::Lid { height, .. } | crate::locals::Top::Periodic { height } => {
-            Some(s.domain.width * height)
-        }
-        crate::locals::Top::Open => None,
-    };
-    let compressibility_factor = match (closed_elastic, measured) {
-        (true, Some((dt, w))) if samples > 0 => {
-            let kt = last.kinetic / n as f64; // conserved in a closed elastic box
-            Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
-        }
-        _ => None,
-    };
-    let counts = sim.counts();
-    let setup = sim.setup();
-    Ok(Summary {
-        scenario: s.name.clone(),
-        seed: s.seed,
-        particles: n,
-        ending,
-        sim_time: end_time,
-        wall_seconds: wall,
-        events: counts,
-        collisions_per_second: counts.collisions() as f64 / wall.max(1e-9),
-        energy: EnergySummary {
-            initial: EnergyAt::from(&initial),
-            final_: EnergyAt::from(&last),
-            injected: flow.injected,
-            dissipated: flow.dissipated,
-            balance_error: balance.abs() / scale,
-        },
-        temperature,
-        compressibility_factor,
-        packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
-        max_overlap: sim.max_overlap(),
-        com_height: scene.gravity.map(|_| com_sum / samples_f),
-        impacts_per_unit_time: match (&scene.floor, measured) {
-            (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
-            _ => None,
-        },
-        profiles: profiles.map(|p| p.table()),
-        engine: EngineSummary {
-            scheme: setup.scheme.into(),
-            mask: setup.mask,
-            cell: setup.cell,
-            grid: setup.grid,
-            bytes_per_disk: setup.bytes as f64 / n as f64,
-            samples,
-        },
-        approximation: sim.approximation(),
-    })
+            .is_none_or(|f| f.is_static() && f.restitution == 1.0)
+}
+
+/// |now − initial − injected + dissipated| relative to the largest term of the energy budget.
+fn balance_error(initial: &Observables, now: &Observables, flow: &EnergyFlow) -> f64 {
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
+    let scale = initial
+        .energy()
+        .abs()
+        .max(now.energy().abs())
+        .max(flow.injected.abs())
+        .max(flow.dissipated)
+        .max(f64::MIN_POSITIVE);
+    balance.abs() / scale
+}
+
+/// Drives engine `sim` through the scenario and summarises the run.
+fn drive<E: Integrator>(
+    sim: E,
+    s: &Scenario,
+    scene: &Scene,
+    sink: Option<Box<dyn FrameSink>>,
+    opts: &RunOptions,
+) -> Result<Summary> {
+    let mut driver = Driver::new(sim, s, scene, sink, opts);
+    let bar = opts.progress.then(progress_bar);
+    let clock = Instant::now();
+    let ending = driver.run(bar.as_ref())?;
+    let wall = clock.elapsed().as_secs_f64();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    driver.finish(ending, wall)
 }
 
 /// Invariant checks at a sample: no overlap, energy balance.
@@ -426,18 +613,10 @@ fn check_sample<E: Integrator>(
     sim.check_state(snap)?;
     let now = Observables::of(snap, sim.disks(), g);
     let flow = sim.energy_flow_at(snap.time);
-    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
-    let scale = initial
-        .energy()
-        .abs()
-        .max(now.energy().abs())
-        .max(flow.injected.abs())
-        .max(flow.dissipated)
-        .max(f64::MIN_POSITIVE);
-    if balance.abs() > 1e-9 * scale {
+    let error = balance_error(initial, &now, &flow);
+    if error > 1e-9 {
         return Err(Error::Runtime(format!(
-            "energy budget off by {:e} (relative) at time {}",
-            balance.abs() / scale,
+            "energy budget off by {error:e} (relative) at time {}",
             snap.time
         )));
     }

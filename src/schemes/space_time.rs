@@ -484,6 +484,13 @@ impl<F: Flight> Integrator for SpaceTime<F> {
     }
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         loop {
+            // A synchronisation costs O(N): the flag is looked at before each.
+            if self
+                .interrupt
+                .is_some_and(|flag| flag.load(Ordering::Relaxed))
+            {
+                return Ok(Progress::Interrupted);
+            }
             if self.sync_end <= target {
                 if let Some(p) = self.run_events(self.sync_end)? {
                     return Ok(p);

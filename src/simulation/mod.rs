@@ -101,18 +101,18 @@ pub struct Simulation<F: Flight> {
 impl<F: Flight> Simulation<F> {
     /// Runs events until absolute time `target` (events at exactly `target` are left for later).
     pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
+        // at the start, so that a run stops within a bounded wall time whatever it is doing.
+        let mut turns = 0u32;
         loop {
             let local_target = self.base.local(target);
             if self.counts.popped() >= self.event_limit {
                 return Ok(Progress::EventLimit);
             }
-            if self.counts.popped() & 0xfff == 0 {
-                if let Some(flag) = self.interrupt {
-                    if flag.load(Ordering::Relaxed) {
-                        return Ok(Progress::Interrupted);
-                    }
-                }
+            if turns & 0x3ff == 0 && self.interrupted() {
+                return Ok(Progress::Interrupted);
             }
+            turns = turns.wrapping_add(1);
             let i = self.tree.min();
             let te = self.ev_time[i];
             let deadline = self.dutc.deadline;
@@ -135,6 +135,13 @@ impl<F: Flight> Simulation<F> {
             self.now = te;
             self.fire(i)?;
         }
+    }
+
+    /// `true` once the caller's interrupt flag is set.
+    #[inline]
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .is_some_and(|flag| flag.load(Ordering::Relaxed))
     }
 
     /// Processes the next `k` events (collisions, stale events, re-mappings), whatever their
