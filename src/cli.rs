@@ -77,6 +77,12 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Parameter sweeps and seed ensembles: plan, run locally or on Slurm, collect.
+    Sweep {
+        /// What to do with the sweep.
+        #[command(subcommand)]
+        command: crate::sweep::command::SweepCommand,
+    },
     /// Validate a scenario without running it.
     Check {
         /// The scenario file (JSON).
@@ -117,6 +123,7 @@ pub fn main_with(cli: Cli) -> i32 {
 
 fn execute(cli: Cli) -> Result<i32> {
     match cli.command {
+        Command::Sweep { command } => command.execute(),
         Command::Check { scenario, sets } => {
             let s = Scenario::load(&scenario, &sets)?;
             // Also resolve the scene (placement, grid, mask) without running it.
