@@ -157,11 +157,8 @@ pub fn collect(dir: &Path) -> Result<Collected> {
     let numeric: Vec<String> = fields
         .iter()
         .filter(|f| {
-            runs.iter().any(|r| {
-                r.fields
-                    .iter()
-                    .any(|(k, v)| k == *f && v.is_number())
-            })
+            runs.iter()
+                .any(|r| r.fields.iter().any(|(k, v)| k == *f && v.is_number()))
         })
         .cloned()
         .collect();
@@ -359,21 +356,25 @@ impl Collected {
                 ),
             ));
         }
-        let k = self.numeric.iter().position(|f| f == field).ok_or_else(|| {
-            Error::input(
-                "--y",
-                format!(
-                    "`{field}` is not a numeric summary field of these runs (e.g. {})",
-                    self.numeric
-                        .iter()
-                        .filter(|f| !f.starts_with("events.") && !f.starts_with("energy."))
-                        .take(8)
-                        .cloned()
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            )
-        })?;
+        let k = self
+            .numeric
+            .iter()
+            .position(|f| f == field)
+            .ok_or_else(|| {
+                Error::input(
+                    "--y",
+                    format!(
+                        "`{field}` is not a numeric summary field of these runs (e.g. {})",
+                        self.numeric
+                            .iter()
+                            .filter(|f| !f.starts_with("events.") && !f.starts_with("energy."))
+                            .take(8)
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )
+            })?;
         let mut out: Vec<(f64, Stat)> = self
             .points
             .iter()
@@ -437,7 +438,10 @@ mod tests {
     fn cells_are_quoted_when_needed() {
         assert_eq!(cell("a"), "a");
         assert_eq!(cell("a,b"), "\"a,b\"");
-        assert_eq!(value_cell(&json!({"min": 1, "max": 2})), "\"{\"\"min\"\":1,\"\"max\"\":2}\"");
+        assert_eq!(
+            value_cell(&json!({"min": 1, "max": 2})),
+            "\"{\"\"min\"\":1,\"\"max\"\":2}\""
+        );
         assert_eq!(value_cell(&json!("walls")), "walls");
     }
 }

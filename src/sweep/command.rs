@@ -123,7 +123,11 @@ impl SweepCommand {
                 let exp = expand(&sweep)?;
                 exp.check_scenes()?;
                 print!("{}", exp.plan.listing(out.as_deref()));
-                eprintln!("{}: ok ({} runs checked)", sweep.display(), exp.plan.runs.len());
+                eprintln!(
+                    "{}: ok ({} runs checked)",
+                    sweep.display(),
+                    exp.plan.runs.len()
+                );
                 Ok(0)
             }
             SweepCommand::Run {
@@ -137,9 +141,8 @@ impl SweepCommand {
                 }
                 let exp = expand(&sweep)?;
                 exp.check_scenes()?;
-                let jobs = jobs.unwrap_or_else(|| {
-                    std::thread::available_parallelism().map_or(1, |n| n.get())
-                });
+                let jobs = jobs
+                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
                 let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
                 let report = run_pool(&exp, &out, jobs, !quiet)?;
                 let n = exp.plan.runs.len();
@@ -203,14 +206,19 @@ impl SweepCommand {
                     "run {index} (point {}: {}, seed {}): {}",
                     spec.point,
                     point_label(&exp.plan.axes, &spec.values),
-                    spec.seed.map_or("of the scenario".into(), |s| s.to_string()),
+                    spec.seed
+                        .map_or("of the scenario".into(), |s| s.to_string()),
                     match ending {
                         Ending::Completed => "completed",
                         Ending::Interrupted => "interrupted",
                         Ending::EventLimit => "stopped at the event limit",
                     }
                 );
-                Ok(if ending == Ending::Interrupted { 130 } else { 0 })
+                Ok(if ending == Ending::Interrupted {
+                    130
+                } else {
+                    0
+                })
             }
             SweepCommand::Slurm {
                 sweep,
@@ -295,7 +303,9 @@ fn collect_command(
     let fits: Vec<Option<PowerFit>> = series
         .iter()
         .map(|s| match fit {
-            Some(Fit::Power) => power_law(&s.iter().map(|(x, st)| (*x, st.mean)).collect::<Vec<_>>()),
+            Some(Fit::Power) => {
+                power_law(&s.iter().map(|(x, st)| (*x, st.mean)).collect::<Vec<_>>())
+            }
             None => None,
         })
         .collect();
@@ -334,7 +344,11 @@ fn collect_command(
     let path = plot.unwrap_or_else(|| dir.join("plot.svg"));
     draw(
         &path,
-        &format!("sweep {}: against {x} ({} seeds per point)", c.plan.name, c.plan.seeds_per_point()),
+        &format!(
+            "sweep {}: against {x} ({} seeds per point)",
+            c.plan.name,
+            c.plan.seeds_per_point()
+        ),
         &x,
         &panels,
         log,

@@ -67,7 +67,10 @@ mod tests {
 
     #[test]
     fn recovers_an_exact_power_law() {
-        let pts: Vec<(f64, f64)> = [0.5, 1.0, 2.0, 4.0].iter().map(|&x| (x, 3.0 * x * x)).collect();
+        let pts: Vec<(f64, f64)> = [0.5, 1.0, 2.0, 4.0]
+            .iter()
+            .map(|&x| (x, 3.0 * x * x))
+            .collect();
         let f = power_law(&pts).unwrap();
         assert!((f.exponent - 2.0).abs() < 1e-12);
         assert!((f.prefactor - 3.0).abs() < 1e-12);
@@ -105,6 +108,9 @@ mod tests {
         assert!(power_law(&[(1.0, 1.0)]).is_none());
         assert!(power_law(&[(1.0, 1.0), (1.0, 2.0)]).is_none());
         assert!(power_law(&[(1.0, 1.0), (-2.0, 2.0)]).is_none());
-        assert!(power_law(&[(1.0, 1.0), (2.0, 2.0)]).unwrap().exponent_se.is_none());
+        assert!(power_law(&[(1.0, 1.0), (2.0, 2.0)])
+            .unwrap()
+            .exponent_se
+            .is_none());
     }
 }

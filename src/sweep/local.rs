@@ -34,7 +34,9 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
 
 /// A temporary name beside `path`, unique to this process.
 fn temp_name(path: &Path) -> PathBuf {
-    let name = path.file_name().map_or("out".into(), |n| n.to_string_lossy());
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy());
     path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
 
@@ -184,7 +186,10 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
                     bar.println(format!("vibrobed: run {i} failed: {e}"));
                 }
                 bar.inc(1);
-                outcomes.lock().expect("no worker panics").push((i, outcome));
+                outcomes
+                    .lock()
+                    .expect("no worker panics")
+                    .push((i, outcome));
             };
             std::thread::Builder::new()
                 .stack_size(16 << 20)

@@ -207,8 +207,12 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile> {
         } else {
             ""
         };
-        let field = if field == "." { String::new() } else { field };
-        Error::input(format!("sweep {field}"), format!("{inner}{hint}"))
+        let field = if field == "." {
+            path.display().to_string()
+        } else {
+            field
+        };
+        Error::input(field, format!("{inner}{hint}"))
     })
 }
 
@@ -218,7 +222,10 @@ fn axis_values(k: usize, axis: &Axis) -> Result<Vec<Value>> {
     if axis.key.trim().is_empty() || axis.key.split('.').any(str::is_empty) {
         return Err(Error::input(
             format!("{here}.key"),
-            format!("`{}` is not a dotted field path (e.g. floor.gamma)", axis.key),
+            format!(
+                "`{}` is not a dotted field path (e.g. floor.gamma)",
+                axis.key
+            ),
         ));
     }
     match (&axis.values, &axis.range) {
@@ -247,10 +254,7 @@ fn tidy(x: f64) -> f64 {
 
 fn range_values(here: &str, r: &Range) -> Result<Vec<Value>> {
     if r.count == 0 {
-        return Err(Error::input(
-            format!("{here}.count"),
-            "must be at least 1",
-        ));
+        return Err(Error::input(format!("{here}.count"), "must be at least 1"));
     }
     for (name, v) in [("from", r.from), ("to", r.to)] {
         if !v.is_finite() {
@@ -589,31 +593,68 @@ mod tests {
             integer: false,
         };
         let v = range_values("r", &r(Scale::Linear, 0.1, 0.6, 6)).unwrap();
-        assert_eq!(v, vec![json!(0.1), json!(0.2), json!(0.3), json!(0.4), json!(0.5), json!(0.6)]);
+        assert_eq!(
+            v,
+            vec![
+                json!(0.1),
+                json!(0.2),
+                json!(0.3),
+                json!(0.4),
+                json!(0.5),
+                json!(0.6)
+            ]
+        );
         let v = range_values("r", &r(Scale::Log, 1.0, 1000.0, 4)).unwrap();
-        assert_eq!(v, vec![json!(1.0), json!(10.0), json!(100.0), json!(1000.0)]);
+        assert_eq!(
+            v,
+            vec![json!(1.0), json!(10.0), json!(100.0), json!(1000.0)]
+        );
         let v = range_values("r", &r(Scale::Log, 2.0, 5.0, 1)).unwrap();
         assert_eq!(v, vec![json!(2.0)]);
         let mut counts = r(Scale::Log, 100.0, 10000.0, 5);
         counts.integer = true;
         let v = range_values("r", &counts).unwrap();
-        assert_eq!(v, vec![json!(100), json!(316), json!(1000), json!(3162), json!(10000)]);
+        assert_eq!(
+            v,
+            vec![
+                json!(100),
+                json!(316),
+                json!(1000),
+                json!(3162),
+                json!(10000)
+            ]
+        );
     }
 
     #[test]
     fn bad_ranges_name_the_field() {
         let e = range_values(
             "axes[1].range",
-            &Range { from: 1.0, to: 2.0, count: 0, scale: Scale::Linear, integer: false },
+            &Range {
+                from: 1.0,
+                to: 2.0,
+                count: 0,
+                scale: Scale::Linear,
+                integer: false,
+            },
         )
         .unwrap_err();
         assert!(e.to_string().starts_with("axes[1].range.count:"), "{e}");
         let e = range_values(
             "axes[0].range",
-            &Range { from: 0.0, to: 2.0, count: 3, scale: Scale::Log, integer: false },
+            &Range {
+                from: 0.0,
+                to: 2.0,
+                count: 3,
+                scale: Scale::Log,
+                integer: false,
+            },
         )
         .unwrap_err();
-        assert!(e.to_string().starts_with("axes[0].range.from: a log range"), "{e}");
+        assert!(
+            e.to_string().starts_with("axes[0].range.from: a log range"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -626,7 +667,10 @@ mod tests {
         assert_eq!(p[3], vec![json!(2), json!("x")]);
         let z = sweep(json!({"scenario": "x.json", "combine": "zip", "axes": [
             {"key": "a", "values": [1, 2]}, {"key": "b", "range": {"from": 5, "to": 6, "count": 2}}]}));
-        assert_eq!(points(&z).unwrap(), vec![vec![json!(1), json!(5.0)], vec![json!(2), json!(6.0)]]);
+        assert_eq!(
+            points(&z).unwrap(),
+            vec![vec![json!(1), json!(5.0)], vec![json!(2), json!(6.0)]]
+        );
         let bad = sweep(json!({"scenario": "x.json", "combine": "zip", "axes": [
             {"key": "a", "values": [1, 2]}, {"key": "b", "values": [1]}]}));
         let e = points(&bad).unwrap_err();
@@ -638,9 +682,15 @@ mod tests {
         let s = sweep(json!({"scenario": "x.json", "axes": [{"key": "a"}]}));
         assert!(points(&s).unwrap_err().to_string().starts_with("axes[0]:"));
         let s = sweep(json!({"scenario": "x.json", "axes": [{"key": "a..b", "values": [1]}]}));
-        assert!(points(&s).unwrap_err().to_string().starts_with("axes[0].key:"));
+        assert!(points(&s)
+            .unwrap_err()
+            .to_string()
+            .starts_with("axes[0].key:"));
         let s = sweep(json!({"scenario": "x.json", "axes": [
             {"key": "a", "values": [1]}, {"key": "a", "values": [2]}]}));
-        assert!(points(&s).unwrap_err().to_string().starts_with("axes[1].key:"));
+        assert!(points(&s)
+            .unwrap_err()
+            .to_string()
+            .starts_with("axes[1].key:"));
     }
 }

@@ -28,6 +28,23 @@ fn padded(lo: f64, hi: f64, log: bool) -> (f64, f64) {
     }
 }
 
+/// A tick label: up to four decimals without trailing zeros, or an exponent for tiny and huge
+/// values.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-3..1e5).contains(&a) {
+        let s = format!("{v:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s == "-0" {
+            "0".into()
+        } else {
+            s.into()
+        }
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
 /// Draws the panels stacked vertically into an SVG file at `path`.
 pub fn draw(
     path: &Path,
@@ -83,7 +100,8 @@ pub fn draw(
                 "{}: fit ∝ x^δ, δ = {:.3}{}",
                 panel.field,
                 f.exponent,
-                f.exponent_se.map_or(String::new(), |se| format!(" ± {se:.3}"))
+                f.exponent_se
+                    .map_or(String::new(), |se| format!(" ± {se:.3}"))
             ),
             None => panel.field.to_string(),
         };
@@ -103,8 +121,8 @@ pub fn draw(
                     .configure_mesh()
                     .x_desc(x_name)
                     .y_desc(panel.field)
-                    .x_label_formatter(&|v| format!("{v:.3}"))
-                    .y_label_formatter(&|v| format!("{v:.3}"))
+                    .x_label_formatter(&|v| tick(*v))
+                    .y_label_formatter(&|v| tick(*v))
                     .draw()
                     .map_err(|e| err(e.to_string()))?;
                 if let Some(f) = panel.fit {
@@ -134,7 +152,10 @@ pub fn draw(
                     }))
                     .map_err(|e| err(e.to_string()))?;
                 chart
-                    .draw_series(pts.iter().map(|&(x, y, _)| Circle::new((x, y), 3, blue.filled())))
+                    .draw_series(
+                        pts.iter()
+                            .map(|&(x, y, _)| Circle::new((x, y), 3, blue.filled())),
+                    )
                     .map_err(|e| err(e.to_string()))?
                     .label("mean over seeds ± standard error")
                     .legend(move |(x, y)| Circle::new((x + 10, y), 3, blue.filled()));

@@ -62,7 +62,10 @@ pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Resul
     }
     if let Some(p) = &opts.partition {
         if p.is_empty() || p.chars().any(char::is_whitespace) {
-            return Err(Error::input("--partition", format!("`{p}` is not a partition name")));
+            return Err(Error::input(
+                "--partition",
+                format!("`{p}` is not a partition name"),
+            ));
         }
     }
     for x in &opts.extra {
@@ -81,7 +84,13 @@ pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Resul
     let job_name: String = plan
         .name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || "._-".contains(c) { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "._-".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     let logs = out.join("slurm");
     let mut s = String::from("#!/bin/bash\n");
