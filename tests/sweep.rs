@@ -512,3 +512,21 @@ fn bad_sweep_inputs_exit_2_naming_the_culprit() {
         &["DIR: cannot read", "plan.json"],
     );
 }
+
+#[test]
+fn the_shipped_example_sweep_plans() {
+    let out = vibrobed(
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        &[
+            "sweep",
+            "plan",
+            "scenarios/sweeps/temperature_vs_drive.json",
+        ],
+    );
+    assert_ok(&out);
+    let listing = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        listing.contains("21 runs (7 points × 3 seeds)"),
+        "{listing}"
+    );
+}
