@@ -262,6 +262,41 @@ fn local_sweep_is_resumable_and_the_same_on_one_or_two_workers() {
     assert_eq!(rows[1][col("temperature.mean:n")], "2");
     assert_eq!(rows[1][col("floor.gamma")], "4.0");
     assert!(!rows[1][col("temperature.mean:se")].is_empty());
+    // A Slurm script for what is left: only the runs not completed.
+    std::fs::remove_file(two.join("1/summary.json")).unwrap();
+    let out = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "slurm",
+            "small.json",
+            "--out",
+            "two",
+            "--time",
+            "00:05:00",
+        ],
+    );
+    assert_ok(&out);
+    let script = std::fs::read_to_string(two.join("sweep.sbatch")).unwrap();
+    assert!(script.contains("#SBATCH --array=1\n"), "{script}");
+    assert!(script.contains("#SBATCH --signal=B:INT@60\n"), "{script}");
+    assert!(
+        script.contains("--index \"$SLURM_ARRAY_TASK_ID\""),
+        "{script}"
+    );
+    // A folder holds one sweep.
+    std::fs::write(
+        dir.join("other.json"),
+        SWEEP.replace("[2.5, 4.0]", "[2.5, 5.0]"),
+    )
+    .unwrap();
+    let out = vibrobed(&dir, &["sweep", "run", "other.json", "--out", "two"]);
+    assert_eq!(out.status.code(), Some(2), "{}", describe(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--out: "),
+        "{}",
+        describe(&out)
+    );
     let svg = std::fs::read_to_string(two.join("plot.svg")).expect("the plot");
     assert!(svg.starts_with("<svg") && svg.contains("temperature.mean"));
     assert!(two.join("fit.json").exists());

@@ -439,8 +439,8 @@ mod tests {
         assert_eq!(cell("a"), "a");
         assert_eq!(cell("a,b"), "\"a,b\"");
         assert_eq!(
-            value_cell(&json!({"min": 1, "max": 2})),
-            "\"{\"\"min\"\":1,\"\"max\"\":2}\""
+            value_cell(&json!({"max": 2, "min": 1})),
+            "\"{\"\"max\"\":2,\"\"min\"\":1}\""
         );
         assert_eq!(value_cell(&json!("walls")), "walls");
     }

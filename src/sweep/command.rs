@@ -4,7 +4,9 @@ use crate::error::{Error, Result};
 use crate::summary::Ending;
 use crate::sweep::collect::collect;
 use crate::sweep::fit::{power_law, PowerFit};
-use crate::sweep::local::{is_done, run_one, run_pool, write_atomic, write_plan, INTERRUPTED};
+use crate::sweep::local::{
+    check_plan, is_done, run_one, run_pool, write_atomic, write_plan, INTERRUPTED,
+};
 use crate::sweep::plan::{expand, point_label};
 use crate::sweep::plot::{draw, Panel};
 use crate::sweep::slurm::{script, submit, SlurmOptions};
@@ -240,16 +242,34 @@ impl SweepCommand {
                     array_max,
                     extra: sbatch,
                 };
-                let text = script(&exp.plan, &exe, &out, &opts)?;
+                // Only the runs not completed yet (all of them the first time).
+                check_plan(&exp.plan, &out)?;
+                let pending: Vec<usize> = (0..exp.plan.runs.len())
+                    .filter(|&i| !is_done(&out, i))
+                    .collect();
+                let n = exp.plan.runs.len();
+                if pending.is_empty() {
+                    eprintln!(
+                        "all {n} runs are completed in {}: nothing to submit",
+                        out.display()
+                    );
+                    return Ok(0);
+                }
+                let text = script(&exp.plan, &pending, &exe, &out, &opts)?;
                 write_plan(&exp.plan, &out)?;
                 let logs = out.join("slurm");
                 std::fs::create_dir_all(&logs).map_err(io(&logs, "create"))?;
                 let path = out.join("sweep.sbatch");
                 write_atomic(&path, &text)?;
                 eprintln!(
-                    "wrote {} ({} array tasks)",
+                    "wrote {} ({} array tasks{})",
                     path.display(),
-                    exp.plan.runs.len()
+                    pending.len(),
+                    if pending.len() < n {
+                        format!("; {} of {n} runs are completed already", n - pending.len())
+                    } else {
+                        String::new()
+                    }
                 );
                 if submit_it {
                     let id = submit(&path)?;

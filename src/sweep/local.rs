@@ -64,8 +64,17 @@ pub fn is_done(out: &Path, index: usize) -> bool {
 /// Writes `DIR/plan.json`, or checks that the one already there is the same sweep (the same
 /// runs with the same overrides), so that a folder never mixes two sweeps.
 pub fn write_plan(plan: &Plan, out: &Path) -> Result<()> {
+    if check_plan(plan, out)? {
+        return Ok(());
+    }
     std::fs::create_dir_all(out)
         .map_err(|e| Error::Io(format!("cannot create {}: {e}", out.display())))?;
+    write_atomic(&out.join("plan.json"), &plan.to_json())
+}
+
+/// Checks that `DIR/plan.json`, if there is one, is the same sweep as `plan` (the same runs
+/// with the same overrides); returns whether it is there and identical.
+pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
     let path = out.join("plan.json");
     if path.exists() {
         let old = Plan::read(out)?;
@@ -85,11 +94,9 @@ pub fn write_plan(plan: &Plan, out: &Path) -> Result<()> {
                 ),
             ));
         }
-        if old == *plan {
-            return Ok(());
-        }
+        return Ok(old == *plan);
     }
-    write_atomic(&path, &plan.to_json())
+    Ok(false)
 }
 
 /// Runs one run into `DIR/<index>/` and returns how it ended. A runtime failure leaves

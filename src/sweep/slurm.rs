@@ -51,9 +51,39 @@ fn check_time(time: &str) -> Result<()> {
     }
 }
 
-/// The job-array script for `plan`, whose tasks run `exe sweep task SWEEP --index
-/// $SLURM_ARRAY_TASK_ID --out DIR` (all paths absolute). Task logs go to `DIR/slurm/`.
-pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Result<String> {
+/// Slurm's array list for run indices (sorted): consecutive runs as ranges, `0-3,7,9-10`.
+pub fn array_list(indices: &[usize]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut k = 0;
+    while k < indices.len() {
+        let start = indices[k];
+        let mut end = start;
+        while k + 1 < indices.len() && indices[k + 1] == end + 1 {
+            k += 1;
+            end = indices[k];
+        }
+        parts.push(if end > start {
+            format!("{start}-{end}")
+        } else {
+            start.to_string()
+        });
+        k += 1;
+    }
+    parts.join(",")
+}
+
+/// The job-array script for the runs `indices` of `plan` (all runs, or those not completed
+/// yet), whose tasks run `exe sweep task SWEEP --index $SLURM_ARRAY_TASK_ID --out DIR` (all
+/// paths absolute). Task logs go to `DIR/slurm/`. With a time limit, Slurm sends the task
+/// SIGINT a minute before it: the run stops and writes its summary so far, marked
+/// `"ending": "interrupted"`, and a later `sweep run` or `sweep slurm` runs it again.
+pub fn script(
+    plan: &Plan,
+    indices: &[usize],
+    exe: &Path,
+    out: &Path,
+    opts: &SlurmOptions,
+) -> Result<String> {
     if let Some(time) = &opts.time {
         check_time(time)?;
     }
@@ -76,8 +106,8 @@ pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Resul
             ));
         }
     }
-    let n = plan.runs.len();
-    let mut array = format!("0-{}", n.saturating_sub(1));
+    let n = indices.len();
+    let mut array = array_list(indices);
     if let Some(m) = opts.array_max {
         array.push_str(&format!("%{m}"));
     }
@@ -95,9 +125,9 @@ pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Resul
     let logs = out.join("slurm");
     let mut s = String::from("#!/bin/bash\n");
     s.push_str(&format!(
-        "# vibrobed sweep `{}`: {} runs ({} points × {} seeds), one array task per run.\n",
+        "# vibrobed sweep `{}`: {} runs ({} points × {} seeds); {n} to run, one array task each.\n",
         plan.name,
-        n,
+        plan.runs.len(),
         plan.points,
         plan.seeds_per_point()
     ));
@@ -110,6 +140,8 @@ pub fn script(plan: &Plan, exe: &Path, out: &Path, opts: &SlurmOptions) -> Resul
     }
     if let Some(t) = &opts.time {
         s.push_str(&format!("#SBATCH --time={t}\n"));
+        // SIGINT to the task (which `exec`s vibrobed) a minute before the limit.
+        s.push_str("#SBATCH --signal=B:INT@60\n");
     }
     for x in &opts.extra {
         s.push_str(&format!("#SBATCH {x}\n"));
@@ -154,6 +186,13 @@ mod tests {
     fn quotes_paths_for_the_shell() {
         assert_eq!(shell_quote("/a/b-c.json"), "/a/b-c.json");
         assert_eq!(shell_quote("/a b/it's"), r"'/a b/it'\''s'");
+    }
+
+    #[test]
+    fn array_lists_compress_consecutive_runs() {
+        assert_eq!(array_list(&[0, 1, 2, 3]), "0-3");
+        assert_eq!(array_list(&[0, 2, 3, 4, 7, 9, 10]), "0,2-4,7,9-10");
+        assert_eq!(array_list(&[5]), "5");
     }
 
     #[test]
