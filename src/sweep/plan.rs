@@ -361,7 +361,7 @@ fn set_string(key: &str, value: &Value) -> String {
 /// `point P (KEY=VALUE, …): FIELD: what is wrong`.
 pub fn expand(path: &Path) -> Result<Expanded> {
     let sweep = read_sweep(path)?;
-    let sweep_path = std::path::absolute(path)
+    let sweep_path = std::fs::canonicalize(path)
         .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))?;
     let base_dir = sweep_path.parent().unwrap_or(Path::new("."));
     let scenario_path = base_dir.join(&sweep.scenario);
@@ -458,7 +458,7 @@ pub fn expand(path: &Path) -> Result<Expanded> {
         plan: Plan {
             name,
             sweep: sweep_path.clone(),
-            scenario: std::path::absolute(&scenario_path).unwrap_or(scenario_path),
+            scenario: std::fs::canonicalize(&scenario_path).unwrap_or(scenario_path),
             axes: keys,
             combine: sweep.combine,
             points: points.len(),
