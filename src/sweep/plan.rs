@@ -490,6 +490,15 @@ fn at(p: usize, values: &[Value], keys: &[String], e: Error) -> Error {
     }
 }
 
+/// `1 point`, `3 points`.
+pub fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
 /// `key=value, key=value` for messages and listings.
 pub fn point_label(keys: &[String], values: &[Value]) -> String {
     if keys.is_empty() {
@@ -544,11 +553,11 @@ impl Plan {
     /// A table of the runs: index, point, seed, overrides, output folder.
     pub fn listing(&self, out: Option<&Path>) -> String {
         let mut text = format!(
-            "sweep {}: {} runs ({} points × {} seeds), axes: {}\n",
+            "sweep {}: {} runs ({} × {}), axes: {}\n",
             self.name,
             self.runs.len(),
-            self.points,
-            self.seeds_per_point(),
+            plural(self.points, "point"),
+            plural(self.seeds_per_point(), "seed"),
             if self.axes.is_empty() {
                 "none".into()
             } else {

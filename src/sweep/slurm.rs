@@ -2,7 +2,7 @@
 //! (the same code path as a local run), and its submission with `sbatch --parsable`.
 
 use crate::error::{Error, Result};
-use crate::sweep::plan::Plan;
+use crate::sweep::plan::{plural, Plan};
 use std::path::Path;
 
 /// What goes into the job script besides the array.
@@ -74,8 +74,8 @@ pub fn array_list(indices: &[usize]) -> String {
 
 /// The job-array script for the runs `indices` of `plan` (all runs, or those not completed
 /// yet), whose tasks run `exe sweep task SWEEP --index $SLURM_ARRAY_TASK_ID --out DIR` (all
-/// paths absolute). Task logs go to `DIR/slurm/`. With a time limit, Slurm sends the task
-/// SIGINT a minute before it: the run stops and writes its summary so far, marked
+/// paths absolute). Task logs go to `DIR/slurm/`. Slurm sends the task SIGINT a minute before
+/// its time limit: the run stops and writes its summary so far, marked
 /// `"ending": "interrupted"`, and a later `sweep run` or `sweep slurm` runs it again.
 pub fn script(
     plan: &Plan,
@@ -125,11 +125,11 @@ pub fn script(
     let logs = out.join("slurm");
     let mut s = String::from("#!/bin/bash\n");
     s.push_str(&format!(
-        "# vibrobed sweep `{}`: {} runs ({} points × {} seeds); {n} to run, one array task each.\n",
+        "# vibrobed sweep `{}`: {} runs ({} × {}); {n} to run, one array task each.\n",
         plan.name,
         plan.runs.len(),
-        plan.points,
-        plan.seeds_per_point()
+        plural(plan.points, "point"),
+        plural(plan.seeds_per_point(), "seed")
     ));
     s.push_str(&format!("#SBATCH --job-name=vibrobed-{job_name}\n"));
     s.push_str(&format!("#SBATCH --array={array}\n"));
@@ -140,9 +140,10 @@ pub fn script(
     }
     if let Some(t) = &opts.time {
         s.push_str(&format!("#SBATCH --time={t}\n"));
-        // SIGINT to the task (which `exec`s vibrobed) a minute before the limit.
-        s.push_str("#SBATCH --signal=B:INT@60\n");
     }
+    // SIGINT to the task (which `exec`s vibrobed) a minute before its time limit, whether
+    // given here or the partition's.
+    s.push_str("#SBATCH --signal=B:INT@60\n");
     for x in &opts.extra {
         s.push_str(&format!("#SBATCH {x}\n"));
     }
