@@ -565,3 +565,48 @@ fn the_shipped_example_sweep_plans() {
         "{listing}"
     );
 }
+
+/// `"record": true` records each run into its folder, through a temporary name.
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_sweep_records_every_run() {
+    let dir = scratch("record");
+    std::fs::write(
+        dir.join("rec.json"),
+        r#"{"scenario": "bed.json", "set": ["run.duration=1"], "seeds": 2, "record": true}"#,
+    )
+    .unwrap();
+    assert_ok(&vibrobed(
+        &dir,
+        &["sweep", "run", "rec.json", "--out", "rec", "-q"],
+    ));
+    for i in 0..2 {
+        let run = dir.join("rec").join(i.to_string());
+        let size = std::fs::metadata(run.join("recording.rrd")).map_or(0, |m| m.len());
+        assert!(size > 0, "run {i} has a recording");
+        let leftovers: Vec<_> = std::fs::read_dir(&run)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains("partial"))
+            .collect();
+        assert!(leftovers.is_empty(), "run {i} left {leftovers:?}");
+    }
+}
+
+/// Without the recording feature, a sweep that asks for recordings is refused before it runs.
+#[cfg(not(feature = "record"))]
+#[test]
+fn a_recording_sweep_needs_the_record_feature() {
+    let dir = scratch("record");
+    std::fs::write(
+        dir.join("rec.json"),
+        r#"{"scenario": "bed.json", "record": true}"#,
+    )
+    .unwrap();
+    assert_bad(
+        &vibrobed(&dir, &["sweep", "run", "rec.json", "--out", "rec"]),
+        &["record: this build of vibrobed has no recording"],
+    );
+    assert!(!dir.join("rec").exists());
+}
