@@ -114,9 +114,9 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
         scenario,
         RunOptions {
             rrd: plan.record.then(|| rrd_tmp.clone()),
-            sink: None,
             interrupt: Some(&INTERRUPTED),
             progress: false,
+            ..Default::default()
         },
     );
     let summary = match result {
