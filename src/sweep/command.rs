@@ -5,7 +5,7 @@ use crate::summary::Ending;
 use crate::sweep::collect::collect;
 use crate::sweep::fit::{power_law, PowerFit};
 use crate::sweep::local::{
-    check_plan, is_done, run_one, run_pool, write_atomic, write_plan, INTERRUPTED,
+    check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan, INTERRUPTED,
 };
 use crate::sweep::plan::{expand, point_label};
 use crate::sweep::plot::{draw, Panel};
@@ -210,11 +210,7 @@ impl SweepCommand {
                     point_label(&exp.plan.axes, &spec.values),
                     spec.seed
                         .map_or("of the scenario".into(), |s| s.to_string()),
-                    match ending {
-                        Ending::Completed => "completed",
-                        Ending::Interrupted => "interrupted",
-                        Ending::EventLimit => "stopped at the event limit",
-                    }
+                    ending_word(ending)
                 );
                 Ok(if ending == Ending::Interrupted {
                     130

@@ -139,6 +139,15 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
     Ok(summary.ending)
 }
 
+/// How a run ended, in words.
+pub fn ending_word(ending: Ending) -> &'static str {
+    match ending {
+        Ending::Completed => "completed",
+        Ending::Interrupted => "interrupted",
+        Ending::EventLimit => "stopped at the event limit",
+    }
+}
+
 /// How a pool of runs went.
 #[derive(Debug, Default)]
 pub struct PoolReport {
@@ -189,10 +198,23 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&i) = pending.get(k) else { break };
                 let outcome = run_one(&exp.plan, &runs[i], &exp.scenarios[i], out);
-                if let Err(e) = &outcome {
-                    bar.println(format!("vibrobed: run {i} failed: {e}"));
-                }
                 bar.inc(1);
+                let line = match &outcome {
+                    Err(e) => Some(format!("vibrobed: run {i} failed: {e}")),
+                    // Without a terminal (a log file), one line per run instead of the bar.
+                    Ok(ending) if progress && bar.is_hidden() => Some(format!(
+                        "run {i}: {} ({}/{} runs)",
+                        ending_word(*ending),
+                        bar.position(),
+                        runs.len()
+                    )),
+                    Ok(_) => None,
+                };
+                match line {
+                    Some(line) if bar.is_hidden() => eprintln!("{line}"),
+                    Some(line) => bar.println(line),
+                    None => {}
+                }
                 outcomes
                     .lock()
                     .expect("no worker panics")
