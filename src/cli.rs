@@ -9,11 +9,10 @@
 use crate::error::{Error, Result};
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
+use crate::signals;
 use crate::summary::Ending;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
-use std::sync::{Arc, LazyLock};
 
 /// Command-line arguments.
 #[derive(Debug, Parser)]
@@ -78,6 +77,12 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Parameter sweeps and seed ensembles: plan, run locally or on Slurm, collect.
+    Sweep {
+        /// What to do with the sweep.
+        #[command(subcommand)]
+        command: crate::sweep::command::SweepCommand,
+    },
     /// Validate a scenario without running it.
     Check {
         /// The scenario file (JSON).
@@ -86,51 +91,6 @@ pub enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
-}
-
-/// Set by SIGINT, SIGTERM or SIGHUP: the run stops at the next event (or stop) and ends cleanly.
-static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
-
-/// The signal that stopped the run (0: none).
-static SIGNAL: LazyLock<Arc<AtomicI32>> = LazyLock::new(|| Arc::new(AtomicI32::new(0)));
-
-/// Handles SIGINT (Ctrl-C), SIGTERM (batch systems at their time limit) and SIGHUP (a closed
-/// terminal) alike: the first asks the run to stop cleanly; a second SIGINT ends the process at
-/// once (exit 130), for a user who does not want to wait.
-fn install_signal_handlers() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    for sig in [SIGINT, SIGTERM, SIGHUP] {
-        if sig == SIGINT {
-            // Registered first, so it sees the flag as it was before this signal.
-            let _ = signal_hook::flag::register_conditional_shutdown(
-                sig,
-                130,
-                Arc::clone(&INTERRUPTED),
-            );
-        }
-        let _ = signal_hook::flag::register(sig, Arc::clone(&INTERRUPTED));
-        let which = Arc::clone(&SIGNAL);
-        // SAFETY: the action only stores into an atomic, which is async-signal-safe.
-        let _ = unsafe {
-            signal_hook::low_level::register(sig, move || {
-                which.store(sig, Ordering::Relaxed);
-            })
-        };
-    }
-}
-
-/// The flag the engine watches, as a `'static` reference.
-fn interrupt_flag() -> &'static AtomicBool {
-    &INTERRUPTED
-}
-
-/// Exit code of an interrupted run: 128 + the signal's number (130 SIGINT, 143 SIGTERM,
-/// 129 SIGHUP).
-fn interrupted_exit_code() -> i32 {
-    match SIGNAL.load(Ordering::Relaxed) {
-        0 => 130,
-        sig => 128 + sig,
-    }
 }
 
 /// Writes `text` to `path` atomically (a temporary file renamed into place).
@@ -161,6 +121,7 @@ pub fn main_with(cli: Cli) -> i32 {
 
 fn execute(cli: Cli) -> Result<i32> {
     match cli.command {
+        Command::Sweep { command } => command.execute(),
         Command::Check { scenario, sets } => {
             let s = Scenario::load(&scenario, &sets)?;
             // Also resolve the scene (placement, grid, mask) without running it.
@@ -210,13 +171,13 @@ fn execute(cli: Cli) -> Result<i32> {
         } => {
             let s = Scenario::load(&scenario, &sets)?;
             print_advisories(&s);
-            install_signal_handlers();
+            signals::install();
             let result = run(
                 &s,
                 RunOptions {
                     rrd,
                     sink: None,
-                    interrupt: Some(interrupt_flag()),
+                    interrupt: Some(signals::stop_flag()),
                     progress: !quiet,
                 },
             )?;
@@ -238,7 +199,7 @@ fn execute(cli: Cli) -> Result<i32> {
             }
             Ok(match result.ending {
                 Ending::Completed | Ending::EventLimit => 0,
-                Ending::Interrupted => interrupted_exit_code(),
+                Ending::Interrupted => signals::exit_code(),
             })
         }
     }

@@ -12,6 +12,7 @@
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and
 //!   [`accuracy`]: what accuracy costs in time (error against the exact engine vs cost);
 //! - [`scenario`], [`placement`]: the scene description and the initial state;
+//! - [`sweep`]: parameter sweeps and seed ensembles, locally and on Slurm, and their table.
 //!
 //! The brute-force reference engine the tests compare against lives with the tests
 //! (`tests/common/reference.rs`).
@@ -31,8 +32,10 @@ pub mod run;
 pub mod scenario;
 pub mod scheduler;
 pub mod schemes;
+pub mod signals;
 pub mod simulation;
 pub mod summary;
+pub mod sweep;
 
 pub use error::{Error, Result};
 pub use scenario::Scenario;

@@ -1,0 +1,51 @@
+//! Signals that stop a run: SIGINT (Ctrl-C), SIGTERM (a batch system at its time limit) and
+//! SIGHUP (a closed terminal) all set one stop flag, which the engines and the drivers watch; the
+//! run then ends cleanly (summary marked interrupted, recording closed, checkpoint written).
+
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::{Arc, LazyLock};
+
+/// Set by SIGINT, SIGTERM or SIGHUP: the run stops at the next event (or stop) and ends cleanly.
+static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
+
+/// The signal that stopped the run (0: none).
+static SIGNAL: LazyLock<Arc<AtomicI32>> = LazyLock::new(|| Arc::new(AtomicI32::new(0)));
+
+/// Handles SIGINT (Ctrl-C), SIGTERM (batch systems at their time limit) and SIGHUP (a closed
+/// terminal) alike: the first asks the run to stop cleanly; a second SIGINT ends the process at
+/// once (exit 130), for a user who does not want to wait.
+pub fn install() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    for sig in [SIGINT, SIGTERM, SIGHUP] {
+        if sig == SIGINT {
+            // Registered first, so it sees the flag as it was before this signal.
+            let _ = signal_hook::flag::register_conditional_shutdown(
+                sig,
+                130,
+                Arc::clone(&INTERRUPTED),
+            );
+        }
+        let _ = signal_hook::flag::register(sig, Arc::clone(&INTERRUPTED));
+        let which = Arc::clone(&SIGNAL);
+        // SAFETY: the action only stores into an atomic, which is async-signal-safe.
+        let _ = unsafe {
+            signal_hook::low_level::register(sig, move || {
+                which.store(sig, Ordering::Relaxed);
+            })
+        };
+    }
+}
+
+/// The flag the engine watches, as a `'static` reference.
+pub fn stop_flag() -> &'static AtomicBool {
+    &INTERRUPTED
+}
+
+/// Exit code of an interrupted run: 128 + the signal's number (130 SIGINT, 143 SIGTERM,
+/// 129 SIGHUP).
+pub fn exit_code() -> i32 {
+    match SIGNAL.load(Ordering::Relaxed) {
+        0 => 130,
+        sig => 128 + sig,
+    }
+}

@@ -1,0 +1,382 @@
+//! `vibrobed sweep plan|run|slurm|task|collect`: the sweep subcommands of the command line.
+
+use crate::error::{Error, Result};
+use crate::summary::Ending;
+use crate::sweep::collect::collect;
+use crate::sweep::fit::{power_law, PowerFit};
+use crate::sweep::local::{
+    check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan,
+};
+use crate::sweep::plan::{expand, point_label};
+use crate::sweep::plot::{draw, Panel};
+use crate::sweep::slurm::{script, submit, SlurmOptions};
+use clap::{Subcommand, ValueEnum};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// What to do with a sweep.
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// List the runs of a sweep file (index, point, seed, overrides, output folder) and check
+    /// every derived scenario as `check` does, without running anything.
+    Plan {
+        /// The sweep file (JSON).
+        sweep: PathBuf,
+        /// Show the output folders under this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run the sweep on this machine: each run writes DIR/<index>/summary.json (and profiles.csv
+    /// for gravity scenes); a rerun skips completed runs.
+    Run {
+        /// The sweep file (JSON).
+        sweep: PathBuf,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Worker threads (default: all cores).
+        #[arg(long, short)]
+        jobs: Option<usize>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Write DIR/sweep.sbatch, a Slurm job array with one task per run, and submit it with
+    /// --submit (prints the job id).
+    Slurm {
+        /// The sweep file (JSON).
+        sweep: PathBuf,
+        /// Output directory (the tasks write their runs here).
+        #[arg(long)]
+        out: PathBuf,
+        /// Slurm partition.
+        #[arg(long)]
+        partition: Option<String>,
+        /// Time limit of each task, e.g. 01:30:00.
+        #[arg(long)]
+        time: Option<String>,
+        /// At most this many tasks at once.
+        #[arg(long)]
+        array_max: Option<usize>,
+        /// A further sbatch option for the script, e.g. --sbatch=--mem=2G (repeatable).
+        #[arg(long = "sbatch", value_name = "OPTION", allow_hyphen_values = true)]
+        sbatch: Vec<String>,
+        /// Submit the script with sbatch and print the job id.
+        #[arg(long)]
+        submit: bool,
+    },
+    /// Run one run of the sweep (what each Slurm array task does).
+    Task {
+        /// The sweep file (JSON).
+        sweep: PathBuf,
+        /// The run's index.
+        #[arg(long)]
+        index: usize,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Gather the runs' summaries under DIR into DIR/runs.csv and DIR/points.csv; with --x and
+    /// --y, plot the fields' means (± standard error) against an axis into an SVG file.
+    Collect {
+        /// The sweep's output directory.
+        dir: PathBuf,
+        /// Axis of the plot: a key of the sweep's axes, or drive.amplitude, drive.frequency,
+        /// drive.gamma, drive.peak_velocity (Aω) for a vibrating floor.
+        #[arg(long)]
+        x: Option<String>,
+        /// Summary field to plot (repeatable: one panel each), e.g. temperature.mean.
+        #[arg(long)]
+        y: Vec<String>,
+        /// Fit each plotted field against x: `power` fits y = c·x^δ (log–log least squares).
+        #[arg(long, value_enum)]
+        fit: Option<Fit>,
+        /// Logarithmic x and y axes.
+        #[arg(long)]
+        log: bool,
+        /// Where to write the plot (default DIR/plot.svg).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+}
+
+/// Fits offered by `sweep collect --fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Fit {
+    /// y = c·x^δ by least squares on log–log axes; δ with its standard error.
+    Power,
+}
+
+/// An absolute path for `path` (the Slurm script's tasks run elsewhere).
+fn absolute(path: &Path) -> Result<PathBuf> {
+    std::path::absolute(path)
+        .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))
+}
+
+fn io<'a>(path: &'a Path, what: &'a str) -> impl Fn(std::io::Error) -> Error + 'a {
+    move |e| Error::Io(format!("cannot {what} {}: {e}", path.display()))
+}
+
+impl SweepCommand {
+    /// Runs the subcommand; returns the exit code (errors carry theirs).
+    pub fn execute(self) -> Result<i32> {
+        match self {
+            SweepCommand::Plan { sweep, out } => {
+                let exp = expand(&sweep)?;
+                exp.check_scenes()?;
+                print!("{}", exp.plan.listing(out.as_deref()));
+                eprintln!(
+                    "{}: ok ({} runs checked)",
+                    sweep.display(),
+                    exp.plan.runs.len()
+                );
+                Ok(0)
+            }
+            SweepCommand::Run {
+                sweep,
+                out,
+                jobs,
+                quiet,
+            } => {
+                if jobs == Some(0) {
+                    return Err(Error::input("--jobs", "must be at least 1"));
+                }
+                let exp = expand(&sweep)?;
+                exp.check_scenes()?;
+                let jobs = jobs
+                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+                crate::signals::install();
+                let report = run_pool(&exp, &out, jobs, !quiet)?;
+                let n = exp.plan.runs.len();
+                let not_started =
+                    n - report.skipped - report.ran - report.failed.len() - report.interrupted;
+                eprintln!(
+                    "sweep {}: {} runs: {} ran now, {} done before{}{}{} ({})",
+                    exp.plan.name,
+                    n,
+                    report.ran,
+                    report.skipped,
+                    if report.failed.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", {} failed", report.failed.len())
+                    },
+                    if report.interrupted + not_started > 0 {
+                        format!(
+                            ", {} interrupted, {} not started",
+                            report.interrupted, not_started
+                        )
+                    } else {
+                        String::new()
+                    },
+                    if jobs > 1 {
+                        format!(", {jobs} workers")
+                    } else {
+                        ", 1 worker".into()
+                    },
+                    out.display()
+                );
+                if crate::signals::stop_flag().load(Ordering::Relaxed) {
+                    return Ok(crate::signals::exit_code());
+                }
+                if let Some((i, first)) = report.failed.first() {
+                    return Err(Error::Runtime(format!(
+                        "{} of {n} runs failed (their folders hold error.txt); run {i}: {first}",
+                        report.failed.len()
+                    )));
+                }
+                Ok(0)
+            }
+            SweepCommand::Task { sweep, index, out } => {
+                let exp = expand(&sweep)?;
+                let n = exp.plan.runs.len();
+                if index >= n {
+                    return Err(Error::input(
+                        "--index",
+                        format!("the sweep has {n} runs (0 to {})", n.saturating_sub(1)),
+                    ));
+                }
+                write_plan(&exp.plan, &out)?;
+                if is_done(&out, index) {
+                    eprintln!("run {index}: already completed");
+                    return Ok(0);
+                }
+                crate::signals::install();
+                let spec = &exp.plan.runs[index];
+                let ending = run_one(&exp.plan, spec, &exp.scenarios[index], &out)?;
+                eprintln!(
+                    "run {index} (point {}: {}, seed {}): {}",
+                    spec.point,
+                    point_label(&exp.plan.axes, &spec.values),
+                    spec.seed
+                        .map_or("of the scenario".into(), |s| s.to_string()),
+                    ending_word(ending)
+                );
+                Ok(if ending == Ending::Interrupted {
+                    130
+                } else {
+                    0
+                })
+            }
+            SweepCommand::Slurm {
+                sweep,
+                out,
+                partition,
+                time,
+                array_max,
+                sbatch,
+                submit: submit_it,
+            } => {
+                let exp = expand(&sweep)?;
+                exp.check_scenes()?;
+                let out = absolute(&out)?;
+                let exe = std::env::current_exe()
+                    .map_err(|e| Error::Io(format!("cannot find this program's path: {e}")))?;
+                let opts = SlurmOptions {
+                    partition,
+                    time,
+                    array_max,
+                    extra: sbatch,
+                };
+                // Only the runs not completed yet (all of them the first time).
+                check_plan(&exp.plan, &out)?;
+                let pending: Vec<usize> = (0..exp.plan.runs.len())
+                    .filter(|&i| !is_done(&out, i))
+                    .collect();
+                let n = exp.plan.runs.len();
+                if pending.is_empty() {
+                    eprintln!(
+                        "all {n} runs are completed in {}: nothing to submit",
+                        out.display()
+                    );
+                    return Ok(0);
+                }
+                let text = script(&exp.plan, &pending, &exe, &out, &opts)?;
+                write_plan(&exp.plan, &out)?;
+                let logs = out.join("slurm");
+                std::fs::create_dir_all(&logs).map_err(io(&logs, "create"))?;
+                let path = out.join("sweep.sbatch");
+                write_atomic(&path, &text)?;
+                eprintln!(
+                    "wrote {} ({} array tasks{})",
+                    path.display(),
+                    pending.len(),
+                    if pending.len() < n {
+                        format!("; {} of {n} runs are completed already", n - pending.len())
+                    } else {
+                        String::new()
+                    }
+                );
+                if submit_it {
+                    let id = submit(&path)?;
+                    println!("{id}");
+                }
+                Ok(0)
+            }
+            SweepCommand::Collect {
+                dir,
+                x,
+                y,
+                fit,
+                log,
+                plot,
+            } => collect_command(&dir, x, y, fit, log, plot),
+        }
+    }
+}
+
+fn collect_command(
+    dir: &Path,
+    x: Option<String>,
+    ys: Vec<String>,
+    fit: Option<Fit>,
+    log: bool,
+    plot: Option<PathBuf>,
+) -> Result<i32> {
+    let c = collect(dir)?;
+    let x = match (x, ys.is_empty()) {
+        (Some(x), false) => Some(x),
+        (None, true) if fit.is_none() && plot.is_none() && !log => None,
+        (None, _) => return Err(Error::input("--x", "needed to plot or fit (with --y)")),
+        (Some(_), true) => return Err(Error::input("--y", "needed with --x")),
+    };
+    // Check the plot's fields before writing anything.
+    let series = match &x {
+        Some(x) => ys
+            .iter()
+            .map(|y| c.series(x, y))
+            .collect::<Result<Vec<_>>>()?,
+        None => Vec::new(),
+    };
+    c.write_tables(dir)?;
+    eprintln!(
+        "{}: {} runs ({}); wrote runs.csv, points.csv",
+        dir.display(),
+        c.runs.len(),
+        c.endings()
+    );
+    let Some(x) = x else { return Ok(0) };
+    let fits: Vec<Option<PowerFit>> = series
+        .iter()
+        .map(|s| match fit {
+            Some(Fit::Power) => {
+                power_law(&s.iter().map(|(x, st)| (*x, st.mean)).collect::<Vec<_>>())
+            }
+            None => None,
+        })
+        .collect();
+    if fit.is_some() {
+        let mut json = serde_json::Map::new();
+        for (y, f) in ys.iter().zip(&fits) {
+            match f {
+                Some(f) => {
+                    println!(
+                        "{y} = c·({x})^δ: δ = {:.4}{}, c = {:.4} ({} points, log–log least squares)",
+                        f.exponent,
+                        f.exponent_se.map_or(" (no error with two points)".into(), |se| format!(" ± {se:.4}")),
+                        f.prefactor,
+                        f.points
+                    );
+                    json.insert(y.clone(), serde_json::to_value(f).expect("fit serialises"));
+                }
+                None => println!("{y}: no fit (it needs two points with positive x and y)"),
+            }
+        }
+        let text = serde_json::to_string_pretty(&serde_json::json!({ "x": x, "power_law": json }))
+            .expect("fit serialises")
+            + "\n";
+        write_atomic(&dir.join("fit.json"), &text)?;
+    }
+    let panels: Vec<Panel> = ys
+        .iter()
+        .zip(&series)
+        .zip(&fits)
+        .map(|((y, s), f)| Panel {
+            field: y,
+            series: s,
+            fit: *f,
+        })
+        .collect();
+    let path = plot.unwrap_or_else(|| dir.join("plot.svg"));
+    let x_label = match x.as_str() {
+        "drive.amplitude" => format!("{x} (A)"),
+        "drive.frequency" => format!("{x} (f)"),
+        "drive.gamma" => format!("{x} (Γ = Aω²/g)"),
+        "drive.peak_velocity" => format!("{x} (Aω)"),
+        _ => x.clone(),
+    };
+    draw(
+        &path,
+        &format!(
+            "sweep {}: against {x} ({} seeds per point)",
+            c.plan.name,
+            c.plan.seeds_per_point()
+        ),
+        &x_label,
+        &panels,
+        log,
+        log,
+    )?;
+    eprintln!("wrote {}", path.display());
+    Ok(0)
+}

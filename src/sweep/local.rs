@@ -1,0 +1,236 @@
+//! Running a sweep's runs: one run into its folder (shared by `sweep run` and a Slurm task), and
+//! a pool of worker threads over the runs not yet done.
+//!
+//! A run writes `DIR/<index>/profiles.csv` (gravity scenes), then `summary.json` (each to a
+//! temporary name renamed into place), and `recording.rrd` when the sweep records. The summary
+//! comes last, so a summary that says `"ending": "completed"` means the run is complete: a rerun
+//! skips it. Runs that were interrupted, failed or never started are run again from the start.
+//! The engine is deterministic given the scenario and its seed, so run i gives the same result
+//! whichever worker runs it and in whatever order.
+
+use crate::error::{Error, Result};
+use crate::run::{run, RunOptions};
+use crate::scenario::Scenario;
+use crate::summary::Ending;
+use crate::sweep::plan::{Expanded, Plan, RunSpec};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Writes `text` to `path` through a temporary file renamed into place.
+pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    let tmp = temp_name(path);
+    std::fs::write(&tmp, text)
+        .and_then(|_| std::fs::rename(&tmp, path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            Error::Io(format!("cannot write {}: {e}", path.display()))
+        })
+}
+
+/// A temporary name beside `path`, unique to this process.
+fn temp_name(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy());
+    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
+}
+
+/// Output folder of run `index`.
+pub fn run_dir(out: &Path, index: usize) -> PathBuf {
+    out.join(index.to_string())
+}
+
+/// Whether run `index` has a complete summary (`"ending": "completed"`, or `"event-limit"`,
+/// which a rerun would only repeat).
+pub fn is_done(out: &Path, index: usize) -> bool {
+    let path = run_dir(out, index).join("summary.json");
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return false;
+    };
+    let Ok(summary) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return false;
+    };
+    matches!(
+        summary.get("ending").and_then(|e| e.as_str()),
+        Some("completed" | "event-limit")
+    )
+}
+
+/// Writes `DIR/plan.json`, or checks that the one already there is the same sweep (the same
+/// runs with the same overrides), so that a folder never mixes two sweeps.
+pub fn write_plan(plan: &Plan, out: &Path) -> Result<()> {
+    if check_plan(plan, out)? {
+        return Ok(());
+    }
+    std::fs::create_dir_all(out)
+        .map_err(|e| Error::Io(format!("cannot create {}: {e}", out.display())))?;
+    write_atomic(&out.join("plan.json"), &plan.to_json())
+}
+
+/// Checks that `DIR/plan.json`, if there is one, is the same sweep as `plan` (the same runs
+/// with the same overrides); returns whether it is there and identical.
+pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
+    let path = out.join("plan.json");
+    if path.exists() {
+        let old = Plan::read(out)?;
+        let same = old.runs.len() == plan.runs.len()
+            && old
+                .runs
+                .iter()
+                .zip(&plan.runs)
+                .all(|(a, b)| a.sets == b.sets);
+        if !same {
+            return Err(Error::input(
+                "--out",
+                format!(
+                    "{} holds the results of a different sweep (its plan.json differs); \
+                     choose another folder",
+                    out.display()
+                ),
+            ));
+        }
+        return Ok(old == *plan);
+    }
+    Ok(false)
+}
+
+/// Runs one run into `DIR/<index>/` and returns how it ended. A runtime failure leaves
+/// `error.txt` (and no summary) in the run's folder.
+pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> Result<Ending> {
+    let dir = run_dir(out, spec.index);
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| Error::Io(format!("cannot create {}: {e}", dir.display())))?;
+    let summary_path = dir.join("summary.json");
+    let error_path = dir.join("error.txt");
+    let _ = std::fs::remove_file(&error_path);
+    let rrd = dir.join("recording.rrd");
+    let rrd_tmp = dir.join(format!(".recording.{}.partial.rrd", std::process::id()));
+    let result = run(
+        scenario,
+        RunOptions {
+            rrd: plan.record.then(|| rrd_tmp.clone()),
+            interrupt: Some(crate::signals::stop_flag()),
+            progress: false,
+            ..Default::default()
+        },
+    );
+    let summary = match result {
+        Ok(summary) => summary,
+        Err(e) => {
+            let _ = std::fs::remove_file(&summary_path);
+            let _ = std::fs::remove_file(&rrd_tmp);
+            let _ = std::fs::write(&error_path, format!("{e}\n"));
+            return Err(e);
+        }
+    };
+    if plan.record {
+        std::fs::rename(&rrd_tmp, &rrd)
+            .map_err(|e| Error::Io(format!("cannot write {}: {e}", rrd.display())))?;
+    }
+    if let Some(p) = &summary.profiles {
+        write_atomic(&dir.join("profiles.csv"), &p.to_csv())?;
+    }
+    write_atomic(&summary_path, &summary.to_json())?;
+    Ok(summary.ending)
+}
+
+/// How a run ended, in words.
+pub fn ending_word(ending: Ending) -> &'static str {
+    match ending {
+        Ending::Completed => "completed",
+        Ending::Interrupted => "interrupted",
+        Ending::EventLimit => "stopped at the event limit",
+    }
+}
+
+/// How a pool of runs went.
+#[derive(Debug, Default)]
+pub struct PoolReport {
+    /// Runs completed now.
+    pub ran: usize,
+    /// Runs skipped because an earlier invocation completed them.
+    pub skipped: usize,
+    /// Runs that failed: index and message.
+    pub failed: Vec<(usize, String)>,
+    /// Runs stopped by Ctrl-C (their summaries say so).
+    pub interrupted: usize,
+}
+
+/// Runs every run of the plan that is not done yet on `jobs` worker threads, with a progress bar
+/// over runs on stderr when `progress` (hidden when stderr is not a terminal).
+pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Result<PoolReport> {
+    write_plan(&exp.plan, out)?;
+    let runs = &exp.plan.runs;
+    let pending: Vec<usize> = (0..runs.len()).filter(|&i| !is_done(out, i)).collect();
+    let mut report = PoolReport {
+        skipped: runs.len() - pending.len(),
+        ..Default::default()
+    };
+    let bar = if progress {
+        indicatif::ProgressBar::new(runs.len() as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs (eta {eta}) {msg}",
+        )
+        .expect("valid template"),
+    );
+    bar.set_position(report.skipped as u64);
+    if report.skipped > 0 {
+        bar.set_message(format!("{} done before", report.skipped));
+    }
+    let next = AtomicUsize::new(0);
+    let outcomes: Mutex<Vec<(usize, Result<Ending>)>> = Mutex::new(Vec::new());
+    let jobs = jobs.clamp(1, pending.len().max(1));
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            let worker = || loop {
+                if crate::signals::stop_flag().load(Ordering::Relaxed) {
+                    break;
+                }
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&i) = pending.get(k) else { break };
+                let outcome = run_one(&exp.plan, &runs[i], &exp.scenarios[i], out);
+                bar.inc(1);
+                let line = match &outcome {
+                    Err(e) => Some(format!("vibrobed: run {i} failed: {e}")),
+                    // Without a terminal (a log file), one line per run instead of the bar.
+                    Ok(ending) if progress && bar.is_hidden() => Some(format!(
+                        "run {i}: {} ({}/{} runs)",
+                        ending_word(*ending),
+                        bar.position(),
+                        runs.len()
+                    )),
+                    Ok(_) => None,
+                };
+                match line {
+                    Some(line) if bar.is_hidden() => eprintln!("{line}"),
+                    Some(line) => bar.println(line),
+                    None => {}
+                }
+                outcomes
+                    .lock()
+                    .expect("no worker panics")
+                    .push((i, outcome));
+            };
+            std::thread::Builder::new()
+                .stack_size(16 << 20)
+                .spawn_scoped(scope, worker)
+                .expect("a worker thread starts");
+        }
+    });
+    bar.finish_and_clear();
+    let mut outcomes = outcomes.into_inner().expect("no worker panics");
+    outcomes.sort_by_key(|(i, _)| *i);
+    for (i, outcome) in outcomes {
+        match outcome {
+            Ok(Ending::Interrupted) => report.interrupted += 1,
+            Ok(_) => report.ran += 1,
+            Err(e) => report.failed.push((i, e.to_string())),
+        }
+    }
+    Ok(report)
+}

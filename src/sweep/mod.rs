@@ -1,0 +1,17 @@
+//! Parameter sweeps and seed ensembles: many runs of one scenario with `--set`-style overrides,
+//! on the cores of this machine or as a Slurm job array, collected into one table.
+//!
+//! - [`plan`]: the sweep file and its expansion into runs (checked before anything runs);
+//! - [`local`]: one run into its folder, and the pool of worker threads (`sweep run`);
+//! - [`slurm`]: the job-array script and its submission (`sweep slurm`, `sweep task`);
+//! - [`collect`]: `runs.csv` and `points.csv` (`sweep collect`), with [`fit`] (power law) and
+//!   [`plot`] (SVG with error bars);
+//! - [`command`]: the `vibrobed sweep …` subcommands.
+
+pub mod collect;
+pub mod command;
+pub mod fit;
+pub mod local;
+pub mod plan;
+pub mod plot;
+pub mod slurm;
