@@ -4,8 +4,10 @@
 use crate::dynamics::{Ballistic, Flight, Straight};
 use crate::error::{Error, Result};
 use crate::measure::{Observables, Profiles};
-use crate::output::frame::FrameView;
-use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, YBoundary};
+use crate::output::frame::{FrameView, SceneLayout};
+use crate::output::progress::{ProgressMode, ProgressReport};
+use crate::output::trajectory::TrajectoryWriter;
+use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, XBoundary, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
 use crate::simulation::{Progress, Scene, Simulation, Snapshot};
 use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary, Temperature};
@@ -28,11 +30,13 @@ pub trait FrameSink {
 pub struct RunOptions {
     /// Record frames to this .rrd file (overrides `output.rrd`).
     pub rrd: Option<PathBuf>,
+    /// Write an extended XYZ trajectory to this file (overrides `output.trajectory`).
+    pub trajectory: Option<PathBuf>,
     /// Frame sink to use instead of a recording (tests).
     pub sink: Option<Box<dyn FrameSink>>,
     /// Stop at the next event once this flag is set.
     pub interrupt: Option<&'static AtomicBool>,
-    /// Show a progress bar on stderr (hidden when stderr is not a terminal).
+    /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
     pub progress: bool,
 }
 
@@ -94,15 +98,45 @@ fn run_with<F: Flight>(
     }
 }
 
+/// The fixed geometry of the scene, as the recording and the trajectory draw it.
+fn scene_layout(s: &Scenario, disks: &crate::disks::Disks) -> SceneLayout {
+    SceneLayout {
+        name: s.name.clone(),
+        width: s.domain.width,
+        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+        top: match s.domain.y_boundary {
+            YBoundary::Open => None,
+            _ => s.domain.height,
+        },
+        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
+        floor: s.floor.is_some(),
+        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
+    }
+}
+
+/// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
+fn open_trajectory(
+    s: &Scenario,
+    opts: &RunOptions,
+    disks: &crate::disks::Disks,
+) -> Result<Option<TrajectoryWriter>> {
+    let path = opts
+        .trajectory
+        .clone()
+        .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
+    path.map(|p| TrajectoryWriter::create(&p, &scene_layout(s, disks)).map_err(Error::Io))
+        .transpose()
+}
+
 #[cfg(feature = "record")]
 fn open_recording(
     path: &std::path::Path,
     s: &Scenario,
     disks: &crate::disks::Disks,
 ) -> Result<Box<dyn FrameSink>> {
-    use crate::output::frame::{ColorBy, SceneLayout};
+    use crate::output::frame::ColorBy;
     use crate::output::recording::RerunRecorder;
-    use crate::scenario::{ColorChoice, XBoundary};
+    use crate::scenario::ColorChoice;
 
     struct Sink(RerunRecorder);
     impl FrameSink for Sink {
@@ -117,18 +151,7 @@ fn open_recording(
         }
     }
 
-    let layout = SceneLayout {
-        name: s.name.clone(),
-        width: s.domain.width,
-        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
-        top: match s.domain.y_boundary {
-            YBoundary::Open => None,
-            _ => s.domain.height,
-        },
-        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
-        floor: s.floor.is_some(),
-        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
-    };
+    let layout = scene_layout(s, disks);
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
@@ -203,16 +226,15 @@ fn drive<E: Integrator>(
         });
         Profiles::new(s.output.profile_bins, bottom, top, s.domain.width)
     });
-    let bar = opts.progress.then(|| {
-        let bar = indicatif::ProgressBar::new(1000);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:40} {percent}% sim time {msg}",
-            )
-            .expect("valid template"),
-        );
-        bar
-    });
+    let mut trajectory = open_trajectory(s, opts, sim.disks())?;
+    let trajectory_dt = s.output.trajectory_interval.unwrap_or(frame_dt);
+    let mut k_trajectory = 0u64;
+    let progress = ProgressReport::start(
+        ProgressMode::for_stderr(opts.progress),
+        &s.name,
+        n,
+        duration,
+    );
     if let Some(sink) = sink.as_mut() {
         sink.log_text(
             0.0,
@@ -226,6 +248,14 @@ fn drive<E: Integrator>(
     let mut last_frame_collisions = 0u64;
     let clock = Instant::now();
     let ending = loop {
+        // The stop flag is also looked at between stops: a run with dense frames or samples
+        // can spend its time there rather than in the engine.
+        if opts
+            .interrupt
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+        {
+            break Ending::Interrupted;
+        }
         let t_sample = frame_time(k_sample, sample_dt, duration);
         let t_frame = if sink.is_some() {
             frame_time(k_frame, frame_dt, duration)
@@ -237,7 +267,16 @@ fn drive<E: Integrator>(
         } else {
             f64::INFINITY
         };
-        let t = t_sample.min(t_frame).min(t_window).min(duration);
+        let t_trajectory = if trajectory.is_some() {
+            frame_time(k_trajectory, trajectory_dt, duration)
+        } else {
+            f64::INFINITY
+        };
+        let t = t_sample
+            .min(t_frame)
+            .min(t_window)
+            .min(t_trajectory)
+            .min(duration);
         match sim.advance_to(t)? {
             Progress::Reached => {}
             Progress::EventLimit => break Ending::EventLimit,
@@ -303,25 +342,42 @@ fn drive<E: Integrator>(
                 })?;
             }
         }
-        if let Some(bar) = &bar {
-            bar.set_position((1000.0 * t / duration) as u64);
-            bar.set_message(format!("{t:.4}"));
+        if t == t_trajectory {
+            k_trajectory += 1;
+            if let Some(w) = trajectory.as_mut() {
+                let d = sim.disks();
+                w.frame(&FrameView {
+                    index: k_trajectory - 1,
+                    time: t,
+                    x: &snap.x,
+                    y: &snap.y,
+                    vx: &snap.vx,
+                    vy: &snap.vy,
+                    radius: &d.radius,
+                    species: &d.species,
+                    floor_height: snap.floor_height,
+                    series: &[],
+                })
+                .map_err(Error::Io)?;
+            }
         }
+        progress.update(t, sim.counts().collisions());
         if t >= duration {
             break Ending::Completed;
         }
     };
     let wall = clock.elapsed().as_secs_f64();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
     let end_time = if ending == Ending::Completed {
         duration
     } else {
         sim.time()
     };
     sim.snapshot_into(end_time, &mut snap);
+    progress.finish(ending, end_time, sim.counts().collisions());
     let last = Observables::of(&snap, sim.disks(), g);
+    if let Some(w) = trajectory {
+        w.finish().map_err(Error::Io)?;
+    }
     if let Some(mut sink) = sink {
         let note = match ending {
             Ending::Completed => "run completed".to_string(),

@@ -324,6 +324,12 @@ pub struct Output {
     /// Colour disks in the recording by `speed` or `species`.
     #[serde(default)]
     pub color_by: ColorChoice,
+    /// Write a trajectory (extended XYZ) to this file. Absent: no trajectory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<String>,
+    /// Simulated time between trajectory frames (default: the frame interval).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory_interval: Option<f64>,
 }
 
 impl Default for Output {
@@ -335,6 +341,8 @@ impl Default for Output {
             profile_height: None,
             rrd: None,
             color_by: ColorChoice::Speed,
+            trajectory: None,
+            trajectory_interval: None,
         }
     }
 }
