@@ -60,11 +60,12 @@ fn sink_for(
     sink: Option<Box<dyn FrameSink>>,
     rrd: Option<PathBuf>,
     s: &Scenario,
+    scene: &Scene,
     disks: &crate::disks::Disks,
 ) -> Result<Option<Box<dyn FrameSink>>> {
     match (sink, rrd) {
         (Some(sink), _) => Ok(Some(sink)),
-        (None, Some(path)) => Ok(Some(open_recording(&path, s, disks)?)),
+        (None, Some(path)) => Ok(Some(open_recording(&path, s, scene, disks)?)),
         (None, None) => Ok(None),
     }
 }
@@ -82,24 +83,42 @@ fn run_with<F: Flight>(
     match s.engine.scheme {
         Scheme::EventDriven => {
             let sim = Simulation::new(flight, scene, disks)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::TimeStep => {
             let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::SpaceTime => {
             let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
     }
 }
 
-/// The fixed geometry of the scene, as the recording and the trajectory draw it.
-fn scene_layout(s: &Scenario, disks: &crate::disks::Disks) -> SceneLayout {
+/// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
+/// scale of speeds: `output.speed_scale`, else twice the floor's peak speed, else three times
+/// the initial root-mean-square speed (else 1).
+fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> SceneLayout {
+    let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
+    let n = disks.len().max(1) as f64;
+    let rms = (disks
+        .motion
+        .iter()
+        .map(|m| m.vx * m.vx + m.vy * m.vy)
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let speed_scale = s.output.speed_scale.unwrap_or(if floor_speed > 0.0 {
+        2.0 * floor_speed
+    } else if rms > 0.0 {
+        3.0 * rms
+    } else {
+        1.0
+    });
     SceneLayout {
         name: s.name.clone(),
         width: s.domain.width,
@@ -111,12 +130,14 @@ fn scene_layout(s: &Scenario, disks: &crate::disks::Disks) -> SceneLayout {
         y_periodic: s.domain.y_boundary == YBoundary::Periodic,
         floor: s.floor.is_some(),
         species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
+        speed_scale,
     }
 }
 
 /// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
 fn open_trajectory(
     s: &Scenario,
+    scene: &Scene,
     opts: &RunOptions,
     disks: &crate::disks::Disks,
 ) -> Result<Option<TrajectoryWriter>> {
@@ -124,7 +145,7 @@ fn open_trajectory(
         .trajectory
         .clone()
         .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
-    path.map(|p| TrajectoryWriter::create(&p, &scene_layout(s, disks)).map_err(Error::Io))
+    path.map(|p| TrajectoryWriter::create(&p, &scene_layout(s, scene, disks)).map_err(Error::Io))
         .transpose()
 }
 
@@ -132,6 +153,7 @@ fn open_trajectory(
 fn open_recording(
     path: &std::path::Path,
     s: &Scenario,
+    scene: &Scene,
     disks: &crate::disks::Disks,
 ) -> Result<Box<dyn FrameSink>> {
     use crate::output::frame::ColorBy;
@@ -151,7 +173,7 @@ fn open_recording(
         }
     }
 
-    let layout = scene_layout(s, disks);
+    let layout = scene_layout(s, scene, disks);
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
@@ -165,6 +187,7 @@ fn open_recording(
 fn open_recording(
     _path: &std::path::Path,
     _s: &Scenario,
+    _scene: &Scene,
     _disks: &crate::disks::Disks,
 ) -> Result<Box<dyn FrameSink>> {
     Err(Error::input(
@@ -226,7 +249,7 @@ fn drive<E: Integrator>(
         });
         Profiles::new(s.output.profile_bins, bottom, top, s.domain.width)
     });
-    let mut trajectory = open_trajectory(s, opts, sim.disks())?;
+    let mut trajectory = open_trajectory(s, scene, opts, sim.disks())?;
     let trajectory_dt = s.output.trajectory_interval.unwrap_or(frame_dt);
     let mut k_trajectory = 0u64;
     let progress = ProgressReport::start(
@@ -328,6 +351,7 @@ fn drive<E: Integrator>(
                     ("collisions_per_time", if k_frame > 1 { rate } else { 0.0 }),
                 ];
                 let d = sim.disks();
+                let profile = profiles.as_ref().map(|p| p.of_snapshot(&snap, d));
                 sink.frame(&FrameView {
                     index: k_frame - 1,
                     time: t,
@@ -339,6 +363,7 @@ fn drive<E: Integrator>(
                     species: &d.species,
                     floor_height: snap.floor_height,
                     series: &series,
+                    profile: profile.as_ref(),
                 })?;
             }
         }
@@ -357,6 +382,7 @@ fn drive<E: Integrator>(
                     species: &d.species,
                     floor_height: snap.floor_height,
                     series: &[],
+                    profile: None,
                 })
                 .map_err(Error::Io)?;
             }

@@ -86,11 +86,13 @@ fn parse(path: &Path) -> Vec<XyzFrame> {
     frames
 }
 
-/// A sink keeping copies of the frames (time, x, y, vx, vy) and optionally raising a flag at
-/// a given frame.
+/// A frame's time, x, y, vx, vy.
+type Copied = (f64, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// A sink keeping copies of the frames and optionally raising a flag at a given frame.
 #[derive(Clone, Default)]
 struct Collector {
-    frames: Arc<Mutex<Vec<(f64, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>>>,
+    frames: Arc<Mutex<Vec<Copied>>>,
     raise_at: Option<(u64, &'static AtomicBool)>,
 }
 
