@@ -251,6 +251,19 @@ fn recorded_run_reads_back_as_simulated() {
     }
     assert_eq!(c.series.len(), SERIES.len());
 
+    // The layout: the bed view spans the domain's width (30) and the profiles' heights (up to
+    // 10, y flipped), the two profile views share those heights.
+    assert_eq!(c.view_bounds.len(), 3, "{:?}", c.view_bounds);
+    let (bed, profiles): (Vec<[f64; 4]>, Vec<[f64; 4]>) =
+        c.view_bounds.iter().partition(|b| b[1] > 30.0);
+    assert_eq!(bed.len(), 1, "{:?}", c.view_bounds);
+    let bed = bed[0];
+    assert!(bed[0] < 0.0 && bed[0] > -1.0 && bed[1] < 31.0, "{bed:?}");
+    assert!(bed[2] < -10.0 && bed[2] > -11.0 && bed[3] > 0.0 && bed[3] < 1.0, "{bed:?}");
+    for p in &profiles {
+        assert!(p[2] < -10.0 && p[3] > 0.0, "{p:?}");
+    }
+
     // Live profiles: 10 bins up to height 10, one strip per frame; the packing fraction of
     // frame k integrates to the area of the disks below the top at frame k.
     assert_eq!(c.profiles["packing_fraction"].len(), FRAMES);

@@ -103,7 +103,8 @@ fn frames_read_back_equal_what_was_logged() {
 
     assert_eq!(c.application_id.as_deref(), Some("vibrobed"));
     let disks = c.entity("disks").expect("entity `disks` missing");
-    assert_eq!(disks.rows, FRAMES as usize);
+    // One row per frame, and one more at frame 0 with the radii and class ids.
+    assert_eq!(disks.rows, FRAMES as usize + 1);
     assert_eq!(disks.frames, FRAMES as usize);
     assert_eq!(c.disks.len(), FRAMES as usize);
     for (k, d) in c.disks.iter().enumerate() {

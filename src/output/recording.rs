@@ -45,9 +45,10 @@
 //! # Cost
 //!
 //! [`RerunRecorder::frame`] copies the frame into a recycled buffer and hands it to a writer
-//! thread over a bounded channel (the simulation waits only when the writer is
-//! [`QUEUE`] frames behind). The writer gathers [`BATCH`] frames and logs them column-wise
-//! (`send_columns`: one chunk per entity per batch), so that Rerun's batcher does little work.
+//! thread (started with the first frame) over a bounded channel: the simulation waits only when
+//! the writer is [`QUEUE`] frames behind (fewer for large frames, see [`QUEUE_BYTES`]). The
+//! writer gathers [`BATCH`] frames and logs them column-wise (`send_columns`: one chunk per
+//! entity per batch), so that Rerun's batcher has little left to do.
 //!
 //! # Completeness of the file
 //!
@@ -73,6 +74,7 @@ use rerun::components::{
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+use rerun::external::re_sdk_types::blueprint::components::VisualBounds2D as VisualBounds2DComponent;
 use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
 use rerun::log::{Chunk, LogMsg, TimeColumn};
 use rerun::time::{TimeCell, TimelineName};
@@ -113,10 +115,16 @@ pub const LEGEND_ENTITY: &str = "legend";
 /// Entity of the text log.
 pub const LOG_ENTITY: &str = "log";
 
-/// Frames the simulation may run ahead of the writer thread before it waits.
+/// Frames the simulation may run ahead of the writer thread before it waits (fewer for large
+/// frames: at most [`QUEUE_BYTES`] of them, and at least 2).
 pub const QUEUE: usize = 64;
-/// Frames logged together, column-wise, by the writer thread.
+/// Bytes of queued frames above which the queue is shortened.
+pub const QUEUE_BYTES: usize = 64 << 20;
+/// Frames logged together, column-wise, by the writer thread (fewer when they hold more than
+/// 2²⁰ disks together).
 pub const BATCH: usize = 32;
+/// Disk positions gathered at most before a batch is logged.
+const BATCH_POINTS: usize = 1 << 20;
 
 /// Colours of species 0, 1, … (cycled), also used for the annotation context.
 const SPECIES_PALETTE: [[u8; 3]; 10] = [
@@ -256,9 +264,11 @@ enum Msg {
 /// Streams a simulation to a Rerun `.rrd` file. See the [module documentation](self) for the
 /// file layout. Only compiled with the `record` feature.
 pub struct RerunRecorder {
+    /// The writer before the first frame (it then moves to its thread).
+    pending: Option<Writer>,
     tx: Option<SyncSender<Msg>>,
     /// Buffers the writer is done with.
-    recycled: Receiver<Box<FrameBuf>>,
+    recycled: Option<Receiver<Box<FrameBuf>>>,
     worker: Option<JoinHandle<Result<(), String>>>,
     layout: SceneLayout,
     color_by: ColorBy,
@@ -297,24 +307,43 @@ impl RerunRecorder {
             batch: Batch::default(),
         };
         writer.log_static_scene()?;
-        let (tx, rx) = mpsc::sync_channel::<Msg>(QUEUE);
-        let (recycle_tx, recycled) = mpsc::channel();
-        let worker = std::thread::Builder::new()
-            .name("vibrobed-rrd".into())
-            .spawn(move || writer.run(rx, recycle_tx))
-            .map_err(|e| err("cannot start the writer thread", e))?;
         Ok(Self {
-            tx: Some(tx),
-            recycled,
-            worker: Some(worker),
+            pending: Some(writer),
+            tx: None,
+            recycled: None,
+            worker: None,
             layout: layout.clone(),
             color_by,
         })
     }
 
-    /// Hands `msg` to the writer; when the writer has stopped (after an error), returns its
-    /// error.
+    /// Starts the writer thread, with a queue sized for frames of `disks` disks.
+    fn start(&mut self, disks: usize) -> Result<(), String> {
+        let Some(writer) = self.pending.take() else {
+            return Ok(());
+        };
+        let frame_bytes = 6 * 8 * disks + 1;
+        let (tx, rx) = mpsc::sync_channel::<Msg>((QUEUE_BYTES / frame_bytes).clamp(2, QUEUE));
+        let (recycle_tx, recycled) = mpsc::channel();
+        let worker = std::thread::Builder::new()
+            .name("vibrobed-rrd".into())
+            .spawn(move || writer.run(rx, recycle_tx))
+            .map_err(|e| err("cannot start the writer thread", e))?;
+        self.tx = Some(tx);
+        self.recycled = Some(recycled);
+        self.worker = Some(worker);
+        Ok(())
+    }
+
+    /// Hands `msg` to the writer (on this thread before the first frame); when the writer has
+    /// stopped (after an error), returns its error.
     fn send(&mut self, msg: Msg) -> Result<(), String> {
+        if let Some(writer) = self.pending.as_mut() {
+            return match msg {
+                Msg::Text { time, level, text } => writer.text(time, &level, &text),
+                Msg::Frame(_) => Err(err("send", "the writer thread was not started")),
+            };
+        }
         let sent = self
             .tx
             .as_ref()
@@ -330,8 +359,12 @@ impl RerunRecorder {
         Ok(())
     }
 
-    /// Closes the queue and waits for the writer thread, which completes the file.
+    /// Closes the queue and waits for the writer thread, which completes the file (or, before
+    /// the first frame, completes it on this thread).
     fn join(&mut self) -> Result<(), String> {
+        if let Some(mut writer) = self.pending.take() {
+            return writer.close();
+        }
         self.tx = None;
         match self.worker.take() {
             Some(worker) => worker
@@ -366,7 +399,12 @@ impl RerunRecorder {
                 n
             ));
         }
-        let mut buf = self.recycled.try_recv().unwrap_or_default();
+        self.start(n)?;
+        let mut buf = self
+            .recycled
+            .as_ref()
+            .and_then(|r| r.try_recv().ok())
+            .unwrap_or_default();
         buf.fill(f);
         self.send(Msg::Frame(buf))
     }
@@ -676,7 +714,7 @@ impl Writer {
         for &(name, value) in &f.series {
             b.series.entry(name).or_default().push(index, t, value);
         }
-        if b.disks.values.len() >= BATCH {
+        if b.disks.values.len() >= BATCH || b.positions.len() >= BATCH_POINTS {
             self.flush_batch()?;
         }
         Ok(())
@@ -1183,6 +1221,9 @@ pub struct RecordingContents {
     pub log: Vec<LogLine>,
     /// Whether a blueprint (with its activation command) is in the file.
     pub has_blueprint: bool,
+    /// Visual bounds `[x0, x1, y0, y1]` the blueprint gives its 2D views (in the views'
+    /// coordinates: y downwards, so heights are negated), in file order.
+    pub view_bounds: Vec<[f64; 4]>,
     /// Whether the file ends with a footer holding the manifest of the recording store, i.e. the
     /// stream was closed properly.
     pub has_footer: bool,
@@ -1261,11 +1302,20 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
             }
             LogMsg::ArrowMsg(store_id, arrow_msg) => (store_id, arrow_msg),
         };
-        if !store_id.is_recording() {
-            continue;
-        }
         let chunk = Chunk::from_arrow_msg(&arrow_msg)
             .map_err(|e| format!("decoding a chunk of {}: {e}", path.display()))?;
+        if !store_id.is_recording() {
+            if entity_name(&chunk).ends_with("/VisualBounds2D") {
+                let id = VisualBounds2D::descriptor_range().component;
+                for v in chunk.iter_component::<VisualBounds2DComponent>(id) {
+                    for b in v.iter() {
+                        let (x, y) = (b.0.x_range.0, b.0.y_range.0);
+                        out.view_bounds.push([x[0], x[1], y[0], y[1]]);
+                    }
+                }
+            }
+            continue;
+        }
         let entity = entity_name(&chunk);
         if chunk.is_static() {
             out.static_entities.insert(entity);
