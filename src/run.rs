@@ -100,8 +100,8 @@ fn run_with<F: Flight>(
 }
 
 /// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
-/// scale of speeds: `output.speed_scale`, else twice the floor's peak speed, else three times
-/// the initial root-mean-square speed (else 1).
+/// scale of speeds: `output.speed_scale`, else three times the floor's peak speed, else three
+/// times the initial root-mean-square speed (else 1).
 fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> SceneLayout {
     let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
     let n = disks.len().max(1) as f64;
@@ -113,7 +113,7 @@ fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> Sce
         / n)
         .sqrt();
     let speed_scale = s.output.speed_scale.unwrap_or(if floor_speed > 0.0 {
-        2.0 * floor_speed
+        3.0 * floor_speed
     } else if rms > 0.0 {
         3.0 * rms
     } else {

@@ -259,7 +259,10 @@ fn recorded_run_reads_back_as_simulated() {
     assert_eq!(bed.len(), 1, "{:?}", c.view_bounds);
     let bed = bed[0];
     assert!(bed[0] < 0.0 && bed[0] > -1.0 && bed[1] < 31.0, "{bed:?}");
-    assert!(bed[2] < -10.0 && bed[2] > -11.0 && bed[3] > 0.0 && bed[3] < 1.0, "{bed:?}");
+    assert!(
+        bed[2] < -10.0 && bed[2] > -11.0 && bed[3] > 0.0 && bed[3] < 1.0,
+        "{bed:?}"
+    );
     for p in &profiles {
         assert!(p[2] < -10.0 && p[3] > 0.0, "{p:?}");
     }

@@ -12,7 +12,7 @@
 //! | `scene/periodic_edges`          | static   | `LineStrips2D`: the periodic edges x = 0 and x = width, dim |
 //! | `scene/lid`                     | static   | `LineStrips2D`: the lid at y = top (lid scenes only) |
 //! | `scene/floor`                   | temporal | `LineStrips2D`: the floor at its current height  |
-//! | `scene/speed_scale`             | static   | `Boxes2D`: the colour scale, labelled with speeds (colouring by speed) |
+//! | `scene/speed_scale`             | static   | `LineStrips2D` and labelled `Points2D`: the colour scale (colouring by speed) |
 //! | `profiles/packing_fraction`     | temporal | `LineStrips2D`: (φ, height) of the frame, one point per bin |
 //! | `profiles/temperature`          | temporal | `LineStrips2D`: ((Tx + Ty)/2, height), bins holding disks |
 //! | `profiles/<name>/axes`          | static   | `LineStrips2D` and labelled `Points2D`: axes, ticks, titles |
@@ -40,7 +40,8 @@
 //! the bed, not the empty sky. Below it: packing fraction and granular temperature against
 //! height (same heights as the bed), the time series (one view per group, i.e. per first path
 //! segment of the series names), the legend and the text log. Blueprint, selection and time
-//! panels start collapsed; the timeline is `sim_time`.
+//! panels start collapsed; the timeline is `sim_time`, following the data: a finished file
+//! opens on its last frame (press play or drag the time cursor to go through the run).
 //!
 //! # Cost
 //!
@@ -63,7 +64,7 @@ use std::path::Path;
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
 use std::thread::JoinHandle;
 
-use rerun::blueprint::components::PanelState;
+use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintActivation, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel,
     Spatial2DView, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
@@ -79,8 +80,8 @@ use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
 use rerun::log::{Chunk, LogMsg, TimeColumn};
 use rerun::time::{TimeCell, TimelineName};
 use rerun::{
-    AnnotationContext, Boxes2D, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder,
-    Scalars, TextDocument, TextLog, Transform3D,
+    AnnotationContext, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder, Scalars,
+    TextDocument, TextLog, Transform3D,
 };
 
 use super::frame::{ColorBy, FrameView, SceneLayout};
@@ -819,13 +820,15 @@ impl Writer {
             vec![[0.0, bottom as f32], [0.0, top as f32]],
         ];
         let mut labels: Vec<(f64, f64, String)> = Vec::new();
-        for k in 0..=4 {
-            let x = x_max * k as f64 / 4.0;
+        let x_step = nice_ceiling(x_max / 5.0);
+        let mut x = 0.0;
+        while x <= x_max * (1.0 + 1e-9) {
             strips.push(vec![
                 [x as f32, bottom as f32],
                 [x as f32, (bottom - tick) as f32],
             ]);
             labels.push((x, bottom - 3.0 * tick, tick_label(x)));
+            x += x_step;
         }
         let h_step = nice_ceiling(span / 5.0);
         let mut h = (bottom / h_step).ceil() * h_step;
@@ -836,7 +839,7 @@ impl Writer {
             h += h_step;
         }
         labels.push((0.5 * x_max, bottom - 7.0 * tick, title.to_owned()));
-        labels.push((0.0, top + 3.0 * tick, "height".to_owned()));
+        labels.push((0.0, top + 6.0 * tick, "height".to_owned()));
         self.rec
             .log_static(
                 format!("{entity}/axes"),
@@ -855,7 +858,7 @@ impl Writer {
                     .with_show_labels(true),
             )
             .map_err(|e| err("profile labels", e))?;
-        let margin = 0.12 * span;
+        let margin = 0.15 * span;
         Ok([
             -margin,
             x_max * kx + 0.3 * margin,
@@ -864,42 +867,51 @@ impl Writer {
         ])
     }
 
-    /// Logs the colour scale (boxes labelled with speeds) in the sky of the bed view, near the
-    /// top right corner below `view_top`.
+    /// Logs the colour scale in the sky of the bed view, near its top right corner below
+    /// `view_top`: a bar of 20 coloured segments from 0 to the scale, and labels under it.
     fn log_speed_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
         let w = self.layout.width;
         let span = view_top - bottom;
-        let cell = (0.035 * w).min(0.08 * span * 4.0).max(1e-9);
-        let half = [0.5 * cell as f32, (0.03 * span) as f32];
-        let y = view_top - 0.08 * span;
+        let length = (0.2 * w).min(1.5 * span);
+        let (x0, y) = (w - length - 0.01 * w, view_top - 0.1 * span);
+        let thickness = 0.025 * span;
         let scale = self.layout.speed_scale;
-        let steps = 5;
-        let centers: Vec<[f32; 2]> = (0..steps)
+        let segments = 20;
+        let strips: Vec<[[f32; 2]; 2]> = (0..segments)
             .map(|k| {
-                let x = w - (steps - k) as f64 * cell - 0.01 * w;
-                [x as f32, y as f32]
+                let a = x0 + length * k as f64 / segments as f64;
+                let b = x0 + length * (k + 1) as f64 / segments as f64;
+                line([[a, y], [b, y]])
             })
             .collect();
-        let colors: Vec<Color> = (0..steps)
-            .map(|k| speed_color(k as f64 / (steps - 1) as f64))
-            .collect();
-        let labels: Vec<String> = (0..steps)
-            .map(|k| {
-                let v = scale * k as f64 / (steps - 1) as f64;
-                if k == steps - 1 {
-                    format!("≥{}", tick_label(v))
-                } else {
-                    tick_label(v)
-                }
-            })
+        let colors: Vec<Color> = (0..segments)
+            .map(|k| speed_color((k as f64 + 0.5) / segments as f64))
             .collect();
         self.rec
             .log_static(
                 SPEED_SCALE_ENTITY,
-                &Boxes2D::from_centers_and_half_sizes(centers, std::iter::repeat_n(half, steps))
+                &LineStrips2D::new(strips)
                     .with_colors(colors)
-                    .with_labels(labels)
-                    .with_show_labels(true),
+                    .with_radii([Radius::new_scene_units(thickness as f32)]),
+            )
+            .map_err(|e| err("colour scale", e))?;
+        let labels = [
+            (x0, "0".to_owned()),
+            (x0 + 0.5 * length, tick_label(0.5 * scale)),
+            (x0 + length, format!("≥ {}", tick_label(scale))),
+            (x0 - 0.2 * length, "speed |v|".to_owned()),
+        ];
+        self.rec
+            .log_static(
+                format!("{SPEED_SCALE_ENTITY}/labels"),
+                &Points2D::new(labels.iter().enumerate().map(|(i, (x, _))| {
+                    let y = if i < 3 { y - 3.5 * thickness } else { y };
+                    [*x as f32, y as f32]
+                }))
+                .with_labels(labels.iter().map(|(_, l)| l.as_str()))
+                .with_radii([Radius::new_ui_points(0.0)])
+                .with_colors([rgb(AXIS_COLOR)])
+                .with_show_labels(true),
             )
             .map_err(|e| err("colour scale", e))
     }
@@ -909,9 +921,8 @@ impl Writer {
         let mut text = String::new();
         match self.color_by {
             ColorBy::Speed => text.push_str(&format!(
-                "**Disks coloured by speed** |v|, one fixed scale for the whole run: blue at \
-                 rest → grey at {} → red at {} and above (the boxes at the top right; \
-                 `output.speed_scale`).\n\n",
+                "**Disks**: speed |v| on one scale for the whole run, blue at rest → grey at \
+                 {} → red at {} and above (bar at the top right; `output.speed_scale`).\n\n",
                 tick_label(0.5 * self.layout.speed_scale),
                 tick_label(self.layout.speed_scale)
             )),
@@ -921,14 +932,13 @@ impl Writer {
         }
         text.push_str(
             "**Follow a disk**: click it; instance *i* is disk *i* in every frame (and line *i* \
-             of a frame of `--trajectory`).\n\n",
+             of a `--trajectory` frame).\n\n",
         );
         if has_profiles {
             text.push_str(
-                "**Profiles** of the current frame against height (the bins of the summary's \
-                 profiles): packing fraction φ (blue) and granular temperature \
-                 T = (Tx + Ty)/2 relative to each bin's mean velocity (red; bins holding disks). \
-                 The summary averages them after the warm-up.\n\n",
+                "**Profiles** of the current frame in the summary's height bins: packing \
+                 fraction φ (a disk's area counts in the bin of its centre) and granular \
+                 temperature T = (Tx + Ty)/2 about each bin's mean velocity.\n\n",
             );
         }
         text.push_str("Floor: orange. Walls: grey; periodic edges: dark grey.");
@@ -987,8 +997,9 @@ impl Writer {
         let mut row: Vec<ContainerLike> = Vec::new();
         let mut shares: Vec<f32> = Vec::new();
         if let (Some(p), Some(range)) = (profile, range) {
-            let phi_max = 1.0;
-            let t_max = nice_ceiling(0.5 * self.layout.speed_scale.powi(2)).max(nice_ceiling(
+            // A layer of centres in one bin thinner than a diameter can exceed φ = 1.
+            let phi_max = 1.25;
+            let t_max = nice_ceiling(0.25 * self.layout.speed_scale.powi(2)).max(nice_ceiling(
                 p.temperature_x
                     .iter()
                     .zip(&p.temperature_y)
@@ -1061,12 +1072,13 @@ impl Writer {
                     .with_origin(format!("/{LOG_ENTITY}"))
                     .into(),
             ])
+            .with_row_shares([2.0, 1.0])
             .into(),
         );
         shares.push(1.0);
 
         let root = Vertical::new([bed, Horizontal::new(row).with_column_shares(shares).into()])
-            .with_row_shares([1.0, 1.6]);
+            .with_row_shares([1.0, 2.0]);
         // Side and time panels collapsed (the time panel keeps its play controls), so that the
         // views get the window; simulated time is the timeline shown.
         let blueprint = Blueprint::new(root)
@@ -1076,7 +1088,8 @@ impl Writer {
             .with_time_panel(
                 TimePanel::new()
                     .with_state(PanelState::Collapsed)
-                    .with_timeline(SIM_TIME_TIMELINE),
+                    .with_timeline(SIM_TIME_TIMELINE)
+                    .with_play_state(PlayState::Following),
             );
         send_with_bounds(&self.rec, &blueprint, &bounds)
     }

@@ -324,7 +324,7 @@ pub struct Output {
     /// Colour disks in the recording by `speed` or `species`.
     #[serde(default)]
     pub color_by: ColorChoice,
-    /// Speed drawn full red when the recording colours disks by speed (default: twice the
+    /// Speed drawn full red when the recording colours disks by speed (default: three times the
     /// floor's peak speed, else three times the initial root-mean-square speed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_scale: Option<f64>,
