@@ -1191,6 +1191,9 @@ pub struct DiskFrame {
     pub colors: Vec<u32>,
 }
 
+/// One frame of a live profile: the frame and the points `(value, height)` of its line strip.
+pub type ProfileFrame = (i64, Vec<[f32; 2]>);
+
 /// One `TextLog` row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogLine {
@@ -1225,9 +1228,8 @@ pub struct RecordingContents {
     pub disks: Vec<DiskFrame>,
     /// Floor height per frame: `(frame, height)`, sorted by frame.
     pub floor: Vec<(i64, f32)>,
-    /// Live profiles by name (`packing_fraction`, `temperature`): per frame, the points
-    /// `(value, height)` of its line strip, sorted by frame.
-    pub profiles: BTreeMap<String, Vec<(i64, Vec<[f32; 2]>)>>,
+    /// Live profiles by name (`packing_fraction`, `temperature`), sorted by frame.
+    pub profiles: BTreeMap<String, Vec<ProfileFrame>>,
     /// Series values by name (without the `series/` prefix): `(frame, value)`, sorted by frame.
     pub series: BTreeMap<String, Vec<(i64, f64)>>,
     /// Text log entries sorted by simulated time (entries without time first; ties in file order).
