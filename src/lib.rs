@@ -12,7 +12,9 @@
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and
 //!   [`accuracy`]: what accuracy costs in time (error against the exact engine vs cost);
 //! - [`scenario`], [`placement`]: the scene description and the initial state;
-//! - [`reference`]: a brute-force engine for tests.
+//!
+//! The brute-force reference engine the tests compare against lives with the tests
+//! (`tests/common/reference.rs`).
 
 pub mod accuracy;
 pub mod cli;
@@ -25,7 +27,6 @@ pub mod locals;
 pub mod measure;
 pub mod output;
 pub mod placement;
-pub mod reference;
 pub mod run;
 pub mod scenario;
 pub mod scheduler;

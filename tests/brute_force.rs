@@ -7,7 +7,11 @@
 mod common;
 
 use vibrobed::dynamics::Flight;
-use vibrobed::reference::{Collision, Reference};
+#[path = "common/reference.rs"]
+mod reference;
+
+use reference::Reference;
+use vibrobed::simulation::Collision;
 use vibrobed::simulation::{Scene, Simulation};
 
 fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize) {

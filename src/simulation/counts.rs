@@ -1,0 +1,49 @@
+//! What the engine counts: events by kind, and the energy exchanged and lost.
+
+use serde::Serialize;
+
+/// Counts of events by kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct EventCounts {
+    /// Disk–disk collisions.
+    pub pair: u64,
+    /// Disk–side-wall collisions.
+    pub wall: u64,
+    /// Disk–lid collisions.
+    pub lid: u64,
+    /// Disk–floor impacts.
+    pub floor: u64,
+    /// Contact searches (floor or riding disk) that needed a second look (no velocity change).
+    pub recheck: u64,
+    /// Disks that came to rest: on the floor (riding it), or on disks at rest.
+    pub rest: u64,
+    /// Riding disks thrown off by the floor.
+    pub takeoff: u64,
+    /// Predicted pair events found stale (the partner moved on); the disk was re-predicted.
+    pub stale: u64,
+    /// Disks resting on disks that slid off a support (the supports moved apart).
+    pub unmount: u64,
+    /// Grid re-mappings (DUTC).
+    pub rebuild: u64,
+}
+
+impl EventCounts {
+    /// Collisions of any kind: pair + wall + lid + floor.
+    pub fn collisions(&self) -> u64 {
+        self.pair + self.wall + self.lid + self.floor
+    }
+
+    /// Every event popped from the queue (collisions, stale events, rechecks).
+    pub fn popped(&self) -> u64 {
+        self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount
+    }
+}
+
+/// Energy exchanged with the outside and lost in collisions since the start.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct EnergyFlow {
+    /// Work done by the floor on the disks (can be negative for a lossy static floor).
+    pub injected: f64,
+    /// Kinetic energy lost in pair, wall and lid collisions.
+    pub dissipated: f64,
+}

@@ -1,0 +1,291 @@
+//! Firing an event: the collision rules applied to the disk (and partner) whose event is due,
+//! the bookkeeping of energy and counts, and the re-prediction of what it changed.
+
+use super::predict::partner;
+use super::{Collision, Partner, Simulation, OVERLAP_TOLERANCE};
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::interactions::collide_rebounding;
+use crate::locals::floor::{Floor, RideEnd};
+use crate::locals::Side;
+
+impl<F: Flight> Simulation<F> {
+    /// Carries out disk `i`'s event at the present time.
+    pub(super) fn fire(&mut self, i: usize) -> Result<()> {
+        let now = self.now;
+        let who = self.ev_partner[i];
+        if let Some(log) = self.log.as_mut() {
+            let p = match who {
+                partner::LEFT => Some(Partner::Left),
+                partner::RIGHT => Some(Partner::Right),
+                partner::LID => Some(Partner::Lid),
+                partner::FLOOR => Some(Partner::Floor),
+                partner::RECHECK | partner::RIDE_END | partner::UNMOUNT | partner::NONE => None,
+                j if self.disks.counter[j as usize] == self.ev_counter[i] => Some(Partner::Disk(j)),
+                _ => None,
+            };
+            if let Some(p) = p {
+                log.push(Collision::new(self.base.absolute(now), i, p));
+            }
+        }
+        match who {
+            partner::LEFT | partner::RIGHT => {
+                self.bring(i, now);
+                self.unsettle(i);
+                let side = if who == partner::LEFT {
+                    Side::Left
+                } else {
+                    Side::Right
+                };
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated +=
+                    self.sides.hit(side, &mut self.restitution, i, now, m, mass);
+                self.counts.wall += 1;
+                self.moved(i);
+                self.release_carried(i, None);
+            }
+            partner::LID => {
+                self.bring(i, now);
+                let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
+                self.counts.lid += 1;
+                self.moved(i);
+            }
+            partner::FLOOR => {
+                self.bring(i, now);
+                let floor = self.floor.as_ref().expect("floor events need a floor");
+                let hd = floor.velocity(now);
+                self.floor_impact(i, hd);
+                self.moved(i);
+            }
+            partner::RIDE_END => {
+                self.bring(i, now);
+                let on_floor = self.riders.on_floor(i);
+                self.riders.dismount(i);
+                let floor = self.floor.as_ref().expect("riders need a floor");
+                let g = self.flight.g();
+                let kick = self.ev_counter[i] == 1;
+                // The end that was predicted, evaluated at its own time.
+                let end = floor
+                    .ride_end(now - 1e-9 * floor.period_or_one(), g)
+                    .map(|(_, e)| e);
+                // Disks resting on disks leave with the floor's velocity before a kick (the disk
+                // below then hits them) or with the launch velocity (they all fly together).
+                let vy = match end {
+                    Some(RideEnd::Kick { before, after }) if kick => {
+                        self.set_vy(i, before);
+                        if on_floor {
+                            self.floor_impact(i, after);
+                        }
+                        before
+                    }
+                    Some(RideEnd::TakeOff { launch }) if !kick => {
+                        self.counts.takeoff += 1;
+                        self.set_vy(i, launch);
+                        launch
+                    }
+                    _ => {
+                        // Round-off moved us past the end: fly with the floor's velocity.
+                        self.counts.takeoff += 1;
+                        let hd = floor.velocity(now);
+                        self.set_vy(i, hd);
+                        hd
+                    }
+                };
+                self.moved(i);
+                self.release_carried(i, Some(vy));
+            }
+            partner::UNMOUNT => {
+                self.bring(i, now);
+                self.counts.unmount += 1;
+                self.riders.dismount(i);
+                self.moved(i);
+                self.release_carried(i, None);
+            }
+            partner::RECHECK => {
+                self.counts.recheck += 1;
+                self.predict(i);
+            }
+            partner::NONE => unreachable!("a disk without an event is never the minimum"),
+            j => {
+                let j = j as usize;
+                if self.disks.counter[j] != self.ev_counter[i] {
+                    self.counts.stale += 1;
+                    self.predict(i);
+                    return Ok(());
+                }
+                self.pair(i, j)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Disk `i`'s velocity changed: invalidate partners' predictions, watch DUTC, re-predict.
+    #[inline]
+    pub(super) fn moved(&mut self, i: usize) {
+        self.disks.counter[i] = self.disks.counter[i].wrapping_add(1);
+        if !self.is_riding(i) {
+            let s = self.falling_speed_sq(i);
+            self.dutc.observe(self.now, s);
+        }
+        self.predict(i);
+    }
+
+    /// Sets the vertical velocity of (flying) disk `i`, booking the change as floor work.
+    pub(super) fn set_vy(&mut self, i: usize, vy: f64) {
+        let m = &mut self.disks.motion[i];
+        self.flow.injected += 0.5 * self.disks.mass[i] * (vy * vy - m.vy * m.vy);
+        m.vy = vy;
+    }
+
+    /// Flying disk `i` (brought to now) hits the floor moving with velocity `hd`: it bounces,
+    /// or comes to rest and rides the floor if the rebound is negligible.
+    pub(super) fn floor_impact(&mut self, i: usize, hd: f64) {
+        let now = self.now;
+        let g = self.flight.g();
+        let floor = self.floor.as_ref().expect("floor impacts need a floor");
+        let vy = self.disks.motion[i].vy;
+        let elastic = self
+            .restitution
+            .boundary_elastic(i, now, (hd - vy).max(0.0));
+        let after = floor.bounce_on(vy, hd, elastic);
+        // Rebound relative to what a resting disk would do: move with the floor (exact model)
+        // or stay put (fixed-position model).
+        let (h, hd_ride) = floor.ride(now);
+        let rests = floor.comes_to_rest(after - hd_ride, self.disks.radius[i], g, now);
+        let lift = floor.max_speed();
+        self.set_vy(i, after);
+        self.counts.floor += 1;
+        if rests {
+            let mass = self.disks.mass[i];
+            let a = self.disks.radius[i];
+            let m = &mut self.disks.motion[i];
+            self.flow.injected +=
+                mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
+            m.y = h + a;
+            m.vy = hd_ride;
+            self.riders.mount_on_floor(i, a);
+            self.counts.rest += 1;
+            let vx = m.vx.abs();
+            self.dutc.ride(now, vx + lift, g);
+        }
+    }
+
+    pub(super) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
+        let now = self.now;
+        self.bring(i, now);
+        self.bring(j, now);
+        let rode = [self.is_riding(i), self.is_riding(j)];
+        let d = &self.disks;
+        let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
+        let e = self.restitution.collision(
+            i,
+            j,
+            now,
+            dx,
+            dy,
+            d.motion[i].vx - d.motion[j].vx,
+            d.motion[i].vy - d.motion[j].vy,
+        );
+        // A disk landing on a rider (or a rider hit from above) is pressed onto it by gravity
+        // and the floor: a rebound of at least the resting speed keeps the pair from Zeno.
+        let min_rebound = if rode[0] != rode[1] {
+            let floor = self.floor.as_ref().expect("riders need a floor");
+            let g = self.flight.g();
+            let dist = (dx * dx + dy * dy).sqrt();
+            // Acceleration of i relative to j along n = (r_i − r_j)/|r_i − r_j|.
+            let ride_acc = floor.ride_acceleration(now);
+            let (ai, aj) = if rode[0] {
+                (ride_acc, -g)
+            } else {
+                (-g, ride_acc)
+            };
+            let press = -(ai - aj) * dy / dist;
+            if press > 0.0 {
+                let a = self.disks.radius[i].min(self.disks.radius[j]);
+                Floor::pair_rest_speed(a, press)
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
+        if rode[0] != rode[1] && self.resting_contacts && min_rebound > 0.0 {
+            let (k, s) = if rode[0] { (j, i) } else { (i, j) };
+            if self.try_rest_on(k, s, e, min_rebound)? {
+                return Ok(());
+            }
+        }
+        // Riders leave the floor's grip for the collision; if it pushes a disk riding the floor
+        // into it, the floor answers at once (sequential impulses).
+        let on_floor = [
+            rode[0] && self.riders.on_floor(i),
+            rode[1] && self.riders.on_floor(j),
+        ];
+        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
+            if rode {
+                self.riders.dismount(k);
+            }
+        }
+        let d = &self.disks;
+        let imp = collide_rebounding(
+            dx,
+            dy,
+            d.motion[i].vx - d.motion[j].vx,
+            d.motion[i].vy - d.motion[j].vy,
+            d.mass[i],
+            d.mass[j],
+            e,
+            min_rebound,
+        );
+        self.check_contact(i, j, imp.distance)?;
+        let d = &mut self.disks;
+        d.motion[i].vx += imp.dvx_i;
+        d.motion[i].vy += imp.dvy_i;
+        d.motion[j].vx += imp.dvx_j;
+        d.motion[j].vy += imp.dvy_j;
+        self.flow.dissipated += imp.energy_lost;
+        self.virial += imp.distance * imp.momentum;
+        self.counts.pair += 1;
+        for (k, on_floor) in [(i, on_floor[0]), (j, on_floor[1])] {
+            if on_floor {
+                let floor = self.floor.as_ref().expect("riders need a floor");
+                let (_, hd) = floor.ride(now);
+                if self.disks.motion[k].vy < hd {
+                    self.floor_impact(k, hd);
+                }
+            }
+        }
+        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
+        self.moved(i);
+        if !self.is_riding(j) {
+            let s = self.falling_speed_sq(j);
+            self.dutc.observe(self.now, s);
+        }
+        self.predict(j);
+        // What rested on them rested on disks that have now moved.
+        for (k, rode) in [(i, rode[0]), (j, rode[1])] {
+            if rode {
+                self.release_carried(k, None);
+            }
+        }
+        Ok(())
+    }
+
+    /// Books the overlap of disks `i` and `j` colliding at centre distance `distance`, and fails
+    /// if it is beyond tolerance while the invariant checks are on.
+    pub(super) fn check_contact(&mut self, i: usize, j: usize, distance: f64) -> Result<()> {
+        let contact = self.disks.radius[i] + self.disks.radius[j];
+        let overlap = contact - distance;
+        if overlap > self.max_overlap {
+            self.max_overlap = overlap;
+            if self.check && overlap > OVERLAP_TOLERANCE * contact {
+                return Err(Error::Runtime(format!(
+                    "disks {i} and {j} overlap by {overlap:e} at time {}",
+                    self.time()
+                )));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,230 @@
+//! Prediction: each disk's earliest event (a listed neighbour, a wall, the lid, the floor, the
+//! end of a ride, a support sliding away), filed in the complete binary tree.
+
+use super::Simulation;
+use crate::dynamics::Flight;
+use crate::interactions::{contact_time, rider_contact, RiderContact};
+use crate::locals::floor::{FloorEvent, RideEnd};
+use crate::locals::Side;
+use crate::scheduler::CompleteBinaryTree;
+
+/// Event partner codes beyond the disk numbers.
+pub(super) mod partner {
+    pub const NONE: u32 = u32::MAX;
+    pub const LEFT: u32 = u32::MAX - 1;
+    pub const RIGHT: u32 = u32::MAX - 2;
+    pub const LID: u32 = u32::MAX - 3;
+    pub const FLOOR: u32 = u32::MAX - 4;
+    pub const RIDE_END: u32 = u32::MAX - 5;
+    /// A disk resting on disks loses a support (they slide apart).
+    pub const UNMOUNT: u32 = u32::MAX - 6;
+    /// Lowest code of an event that involves no partner disk.
+    pub const RECHECK: u32 = u32::MAX - 7;
+}
+
+impl<F: Flight> Simulation<F> {
+    /// Contact search between riding disk `r` and flying disk `f` from now to `limit`.
+    pub(super) fn rider_contact(&self, r: usize, f: usize, limit: f64) -> Option<RiderContact> {
+        let now = self.now;
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let g = self.flight.g();
+        let limit = match floor.ride_end(now, g) {
+            Some((t_end, _)) => limit.min(t_end),
+            None => limit,
+        };
+        let (xr, _, vxr, _) = self.state_at(r, now);
+        let (xf, yf, vxf, vyf) = self.state_at(f, now);
+        let (dx, _) = self.wrap(xf - xr, 0.0);
+        rider_contact(
+            dx,
+            vxf - vxr,
+            yf,
+            vyf,
+            self.riders.lift(r),
+            self.disks.radius[r] + self.disks.radius[f],
+            g,
+            floor.max_acceleration(),
+            now,
+            limit,
+            |t| floor.ride(t),
+            |t| floor.ride_acceleration(t),
+        )
+    }
+
+    /// Finds disk `i`'s earliest event from now and files it in the tree.
+    pub(super) fn predict(&mut self, i: usize) {
+        let (best, who, recheck) = self.pair_event(i);
+        self.file_event(i, best, who, recheck);
+        self.tree.update(&self.ev_time, i);
+    }
+
+    /// Earliest contact of disk `i` with a listed neighbour from now: (time from now, partner,
+    /// time of a needed re-check).
+    #[inline]
+    pub(super) fn pair_event(&self, i: usize) -> (f64, u32, f64) {
+        let now = self.now;
+        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let speed_i = vxi.abs() + vyi.abs();
+        let ai = self.disks.radius[i];
+        let rider = self.is_riding(i);
+        let mut best = f64::INFINITY;
+        let mut who = partner::NONE;
+        let mut recheck = f64::INFINITY;
+        for &j in self.lists.of(i) {
+            let j = j as usize;
+            let dt = if self.is_riding(j) == rider {
+                // Both fly, or both ride the floor: relative motion is straight.
+                let (xj, yj, vxj, vyj) = self.state_at(j, now);
+                let (dx, dy) = self.wrap(xi - xj, yi - yj);
+                let speed = speed_i + vxj.abs() + vyj.abs();
+                contact_time(
+                    dx,
+                    dy,
+                    vxi - vxj,
+                    vyi - vyj,
+                    ai + self.disks.radius[j],
+                    speed,
+                )
+            } else {
+                let limit = (now + best).min(self.dutc.deadline);
+                let (r, f) = if rider { (i, j) } else { (j, i) };
+                match self.rider_contact(r, f, limit) {
+                    Some(RiderContact::At(t)) => Some(t - now),
+                    Some(RiderContact::Recheck(t)) => {
+                        recheck = recheck.min(t);
+                        None
+                    }
+                    None => None,
+                }
+            };
+            if let Some(dt) = dt {
+                if dt < best {
+                    best = dt;
+                    who = j as u32;
+                }
+            }
+        }
+        (best, who, recheck)
+    }
+
+    /// Completes disk `i`'s event from its earliest pair contact (`best` from now, with `who`)
+    /// with walls, lid, floor and ride ends, and stores it (the tree is not touched).
+    pub(super) fn file_event(&mut self, i: usize, mut best: f64, mut who: u32, mut recheck: f64) {
+        let now = self.now;
+        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let ai = self.disks.radius[i];
+        let rider = self.is_riding(i);
+        let mut counter = if who != partner::NONE {
+            self.disks.counter[who as usize]
+        } else {
+            0
+        };
+        if let Some((dt, side)) = self.sides.impact(xi, vxi, ai) {
+            if dt < best {
+                best = dt;
+                who = match side {
+                    Side::Left => partner::LEFT,
+                    Side::Right => partner::RIGHT,
+                };
+            }
+        }
+        let g = self.flight.g();
+        let mut t = now + best;
+        if let Some(floor) = &self.floor {
+            if rider {
+                if let Some((t_end, end)) = floor.ride_end(now, g) {
+                    if t_end < t {
+                        t = t_end;
+                        who = partner::RIDE_END;
+                        counter = matches!(end, RideEnd::Kick { .. }) as u32;
+                    }
+                }
+                if !self.riders.on_floor(i) {
+                    let t_off = self.unmount_time(i);
+                    if t_off < t {
+                        t = t_off;
+                        who = partner::UNMOUNT;
+                    }
+                }
+            } else {
+                if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+                    if now + dt < t {
+                        t = now + dt;
+                        who = partner::LID;
+                    }
+                }
+                // Nothing after the re-mapping matters: it re-predicts every disk.
+                let limit = t.min(self.dutc.deadline);
+                match floor.next_event(yi, vyi, ai, g, now, limit) {
+                    Some(FloorEvent::Impact(tf)) if tf < t => {
+                        t = tf;
+                        who = partner::FLOOR;
+                    }
+                    Some(FloorEvent::Recheck(tf)) => recheck = recheck.min(tf),
+                    _ => {}
+                }
+            }
+        } else if let Some(dt) = self.top.impact(yi, vyi, ai, g) {
+            if dt < best {
+                t = now + dt;
+                who = partner::LID;
+            }
+        }
+        if recheck < t {
+            t = recheck;
+            who = partner::RECHECK;
+        }
+        if who >= partner::RECHECK && who != partner::RIDE_END {
+            counter = 0;
+        }
+        self.ev_time[i] = t;
+        self.ev_partner[i] = who;
+        self.ev_counter[i] = counter;
+    }
+
+    /// Predicts every disk's event after a mapping (all disks are at the present time): each
+    /// listed pair's contact time is computed once, for both disks; the tree is built at once.
+    pub(super) fn predict_all(&mut self) {
+        let n = self.disks.len();
+        let mut best = std::mem::take(&mut self.ev_time);
+        best.fill(f64::INFINITY);
+        let mut who = std::mem::take(&mut self.ev_partner);
+        who.fill(partner::NONE);
+        let any_rider = self.riders.any();
+        for (i, j) in
+            (0..n).flat_map(|i| self.lists.half_of(i).iter().map(move |&j| (i, j as usize)))
+        {
+            if any_rider && (self.is_riding(i) || self.is_riding(j)) {
+                continue; // done disk by disk below
+            }
+            let (mi, mj) = (&self.disks.motion[i], &self.disks.motion[j]);
+            let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
+            let s = self.disks.radius[i] + self.disks.radius[j];
+            let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
+            if let Some(dt) = contact_time(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed) {
+                if dt < best[i] {
+                    best[i] = dt;
+                    who[i] = j as u32;
+                }
+                if dt < best[j] {
+                    best[j] = dt;
+                    who[j] = i as u32;
+                }
+            }
+        }
+        self.ev_time = best;
+        self.ev_partner = who;
+        for i in 0..n {
+            let near_rider = any_rider
+                && (self.is_riding(i)
+                    || self.lists.of(i).iter().any(|&j| self.is_riding(j as usize)));
+            let (b, w, r) = if near_rider {
+                self.pair_event(i)
+            } else {
+                (self.ev_time[i], self.ev_partner[i], f64::INFINITY)
+            };
+            self.file_event(i, b, w, r);
+        }
+        self.tree = CompleteBinaryTree::build(&self.ev_time);
+    }
+}

@@ -1,0 +1,104 @@
+//! Re-mapping (Isobe's DUTC): at the deadline every disk is brought to the present, the clock
+//! is re-based, the grid and neighbour lists are rebuilt and every event re-predicted.
+
+use super::clock::into_period;
+use super::dutc::Dutc;
+use super::motion::wrap;
+use super::Simulation;
+use crate::dynamics::Flight;
+use crate::error::Result;
+use crate::locals::{SideBounds, Top};
+
+impl<F: Flight> Simulation<F> {
+    /// Brings every disk to the present, re-bases the clock to it, re-maps the grid, rebuilds
+    /// the neighbour lists and re-predicts every event.
+    pub(super) fn remap(&mut self) -> Result<()> {
+        let now = self.now;
+        let n = self.disks.len();
+        for i in 0..n {
+            self.bring(i, now);
+            self.disks.motion[i].t = 0.0;
+        }
+        if let SideBounds::Periodic { width } = self.sides {
+            for m in &mut self.disks.motion {
+                m.x = into_period(m.x, width);
+            }
+        }
+        if let Top::Periodic { height } = self.top {
+            for m in &mut self.disks.motion {
+                m.y = into_period(m.y, height);
+            }
+        }
+        self.base.advance(now);
+        self.now = 0.0;
+        self.restitution.rebase(now);
+        if let Some(floor) = &mut self.floor {
+            floor.rebase(now);
+        }
+        // Pairs farther apart than contact + margin cannot meet before the DUTC deadline: the
+        // lists keep only the closer ones (the mask guarantees every closer disk is seen).
+        let margin = self.margin;
+        let (disks, sides, top) = (&self.disks, self.sides, self.top);
+        let geometry = &self.geometry;
+        let cell = |i: usize| geometry.cell_of(disks.motion[i].x, disks.motion[i].y);
+        let near = |i: usize, j: usize| {
+            let (dx, dy) = wrap(
+                sides,
+                top,
+                disks.motion[i].x - disks.motion[j].x,
+                disks.motion[i].y - disks.motion[j].y,
+            );
+            let reach = disks.radius[i] + disks.radius[j] + margin;
+            dx * dx + dy * dy <= reach * reach
+        };
+        self.cells
+            .rebuild(geometry, &self.mask, n, cell, &mut self.lists, near)?;
+        let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
+        let speed = |i: usize| {
+            if self.is_riding(i) {
+                self.disks.motion[i].vx.abs() + lift
+            } else {
+                self.falling_speed_sq(i).sqrt()
+            }
+        };
+        // The fastest disk, and the largest speed of the others.
+        let (mut fastest, mut v1, mut v2) = (0, 0.0f64, 0.0f64);
+        for i in 0..n {
+            let v = speed(i);
+            if v > v1 {
+                (fastest, v1, v2) = (i, v, v1);
+            } else {
+                v2 = v2.max(v);
+            }
+        }
+        let accel = if self.riders.any() {
+            self.flight.g()
+        } else {
+            0.0
+        };
+        self.dutc = match self.isolation(fastest, v1, v2) {
+            Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
+            None => Dutc::new(margin, v1, accel),
+        };
+        self.predict_all();
+        self.counts.rebuild += 1;
+        Ok(())
+    }
+
+    /// At a mapping: the gap between flying disk `f` (speed `v`) and every other disk if `f` is
+    /// above all of them by more than the list margin and faster than all of them (`others` is
+    /// their largest speed), so that it can get a DUTC deadline of its own; `None` otherwise.
+    pub(super) fn isolation(&self, f: usize, v: f64, others: f64) -> Option<f64> {
+        let n = self.disks.len();
+        let fast = n > 1 && !self.is_riding(f) && v > others;
+        if !fast || matches!(self.top, Top::Periodic { .. }) {
+            return None;
+        }
+        let top = (0..n)
+            .filter(|&j| j != f)
+            .map(|j| self.disks.motion[j].y + self.disks.radius[j])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let clearance = self.disks.motion[f].y - self.disks.radius[f] - top;
+        (clearance > self.margin).then_some(clearance)
+    }
+}

@@ -1,0 +1,177 @@
+//! Setting up the engine: the grid and mask for the scene, the initial checks and the first
+//! mapping; and the switches a caller sets (interrupt, invariant checks, collision log).
+
+use super::clock::Epoch;
+use super::counts::{EnergyFlow, EventCounts};
+use super::dutc::Dutc;
+use super::predict::partner;
+use super::riders::Riders;
+use super::{Collision, Scene, Simulation, OVERLAP_TOLERANCE};
+use crate::disks::Disks;
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
+use crate::interactions::{CollisionLaw, Restitution};
+use crate::locals::{SideBounds, Top};
+use crate::scenario::GridChoice;
+use crate::scheduler::CompleteBinaryTree;
+use std::sync::atomic::AtomicBool;
+
+impl<F: Flight> Simulation<F> {
+    /// Sets up the engine for `scene` with the disks in their initial state (all at time 0).
+    pub fn new(flight: F, scene: &Scene, disks: Disks) -> Result<Simulation<F>> {
+        let n = disks.len();
+        let (a_min, a_max) = disks.radius_range();
+        let floor = scene.floor.clone();
+        let bottom = floor.as_ref().map_or(0.0, |f| f.lowest());
+        let (top_y, y_periodic) = match scene.top {
+            Top::Open => (None, false),
+            Top::Lid { height, .. } => (Some(height), false),
+            Top::Periodic { height } => (Some(height), true),
+        };
+        let geometry = GridGeometry::new(
+            a_min,
+            scene.sides.width(),
+            matches!(scene.sides, SideBounds::Periodic { .. }),
+            bottom,
+            top_y,
+            y_periodic,
+        );
+        let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max, scene.packing).ok_or_else(|| {
+            Error::input(
+                "engine.mask",
+                format!(
+                    "the mask does not reach beyond contact of the largest disks (radius {a_max}, cells of {:.4})",
+                    geometry.cell()
+                ),
+            )
+        })?;
+        geometry.check_mask_fits(mask.half_width)?;
+        let mask_margin = mask.reach() * geometry.cell() - 2.0 * a_max;
+        let mask_margin = match scene.skin {
+            Some(skin) => (skin * a_min).min(mask_margin),
+            None => mask_margin,
+        };
+        let mut sim = Simulation {
+            flight,
+            disks,
+            ev_time: vec![f64::INFINITY; n + 1],
+            ev_partner: vec![partner::NONE; n],
+            ev_counter: vec![0; n],
+            tree: CompleteBinaryTree::default(),
+            cells: Cells::for_geometry(&geometry, &mask, scene.grid == GridChoice::Hashed),
+            geometry,
+            mask,
+            lists: NeighbourLists::default(),
+            sides: scene.sides,
+            top: scene.top,
+            floor,
+            restitution: CollisionLaw::new(
+                Restitution {
+                    e: scene.restitution,
+                    tc: scene.tc,
+                    speed_cutoff: scene.speed_cutoff,
+                },
+                n,
+            ),
+            margin: mask_margin,
+            base: Epoch::default(),
+            now: 0.0,
+            dutc: Dutc::new(0.0, 0.0, 0.0),
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            check: scene.check_invariants,
+            event_limit: scene.max_events.unwrap_or(u64::MAX),
+            interrupt: None,
+            log: None,
+            riders: Riders::default(),
+            resting_contacts: scene.resting_contacts,
+            releasing: Vec::new(),
+        };
+        if sim.floor.is_some() {
+            sim.riders = Riders::new(n);
+        }
+        sim.check_initial_state()?;
+        sim.remap().map_err(|e| match e {
+            Error::Runtime(m) => Error::input("particles.placement", m),
+            other => other,
+        })?;
+        sim.counts.rebuild = 0;
+        let start = sim.snapshot(0.0);
+        let (o, i, j) = sim.overlap_in(&start);
+        if o > OVERLAP_TOLERANCE * (sim.disks.radius[i] + sim.disks.radius[j]) {
+            return Err(Error::input(
+                "particles.placement",
+                format!("disks {i} and {j} overlap by {o:e} at the start"),
+            ));
+        }
+        sim.max_overlap = o.max(0.0);
+        Ok(sim)
+    }
+
+    /// Stop [`advance_to`](Self::advance_to) at the next event once `flag` is set (Ctrl-C).
+    pub fn set_interrupt(&mut self, flag: &'static AtomicBool) {
+        self.interrupt = Some(flag);
+    }
+
+    /// Starts (or stops) keeping a log of every collision, for comparison with the reference.
+    pub fn set_logging(&mut self, on: bool) {
+        self.log = on.then(Vec::new);
+    }
+
+    /// Takes the collisions logged so far.
+    pub fn take_log(&mut self) -> Vec<Collision> {
+        self.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// Switches the invariant checks on or off.
+    pub fn set_checks(&mut self, on: bool) {
+        self.check = on;
+    }
+
+    /// Refuses an initial state with overlaps beyond tolerance or disks outside the domain.
+    pub(super) fn check_initial_state(&self) -> Result<()> {
+        let d = &self.disks;
+        for i in 0..d.len() {
+            let (x, y, a) = (d.motion[i].x, d.motion[i].y, d.radius[i]);
+            let tol = OVERLAP_TOLERANCE * a;
+            if !(x.is_finite()
+                && y.is_finite()
+                && d.motion[i].vx.is_finite()
+                && d.motion[i].vy.is_finite())
+            {
+                return Err(Error::input(
+                    "particles.placement",
+                    format!("disk {i} has a non-finite position or velocity"),
+                ));
+            }
+            if let SideBounds::Walls { width, .. } = self.sides {
+                if x < a - tol || x > width - a + tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at x = {x} crosses a side wall"),
+                    ));
+                }
+            }
+            if let Some(f) = &self.floor {
+                if y - a < f.height(0.0) - tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at y = {y} is below the floor"),
+                    ));
+                }
+            }
+            if let Top::Lid { height, .. } = self.top {
+                if y + a > height + tol {
+                    return Err(Error::input(
+                        "particles.placement",
+                        format!("disk {i} at y = {y} is above the lid"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
