@@ -1,5 +1,5 @@
 //! The command line: `vibrobed run SCENARIO.json [--rrd OUT.rrd] [--summary OUT.json]
-//! [--profiles OUT.csv] [--set KEY=VALUE]...`, `vibrobed check SCENARIO.json` and
+//! [--profiles OUT.csv] [--trajectory OUT.xyz] [--set KEY=VALUE]...`, `vibrobed check SCENARIO.json` and
 //! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
@@ -43,6 +43,10 @@ pub enum Command {
         /// Write the height profiles as CSV here (gravity scenes).
         #[arg(long)]
         profiles: Option<PathBuf>,
+        /// Write a trajectory in extended XYZ here (OVITO, ASE), a frame every
+        /// output.trajectory_interval (default: the frame interval).
+        #[arg(long)]
+        trajectory: Option<PathBuf>,
         /// Override a scenario field by its dotted path, e.g. particles.count=10000.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
@@ -166,6 +170,7 @@ fn execute(cli: Cli) -> Result<i32> {
             rrd,
             summary,
             profiles,
+            trajectory,
             sets,
             quiet,
         } => {
@@ -176,6 +181,7 @@ fn execute(cli: Cli) -> Result<i32> {
                 &s,
                 RunOptions {
                     rrd,
+                    trajectory,
                     sink: None,
                     interrupt: Some(signals::stop_flag()),
                     progress: !quiet,

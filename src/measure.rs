@@ -136,6 +136,14 @@ impl Profiles {
         }
     }
 
+    /// The profiles of `snap` alone over the same bins (the live profiles of a recorded frame);
+    /// `self` is left as it is.
+    pub fn of_snapshot(&self, snap: &Snapshot, disks: &Disks) -> ProfileTable {
+        let mut one = Profiles::new(self.count.len(), self.bottom, self.top, self.width);
+        one.add(snap, disks);
+        one.table()
+    }
+
     /// Number of snapshots added.
     pub fn samples(&self) -> usize {
         self.samples

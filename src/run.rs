@@ -6,8 +6,10 @@ use crate::dynamics::{Ballistic, Flight, Straight};
 use crate::error::{Error, Result};
 use crate::locals::Top;
 use crate::measure::{Observables, Profiles};
-use crate::output::frame::FrameView;
-use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, YBoundary};
+use crate::output::frame::{FrameView, SceneLayout};
+use crate::output::progress::{ProgressMode, ProgressReport};
+use crate::output::trajectory::TrajectoryWriter;
+use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, XBoundary, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
 use crate::simulation::{EnergyFlow, Progress, Scene, Simulation, Snapshot};
 use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary, Temperature};
@@ -30,11 +32,13 @@ pub trait FrameSink {
 pub struct RunOptions {
     /// Record frames to this .rrd file (overrides `output.rrd`).
     pub rrd: Option<PathBuf>,
+    /// Write an extended XYZ trajectory to this file (overrides `output.trajectory`).
+    pub trajectory: Option<PathBuf>,
     /// Frame sink to use instead of a recording (tests).
     pub sink: Option<Box<dyn FrameSink>>,
     /// Stop at the next event once this flag is set.
     pub interrupt: Option<&'static AtomicBool>,
-    /// Show a progress bar on stderr (hidden when stderr is not a terminal).
+    /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
     pub progress: bool,
 }
 
@@ -58,11 +62,12 @@ fn sink_for(
     sink: Option<Box<dyn FrameSink>>,
     rrd: Option<PathBuf>,
     s: &Scenario,
+    scene: &Scene,
     disks: &crate::disks::Disks,
 ) -> Result<Option<Box<dyn FrameSink>>> {
     match (sink, rrd) {
         (Some(sink), _) => Ok(Some(sink)),
-        (None, Some(path)) => Ok(Some(open_recording(&path, s, disks)?)),
+        (None, Some(path)) => Ok(Some(open_recording(&path, s, scene, disks)?)),
         (None, None) => Ok(None),
     }
 }
@@ -80,31 +85,82 @@ fn run_with<F: Flight>(
     match s.engine.scheme {
         Scheme::EventDriven => {
             let sim = Simulation::new(flight, scene, disks)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::TimeStep => {
             let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
         Scheme::SpaceTime => {
             let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, sim.disks())?;
+            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
             drive(sim, s, scene, sink, opts)
         }
     }
+}
+
+/// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
+/// scale of speeds: `output.speed_scale`, else three times the floor's peak speed, else three
+/// times the initial root-mean-square speed (else 1).
+fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> SceneLayout {
+    let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
+    let n = disks.len().max(1) as f64;
+    let rms = (disks
+        .motion
+        .iter()
+        .map(|m| m.vx * m.vx + m.vy * m.vy)
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let speed_scale = s.output.speed_scale.unwrap_or(if floor_speed > 0.0 {
+        3.0 * floor_speed
+    } else if rms > 0.0 {
+        3.0 * rms
+    } else {
+        1.0
+    });
+    SceneLayout {
+        name: s.name.clone(),
+        width: s.domain.width,
+        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+        top: match s.domain.y_boundary {
+            YBoundary::Open => None,
+            _ => s.domain.height,
+        },
+        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
+        floor: s.floor.is_some(),
+        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
+        speed_scale,
+    }
+}
+
+/// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
+fn open_trajectory(
+    s: &Scenario,
+    scene: &Scene,
+    opts: &RunOptions,
+    disks: &crate::disks::Disks,
+) -> Result<Option<TrajectoryWriter>> {
+    let path = opts
+        .trajectory
+        .clone()
+        .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
+    path.map(|p| TrajectoryWriter::create(&p, &scene_layout(s, scene, disks)).map_err(Error::Io))
+        .transpose()
 }
 
 #[cfg(feature = "record")]
 fn open_recording(
     path: &std::path::Path,
     s: &Scenario,
+    scene: &Scene,
     disks: &crate::disks::Disks,
 ) -> Result<Box<dyn FrameSink>> {
-    use crate::output::frame::{ColorBy, SceneLayout};
+    use crate::output::frame::ColorBy;
     use crate::output::recording::RerunRecorder;
-    use crate::scenario::{ColorChoice, XBoundary};
+    use crate::scenario::ColorChoice;
 
     struct Sink(RerunRecorder);
     impl FrameSink for Sink {
@@ -119,18 +175,7 @@ fn open_recording(
         }
     }
 
-    let layout = SceneLayout {
-        name: s.name.clone(),
-        width: s.domain.width,
-        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
-        top: match s.domain.y_boundary {
-            YBoundary::Open => None,
-            _ => s.domain.height,
-        },
-        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
-        floor: s.floor.is_some(),
-        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
-    };
+    let layout = scene_layout(s, scene, disks);
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
@@ -144,6 +189,7 @@ fn open_recording(
 fn open_recording(
     _path: &std::path::Path,
     _s: &Scenario,
+    _scene: &Scene,
     _disks: &crate::disks::Disks,
 ) -> Result<Box<dyn FrameSink>> {
     Err(Error::input(
@@ -177,12 +223,15 @@ struct Window {
 struct Stops {
     sample_dt: f64,
     frame_dt: f64,
+    trajectory_dt: f64,
     duration: f64,
     warmup: f64,
     /// Samples taken so far.
     k_sample: u64,
     /// Frames recorded so far.
     k_frame: u64,
+    /// Trajectory frames written so far.
+    k_trajectory: u64,
 }
 
 /// The next stop: its time and what is due then.
@@ -191,6 +240,7 @@ struct Stop {
     time: f64,
     sample: bool,
     frame: bool,
+    trajectory: bool,
     window: bool,
 }
 
@@ -205,18 +255,30 @@ impl Stops {
                 .or(s.output.frame_interval)
                 .unwrap_or(default_dt),
             frame_dt: s.output.frame_interval.unwrap_or(default_dt),
+            trajectory_dt: s
+                .output
+                .trajectory_interval
+                .or(s.output.frame_interval)
+                .unwrap_or(default_dt),
             duration,
             warmup: s.run.warmup,
             k_sample: 0,
             k_frame: 0,
+            k_trajectory: 0,
         }
     }
 
-    /// The next stop, given whether frames are recorded and whether the window is open.
-    fn next(&self, recording: bool, window_open: bool) -> Stop {
+    /// The next stop, given whether frames are recorded, whether a trajectory is written and
+    /// whether the window is open.
+    fn next(&self, recording: bool, trajectory: bool, window_open: bool) -> Stop {
         let t_sample = frame_time(self.k_sample, self.sample_dt, self.duration);
         let t_frame = if recording {
             frame_time(self.k_frame, self.frame_dt, self.duration)
+        } else {
+            f64::INFINITY
+        };
+        let t_trajectory = if trajectory {
+            frame_time(self.k_trajectory, self.trajectory_dt, self.duration)
         } else {
             f64::INFINITY
         };
@@ -225,11 +287,16 @@ impl Stops {
         } else {
             self.warmup
         };
-        let time = t_sample.min(t_frame).min(t_window).min(self.duration);
+        let time = t_sample
+            .min(t_frame)
+            .min(t_trajectory)
+            .min(t_window)
+            .min(self.duration);
         Stop {
             time,
             sample: time == t_sample,
             frame: time == t_frame,
+            trajectory: time == t_trajectory,
             window: time == t_window,
         }
     }
@@ -286,18 +353,6 @@ fn empty_profiles(s: &Scenario, scene: &Scene, snap: &Snapshot, disks: &Disks) -
     ))
 }
 
-/// The progress bar on stderr (hidden when stderr is not a terminal).
-fn progress_bar() -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(1000);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {percent}% sim time {msg}",
-        )
-        .expect("valid template"),
-    );
-    bar
-}
-
 /// One run of an engine from the start to its ending: the engine, where its frames go, and what
 /// is measured along the way.
 struct Driver<'a, E: Integrator> {
@@ -305,6 +360,7 @@ struct Driver<'a, E: Integrator> {
     s: &'a Scenario,
     scene: &'a Scene,
     sink: Option<Box<dyn FrameSink>>,
+    trajectory: Option<TrajectoryWriter>,
     g: f64,
     snap: Snapshot,
     initial: Observables,
@@ -322,6 +378,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         s: &'a Scenario,
         scene: &'a Scene,
         sink: Option<Box<dyn FrameSink>>,
+        trajectory: Option<TrajectoryWriter>,
         opts: &RunOptions,
     ) -> Driver<'a, E> {
         if let Some(flag) = opts.interrupt {
@@ -337,6 +394,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             s,
             scene,
             sink,
+            trajectory,
             g,
             snap,
             initial,
@@ -354,7 +412,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
     }
 
     /// Runs from stop to stop until the duration, the event limit or an interrupt.
-    fn run(&mut self, bar: Option<&indicatif::ProgressBar>) -> Result<Ending> {
+    fn run(&mut self, progress: &ProgressReport) -> Result<Ending> {
         if let Some(sink) = self.sink.as_mut() {
             let text = format!(
                 "start: {} disks, scene {}",
@@ -367,9 +425,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
             if self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
                 return Ok(Ending::Interrupted);
             }
-            let stop = self
-                .stops
-                .next(self.sink.is_some(), self.averages.window.is_some());
+            let stop = self.stops.next(
+                self.sink.is_some(),
+                self.trajectory.is_some(),
+                self.averages.window.is_some(),
+            );
             match self.sim.advance_to(stop.time)? {
                 Progress::Reached => {}
                 Progress::EventLimit => return Ok(Ending::EventLimit),
@@ -385,10 +445,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             if stop.frame {
                 self.frame()?;
             }
-            if let Some(bar) = bar {
-                bar.set_position((1000.0 * stop.time / self.stops.duration) as u64);
-                bar.set_message(format!("{:.4}", stop.time));
+            if stop.trajectory {
+                self.trajectory_frame()?;
             }
+            progress.update(stop.time, self.sim.counts().collisions());
             if stop.time >= self.stops.duration {
                 return Ok(Ending::Completed);
             }
@@ -448,6 +508,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
             ),
         ];
         let d = sim.disks();
+        let profile = self
+            .averages
+            .profiles
+            .as_ref()
+            .map(|p| p.of_snapshot(snap, d));
         sink.frame(&FrameView {
             index: self.stops.k_frame - 1,
             time: snap.time,
@@ -459,7 +524,31 @@ impl<'a, E: Integrator> Driver<'a, E> {
             species: &d.species,
             floor_height: snap.floor_height,
             series: &series,
+            profile: profile.as_ref(),
         })
+    }
+
+    /// A trajectory frame: every disk, to the extended XYZ file.
+    fn trajectory_frame(&mut self) -> Result<()> {
+        self.stops.k_trajectory += 1;
+        let Some(w) = self.trajectory.as_mut() else {
+            return Ok(());
+        };
+        let (snap, d) = (&self.snap, self.sim.disks());
+        w.frame(&FrameView {
+            index: self.stops.k_trajectory - 1,
+            time: snap.time,
+            x: &snap.x,
+            y: &snap.y,
+            vx: &snap.vx,
+            vy: &snap.vy,
+            radius: &d.radius,
+            species: &d.species,
+            floor_height: snap.floor_height,
+            series: &[],
+            profile: None,
+        })
+        .map_err(Error::Io)
     }
 
     /// Closes the recording with a note on how the run ended.
@@ -481,14 +570,18 @@ impl<'a, E: Integrator> Driver<'a, E> {
         Ok(())
     }
 
-    /// Ends the run: the final state, the recording closed, the summary.
-    fn finish(mut self, ending: Ending, wall: f64) -> Result<Summary> {
+    /// Ends the run: the final state, the outputs closed, the summary.
+    fn finish(mut self, ending: Ending, wall: f64, progress: ProgressReport) -> Result<Summary> {
         let end_time = if ending == Ending::Completed {
             self.stops.duration
         } else {
             self.sim.time()
         };
         self.sim.snapshot_into(end_time, &mut self.snap);
+        progress.finish(ending, end_time, self.sim.counts().collisions());
+        if let Some(w) = self.trajectory.take() {
+            w.finish().map_err(Error::Io)?;
+        }
         self.close_sink(ending, end_time)?;
         Ok(self.summarise(ending, end_time, wall))
     }
@@ -592,15 +685,18 @@ fn drive<E: Integrator>(
     sink: Option<Box<dyn FrameSink>>,
     opts: &RunOptions,
 ) -> Result<Summary> {
-    let mut driver = Driver::new(sim, s, scene, sink, opts);
-    let bar = opts.progress.then(progress_bar);
+    let trajectory = open_trajectory(s, scene, opts, sim.disks())?;
+    let mut driver = Driver::new(sim, s, scene, sink, trajectory, opts);
+    let progress = ProgressReport::start(
+        ProgressMode::for_stderr(opts.progress),
+        &s.name,
+        driver.sim.disks().len(),
+        s.run.duration,
+    );
     let clock = Instant::now();
-    let ending = driver.run(bar.as_ref())?;
+    let ending = driver.run(&progress)?;
     let wall = clock.elapsed().as_secs_f64();
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
-    driver.finish(ending, wall)
+    driver.finish(ending, wall, progress)
 }
 
 /// Invariant checks at a sample: no overlap, energy balance.

@@ -174,7 +174,13 @@ fn recorded_run_reads_back_as_simulated() {
     assert!(c.has_blueprint);
 
     // Entities.
-    let mut temporal: Vec<String> = vec!["disks".into(), "log".into(), "scene/floor".into()];
+    let mut temporal: Vec<String> = vec![
+        "disks".into(),
+        "log".into(),
+        "profiles/packing_fraction".into(),
+        "profiles/temperature".into(),
+        "scene/floor".into(),
+    ];
     temporal.extend(SERIES.iter().map(|n| format!("series/{n}")));
     temporal.sort();
     assert_eq!(
@@ -182,7 +188,16 @@ fn recorded_run_reads_back_as_simulated() {
         temporal,
         "temporal entities"
     );
-    for e in ["disks", "scene", "scene/walls"] {
+    for e in [
+        "disks",
+        "scene",
+        "scene/walls",
+        "scene/speed_scale",
+        "legend",
+        "profiles/packing_fraction",
+        "profiles/packing_fraction/axes",
+        "profiles/temperature/axes",
+    ] {
         assert!(
             c.static_entities.contains(e),
             "static {e}: {:?}",
@@ -198,7 +213,9 @@ fn recorded_run_reads_back_as_simulated() {
     for e in temporal.iter().filter(|e| *e != "log") {
         let stats = c.entity(e).unwrap();
         assert_eq!(stats.frames, FRAMES, "{e}: frames");
-        assert_eq!(stats.rows, FRAMES, "{e}: rows");
+        // `disks`: one row per frame, and one more at frame 0 holding radii and class ids.
+        let rows = if e == "disks" { FRAMES + 1 } else { FRAMES };
+        assert_eq!(stats.rows, rows, "{e}: rows");
     }
     assert_eq!(c.disks.len(), FRAMES);
     for (k, d) in c.disks.iter().enumerate() {
@@ -233,6 +250,42 @@ fn recorded_run_reads_back_as_simulated() {
         }
     }
     assert_eq!(c.series.len(), SERIES.len());
+
+    // The layout: the bed view spans the domain's width (30) and the profiles' heights (up to
+    // 10, y flipped), the two profile views share those heights.
+    assert_eq!(c.view_bounds.len(), 3, "{:?}", c.view_bounds);
+    let (bed, profiles): (Vec<[f64; 4]>, Vec<[f64; 4]>) =
+        c.view_bounds.iter().partition(|b| b[1] > 30.0);
+    assert_eq!(bed.len(), 1, "{:?}", c.view_bounds);
+    let bed = bed[0];
+    assert!(bed[0] < 0.0 && bed[0] > -1.0 && bed[1] < 31.0, "{bed:?}");
+    assert!(
+        bed[2] < -10.0 && bed[2] > -11.0 && bed[3] > 0.0 && bed[3] < 1.0,
+        "{bed:?}"
+    );
+    for p in &profiles {
+        assert!(p[2] < -10.0 && p[3] > 0.0, "{p:?}");
+    }
+
+    // Live profiles: 10 bins up to height 10, one strip per frame; the packing fraction of
+    // frame k integrates to the area of the disks below the top at frame k.
+    assert_eq!(c.profiles["packing_fraction"].len(), FRAMES);
+    assert_eq!(c.profiles["temperature"].len(), FRAMES);
+    for (k, (f, pts)) in c.profiles["packing_fraction"].iter().enumerate() {
+        assert_eq!(*f, k as i64);
+        assert_eq!(pts.len(), 10);
+        let h = f64::from(pts[1][1] - pts[0][1]);
+        let top = f64::from(pts[9][1]) + 0.5 * h;
+        assert!((top - 10.0).abs() < 1e-5, "profile top {top}");
+        let below = frames[k].y.iter().filter(|&&y| y < top).count() as f64;
+        let area: f64 = pts.iter().map(|p| f64::from(p[0]) * h * 30.0).sum();
+        let disk = std::f64::consts::PI * 0.25;
+        assert!(
+            (area / disk - below).abs() < 1e-3 * below.max(1.0),
+            "frame {k}: {} disks' area in the profile, {below} disks below {top}",
+            area / disk
+        );
+    }
 
     // The floor moves (Γ = 3), the walls exist, the bed is above the floor.
     let heights: Vec<f32> = c.floor.iter().map(|&(_, h)| h).collect();
@@ -333,6 +386,7 @@ fn run_failing_mid_way_leaves_a_complete_file() {
         y_periodic: false,
         floor: true,
         species: 1,
+        speed_scale: 2.0,
     };
     let rec = RerunRecorder::create(&path, &layout, ColorBy::Speed).unwrap();
     let e = run(

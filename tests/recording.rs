@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use vibrobed::measure::ProfileTable;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
 use vibrobed::output::recording::{read_back, RerunRecorder};
 
@@ -25,6 +26,7 @@ fn layout(top: Option<f64>) -> SceneLayout {
         y_periodic: false,
         floor: true,
         species: 2,
+        speed_scale: 2.0,
     }
 }
 
@@ -76,6 +78,7 @@ fn view(k: u64, s: &State) -> FrameView<'_> {
         species: &s.species,
         floor_height: Some(s.floor),
         series: &s.series,
+        profile: None,
     }
 }
 
@@ -100,7 +103,8 @@ fn frames_read_back_equal_what_was_logged() {
 
     assert_eq!(c.application_id.as_deref(), Some("vibrobed"));
     let disks = c.entity("disks").expect("entity `disks` missing");
-    assert_eq!(disks.rows, FRAMES as usize);
+    // One row per frame, and one more at frame 0 with the radii and class ids.
+    assert_eq!(disks.rows, FRAMES as usize + 1);
     assert_eq!(disks.frames, FRAMES as usize);
     assert_eq!(c.disks.len(), FRAMES as usize);
     for (k, d) in c.disks.iter().enumerate() {
@@ -168,6 +172,85 @@ fn frames_read_back_equal_what_was_logged() {
     assert!(c.has_blueprint);
     assert!(c.has_footer, "footer (manifest) missing");
     assert!(c.manifest_chunks > 0);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Colours follow one fixed scale (`speed_scale` = 2): a disk keeps its colour while others
+/// speed up, rest is blue, the scale and above are red.
+#[test]
+fn colour_scale_is_fixed() {
+    let path = tmp("scale");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let s = state(0);
+    let speeds = [[1.0, 0.0, 0.0], [1.0, 40.0, 0.0]];
+    for (k, vx) in speeds.iter().enumerate() {
+        let vy = [0.0; 3];
+        let mut f = view(k as u64, &s);
+        f.vx = vx;
+        f.vy = &vy;
+        rec.frame(&f).unwrap();
+    }
+    rec.finish().unwrap();
+    let c = read_back(&path).unwrap();
+    assert_eq!(c.disks.len(), 2);
+    let [a, b] = [&c.disks[0].colors, &c.disks[1].colors];
+    assert_eq!(a[0], b[0], "disk 0 kept its speed and must keep its colour");
+    assert_eq!(a[2], 0x3b4cc0ff, "at rest: blue");
+    assert_eq!(b[1], 0xb40426ff, "above the scale: red");
+    assert_ne!(a[1], b[1]);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Live profiles: one line strip per frame and profile, points (value, height); the
+/// temperature leaves out bins without disks.
+#[test]
+fn profiles_read_back() {
+    let path = tmp("profiles");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let table = |k: u64| ProfileTable {
+        height: vec![0.5, 1.5, 2.5],
+        density: vec![0.4, 0.0, 0.1],
+        packing_fraction: vec![0.3 + 0.01 * k as f64, 0.0, 0.05],
+        temperature_x: vec![1.0, 0.0, 2.0],
+        temperature_y: vec![3.0, 0.0, 4.0 + k as f64],
+        velocity_x: vec![0.0; 3],
+        velocity_y: vec![0.0; 3],
+        above_top: 0.0,
+    };
+    for k in 0..FRAMES {
+        let s = state(k);
+        let p = table(k);
+        let mut f = view(k, &s);
+        f.profile = Some(&p);
+        rec.frame(&f).unwrap();
+    }
+    rec.finish().unwrap();
+    let c = read_back(&path).unwrap();
+    let phi = &c.profiles["packing_fraction"];
+    let temp = &c.profiles["temperature"];
+    assert_eq!(phi.len(), FRAMES as usize);
+    assert_eq!(temp.len(), FRAMES as usize);
+    for k in 0..FRAMES {
+        let (f, pts) = &phi[k as usize];
+        assert_eq!(*f, k as i64);
+        let v = (0.3 + 0.01 * k as f64) as f32;
+        assert_eq!(pts, &vec![[v, 0.5], [0.0, 1.5], [0.05, 2.5]]);
+        let (_, pts) = &temp[k as usize];
+        assert_eq!(pts, &vec![[2.0, 0.5], [(3.0 + 0.5 * k as f64) as f32, 2.5]]);
+    }
+    assert!(c.entity("profiles/packing_fraction").is_some());
+    for e in [
+        "profiles/packing_fraction/axes",
+        "profiles/temperature/axes",
+        "legend",
+        "scene/speed_scale",
+    ] {
+        assert!(
+            c.static_entities.contains(e),
+            "{e}: {:?}",
+            c.static_entities
+        );
+    }
     std::fs::remove_file(&path).ok();
 }
 
@@ -282,6 +365,7 @@ fn recording_throughput() {
             species: &species,
             floor_height: Some(0.0),
             series: &series,
+            profile: None,
         })
         .unwrap();
     }

@@ -2,6 +2,8 @@
 //! moving parts and the scalar time series. Output sinks (the Rerun recorder, tests) read frames;
 //! they never touch the engine.
 
+use crate::measure::ProfileTable;
+
 /// The fixed geometry of a scene, known before the first frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneLayout {
@@ -19,12 +21,15 @@ pub struct SceneLayout {
     pub floor: bool,
     /// Number of species (distinct radius classes) for colouring by species.
     pub species: usize,
+    /// Speed drawn full red when colouring by speed: one fixed colour scale for the whole run
+    /// (blue at rest, grey at half this speed, red at this speed and above).
+    pub speed_scale: f64,
 }
 
 /// How disks are coloured in a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ColorBy {
-    /// By speed |v| (blue slow → red fast), scaled per frame.
+    /// By speed |v| (blue at rest → red at [`SceneLayout::speed_scale`] and above).
     #[default]
     Speed,
     /// By species index.
@@ -54,4 +59,6 @@ pub struct FrameView<'a> {
     pub floor_height: Option<f64>,
     /// Scalar time series sampled at this frame: (name, value), e.g. ("energy/kinetic", 12.5).
     pub series: &'a [(&'static str, f64)],
+    /// Height profiles of this frame alone (gravity scenes; the bins of the run's profiles).
+    pub profile: Option<&'a ProfileTable>,
 }

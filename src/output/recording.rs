@@ -3,65 +3,89 @@
 //!
 //! # What the file holds
 //!
-//! | entity            | kind     | content                                                    |
-//! |-------------------|----------|------------------------------------------------------------|
-//! | `disks`           | temporal | `Points2D`: centres, radii, colours (by speed or species), class ids = species |
-//! | `disks`           | static   | `AnnotationContext` (species names and colours), y-up `Transform3D` |
-//! | `scene`           | static   | y-up `Transform3D` for everything under it                 |
-//! | `scene/walls`     | static   | `LineStrips2D`: vertical walls at x = 0 and x = width (hard x walls only) |
-//! | `scene/lid`       | static   | `LineStrips2D`: the lid at y = top (lid scenes only)        |
-//! | `scene/floor`     | temporal | `LineStrips2D`: the floor at its current height            |
-//! | `series/<name>`   | temporal | `Scalars`: one value per frame                              |
-//! | `log`             | temporal | `TextLog`: notable events                                   |
+//! | entity                          | kind     | content                                          |
+//! |---------------------------------|----------|--------------------------------------------------|
+//! | `disks`                         | temporal | `Points2D`: centres, radii, colours (by speed or species), class ids = species; instance i is disk i in every frame |
+//! | `disks`                         | static   | `AnnotationContext` (species names and colours), y-up `Transform3D` |
+//! | `scene`                         | static   | y-up `Transform3D` for everything under it       |
+//! | `scene/walls`                   | static   | `LineStrips2D`: hard walls at x = 0 and x = width |
+//! | `scene/periodic_edges`          | static   | `LineStrips2D`: the periodic edges x = 0 and x = width, dim |
+//! | `scene/lid`                     | static   | `LineStrips2D`: the lid at y = top (lid scenes only) |
+//! | `scene/floor`                   | temporal | `LineStrips2D`: the floor at its current height  |
+//! | `scene/speed_scale`             | static   | `LineStrips2D` and labelled `Points2D`: the colour scale (colouring by speed) |
+//! | `profiles/packing_fraction`     | temporal | `LineStrips2D`: (φ, height) of the frame, one point per bin |
+//! | `profiles/temperature`          | temporal | `LineStrips2D`: ((Tx + Ty)/2, height), bins holding disks |
+//! | `profiles/<name>/axes`          | static   | `LineStrips2D` and labelled `Points2D`: axes, ticks, titles |
+//! | `series/<name>`                 | temporal | `Scalars`: one value per frame                   |
+//! | `legend`                        | static   | `TextDocument` (Markdown): what the colours and views show |
+//! | `log`                           | temporal | `TextLog`: notable events                        |
 //!
 //! Timelines: sequence `frame` (the frame index) and duration `sim_time` (simulated time, stored
 //! with nanosecond resolution, one simulated time unit shown as one second). The wall-clock
 //! `log_time` timeline is disabled so that the file content depends on the simulation only.
 //!
-//! Rerun's 2D views draw y downwards; `disks` and `scene` carry a static `Transform3D` with scale
-//! (1, −1, 1) so that gravity points down on screen. The logged data themselves are the simulation
-//! coordinates (y up), which is what [`read_back`] returns.
+//! Rerun's 2D views draw y downwards; `disks`, `scene` and each profile carry a static
+//! `Transform3D` with a y scale of −1 so that gravity points down on screen (a profile's also
+//! stretches its values across the width of its view). The logged data themselves are the
+//! simulation coordinates and the measured values, which is what [`read_back`] returns.
 //!
-//! Walls for an open top (no lid, y not periodic) have no natural height: they are drawn up to
-//! 1.25 × the highest disk top (or floor) seen so far, and re-logged as static data whenever a disk
-//! climbs above them, so the viewer shows one stable, tall-enough pair of walls at every time.
+//! Walls for an open top have no natural height: they are drawn up to 1.25 × the highest disk
+//! top (or floor) seen so far, and re-logged as static data whenever a disk climbs above them.
 //!
-//! Radii and class ids are logged with the first frame and again only when they change (Rerun's
-//! latest-at semantics carries them over); positions, colours and the floor are logged every frame.
+//! # Layout
 //!
-//! The blueprint (disks large on the left; one time-series view per series group, i.e. per first
-//! path segment of the series names, or per series without a group, and the text log stacked on
-//! the right; blueprint, selection and time panels collapsed; timeline `sim_time`) is sent with
-//! the first frame, when the series names are known, or by [`RerunRecorder::finish`] (or the
-//! drop of the recorder) when no frame was ever written.
+//! The blueprint, sent with the first frame, puts the bed on top across the whole width, fitted
+//! to the domain's width and to the height of the profiles (`output.profile_height`, else twice
+//! the initial bed), or to three times the first frame's bed without profiles, or to the lid:
+//! the bed, not the empty sky. Below it: packing fraction and granular temperature against
+//! height (same heights as the bed), the time series (one view per group, i.e. per first path
+//! segment of the series names), the legend and the text log. Blueprint, selection and time
+//! panels start collapsed; the timeline is `sim_time`, following the data: a finished file
+//! opens on its last frame (press play or drag the time cursor to go through the run).
+//!
+//! # Cost
+//!
+//! [`RerunRecorder::frame`] copies the frame into a recycled buffer and hands it to a writer
+//! thread (started with the first frame) over a bounded channel: the simulation waits only when
+//! the writer is [`QUEUE`] frames behind (fewer for large frames, see [`QUEUE_BYTES`]). The
+//! writer gathers [`BATCH`] frames and logs them column-wise (`send_columns`: one chunk per
+//! entity per batch), so that Rerun's batcher has little left to do.
 //!
 //! # Completeness of the file
 //!
 //! The footer (with the chunk manifest) is written when the underlying `RecordingStream` is
-//! dropped. [`RerunRecorder::finish`] flushes and drops it and reports errors; simply dropping a
-//! `RerunRecorder` (e.g. while unwinding from an error) also completes the file. Only a process
-//! that exits without running destructors (`std::process::exit`, default SIGINT handling, abort)
-//! leaves a file without its footer.
+//! dropped. [`RerunRecorder::finish`] drains the queue, flushes, drops the stream and reports
+//! errors; simply dropping a `RerunRecorder` (e.g. while unwinding from an error) also drains
+//! the queue and completes the file. Only a process that exits without running destructors
+//! (`std::process::exit`, default SIGINT handling, abort) leaves a file without its footer.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
+use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
+use std::thread::JoinHandle;
 
-use rerun::blueprint::components::PanelState;
+use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
     Blueprint, BlueprintActivation, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel,
-    Spatial2DView, TextLogView, TimePanel, TimeSeriesView, Vertical,
+    Spatial2DView, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
-use rerun::components::{ClassId, Color, Position2D, Radius, Scalar, Text, TextLogLevel};
+use rerun::components::{
+    ClassId, Color, LineStrip2D, MediaType, Position2D, Radius, Scalar, Text, TextLogLevel,
+};
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
 use rerun::external::re_log_encoding::DecoderApp;
-use rerun::log::{Chunk, LogMsg};
+use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+use rerun::external::re_sdk_types::blueprint::components::VisualBounds2D as VisualBounds2DComponent;
+use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
+use rerun::log::{Chunk, LogMsg, TimeColumn};
 use rerun::time::{TimeCell, TimelineName};
 use rerun::{
     AnnotationContext, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder, Scalars,
-    TextLog, Transform3D,
+    TextDocument, TextLog, Transform3D,
 };
 
 use super::frame::{ColorBy, FrameView, SceneLayout};
+use crate::measure::ProfileTable;
 
 /// Application id written into the recording.
 pub const APPLICATION_ID: &str = "vibrobed";
@@ -73,14 +97,35 @@ pub const SIM_TIME_TIMELINE: &str = "sim_time";
 pub const DISKS_ENTITY: &str = "disks";
 /// Entity of the walls (static).
 pub const WALLS_ENTITY: &str = "scene/walls";
+/// Entity of the periodic edges (static).
+pub const PERIODIC_EDGES_ENTITY: &str = "scene/periodic_edges";
 /// Entity of the lid (static).
 pub const LID_ENTITY: &str = "scene/lid";
 /// Entity of the floor (one line per frame).
 pub const FLOOR_ENTITY: &str = "scene/floor";
+/// Entity of the colour scale drawn in the bed view (static).
+pub const SPEED_SCALE_ENTITY: &str = "scene/speed_scale";
+/// Entity of the packing-fraction profile (one line strip per frame).
+pub const PACKING_PROFILE_ENTITY: &str = "profiles/packing_fraction";
+/// Entity of the temperature profile (one line strip per frame).
+pub const TEMPERATURE_PROFILE_ENTITY: &str = "profiles/temperature";
 /// Prefix of the time-series entities: series `name` goes to `series/<name>`.
 pub const SERIES_PREFIX: &str = "series";
+/// Entity of the legend (static Markdown text).
+pub const LEGEND_ENTITY: &str = "legend";
 /// Entity of the text log.
 pub const LOG_ENTITY: &str = "log";
+
+/// Frames the simulation may run ahead of the writer thread before it waits (fewer for large
+/// frames: at most [`QUEUE_BYTES`] of them, and at least 2).
+pub const QUEUE: usize = 64;
+/// Bytes of queued frames above which the queue is shortened.
+pub const QUEUE_BYTES: usize = 64 << 20;
+/// Frames logged together, column-wise, by the writer thread (fewer when they hold more than
+/// 2²⁰ disks together).
+pub const BATCH: usize = 32;
+/// Disk positions gathered at most before a batch is logged.
+const BATCH_POINTS: usize = 1 << 20;
 
 /// Colours of species 0, 1, … (cycled), also used for the annotation context.
 const SPECIES_PALETTE: [[u8; 3]; 10] = [
@@ -96,34 +141,13 @@ const SPECIES_PALETTE: [[u8; 3]; 10] = [
     [23, 190, 207],
 ];
 const WALL_COLOR: [u8; 3] = [170, 170, 170];
+const EDGE_COLOR: [u8; 3] = [90, 90, 90];
 const FLOOR_COLOR: [u8; 3] = [230, 140, 30];
-
-/// Streams a simulation to a Rerun `.rrd` file. See the [module documentation](self) for the
-/// file layout. Only compiled with the `record` feature.
-pub struct RerunRecorder {
-    rec: RecordingStream,
-    layout: SceneLayout,
-    color_by: ColorBy,
-    /// Height the walls are currently drawn to (open top only).
-    wall_height: Option<f64>,
-    /// Radii last logged (re-logged only on change).
-    last_radii: Vec<f64>,
-    /// Species last logged (re-logged only on change).
-    last_species: Vec<u32>,
-    blueprint_sent: bool,
-    /// Reused buffers.
-    positions: Vec<[f32; 2]>,
-    colors: Vec<Color>,
-}
-
-impl std::fmt::Debug for RerunRecorder {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("RerunRecorder")
-            .field("layout", &self.layout)
-            .field("color_by", &self.color_by)
-            .finish_non_exhaustive()
-    }
-}
+const AXIS_COLOR: [u8; 3] = [150, 150, 150];
+const PACKING_COLOR: [u8; 3] = [80, 170, 255];
+const TEMPERATURE_COLOR: [u8; 3] = [255, 110, 80];
+/// Width of a profile view in units of its height range (its values are stretched to it).
+const PROFILE_ASPECT: f64 = 0.6;
 
 fn err(context: &str, e: impl std::fmt::Display) -> String {
     format!("rerun recording: {context}: {e}")
@@ -133,8 +157,8 @@ fn rgb(c: [u8; 3]) -> Color {
     Color::from_rgb(c[0], c[1], c[2])
 }
 
-/// Blue (slow) → light grey → red (fast), `t` in [0, 1] ("coolwarm").
-fn speed_color(t: f64) -> Color {
+/// Blue (at rest) → light grey → red (`t` ≥ 1), `t` = speed / scale, clamped ("coolwarm").
+pub fn speed_color(t: f64) -> Color {
     const STOPS: [[f64; 3]; 3] = [
         [59.0, 76.0, 192.0],
         [221.0, 221.0, 221.0],
@@ -158,10 +182,112 @@ fn line(points: [[f64; 2]; 2]) -> [[f32; 2]; 2] {
     points.map(|[x, y]| [x as f32, y as f32])
 }
 
+fn nanos(time: f64) -> i64 {
+    // Nanosecond resolution; negative times are allowed.
+    let n = (time * 1e9).round();
+    if n.is_finite() {
+        n.clamp(-9.0e18, 9.0e18) as i64
+    } else {
+        0
+    }
+}
+
+/// A short label for an axis tick or a speed: `0`, `0.25`, `1.9`, `120`.
+fn tick_label(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+/// A "nice" axis end at or above `v` (1, 2, 2.5 or 5 times a power of ten).
+fn nice_ceiling(v: f64) -> f64 {
+    if !(v.is_finite() && v > 0.0) {
+        return 1.0;
+    }
+    let p = 10f64.powf(v.log10().floor());
+    [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .find(|&c| c >= v * (1.0 - 1e-12))
+        .unwrap_or(10.0 * p)
+}
+
+/// A frame owned by the queue (the buffers are recycled).
+#[derive(Debug, Default)]
+struct FrameBuf {
+    index: u64,
+    time: f64,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    radius: Vec<f64>,
+    species: Vec<u32>,
+    floor_height: Option<f64>,
+    series: Vec<(&'static str, f64)>,
+    profile: Option<ProfileTable>,
+}
+
+impl FrameBuf {
+    fn fill(&mut self, f: &FrameView) {
+        fn copy<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+            dst.clear();
+            dst.extend_from_slice(src);
+        }
+        self.index = f.index;
+        self.time = f.time;
+        copy(&mut self.x, f.x);
+        copy(&mut self.y, f.y);
+        copy(&mut self.vx, f.vx);
+        copy(&mut self.vy, f.vy);
+        copy(&mut self.radius, f.radius);
+        copy(&mut self.species, f.species);
+        self.floor_height = f.floor_height;
+        copy(&mut self.series, f.series);
+        self.profile = f.profile.cloned();
+    }
+}
+
+/// What the simulation sends to the writer thread.
+enum Msg {
+    Frame(Box<FrameBuf>),
+    Text {
+        time: f64,
+        level: String,
+        text: String,
+    },
+}
+
+/// Streams a simulation to a Rerun `.rrd` file. See the [module documentation](self) for the
+/// file layout. Only compiled with the `record` feature.
+pub struct RerunRecorder {
+    /// The writer before the first frame (it then moves to its thread).
+    pending: Option<Writer>,
+    tx: Option<SyncSender<Msg>>,
+    /// Buffers the writer is done with.
+    recycled: Option<Receiver<Box<FrameBuf>>>,
+    worker: Option<JoinHandle<Result<(), String>>>,
+    layout: SceneLayout,
+    color_by: ColorBy,
+}
+
+impl std::fmt::Debug for RerunRecorder {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RerunRecorder")
+            .field("layout", &self.layout)
+            .field("color_by", &self.color_by)
+            .finish_non_exhaustive()
+    }
+}
+
 impl RerunRecorder {
-    /// Opens `path` for writing (truncating it), disables the wall-clock `log_time` timeline and
-    /// logs the static scene: y-up transforms, the species annotation context, the walls
-    /// (when x is bounded by walls and the top is known) and the lid (when there is one).
+    /// Opens `path` for writing (truncating it), disables the wall-clock `log_time` timeline,
+    /// logs the static scene (y-up transforms, the species annotation context, the walls or
+    /// periodic edges, the lid, the colour scale) and starts the writer thread.
     pub fn create(path: &Path, layout: &SceneLayout, color_by: ColorBy) -> Result<Self, String> {
         let rec = RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_name(layout.name.clone())
@@ -170,8 +296,7 @@ impl RerunRecorder {
             .save(path)
             .map_err(|e| err(&format!("cannot create {}", path.display()), e))?;
         rec.set_log_time_enabled(false);
-
-        let mut recorder = Self {
+        let mut writer = Writer {
             rec,
             layout: layout.clone(),
             color_by,
@@ -179,78 +304,81 @@ impl RerunRecorder {
             last_radii: Vec::new(),
             last_species: Vec::new(),
             blueprint_sent: false,
-            positions: Vec::new(),
-            colors: Vec::new(),
+            last_frame: None,
+            batch: Batch::default(),
         };
-        recorder.log_static_scene()?;
-        Ok(recorder)
+        writer.log_static_scene()?;
+        Ok(Self {
+            pending: Some(writer),
+            tx: None,
+            recycled: None,
+            worker: None,
+            layout: layout.clone(),
+            color_by,
+        })
     }
 
-    fn log_static_scene(&mut self) -> Result<(), String> {
-        let flip = Transform3D::from_scale((1.0, -1.0, 1.0));
-        self.rec
-            .log_static(DISKS_ENTITY, &flip)
-            .map_err(|e| err("transform", e))?;
-        self.rec
-            .log_static("scene", &flip)
-            .map_err(|e| err("transform", e))?;
+    /// Starts the writer thread, with a queue sized for frames of `disks` disks.
+    fn start(&mut self, disks: usize) -> Result<(), String> {
+        let Some(writer) = self.pending.take() else {
+            return Ok(());
+        };
+        let frame_bytes = 6 * 8 * disks + 1;
+        let (tx, rx) = mpsc::sync_channel::<Msg>((QUEUE_BYTES / frame_bytes).clamp(2, QUEUE));
+        let (recycle_tx, recycled) = mpsc::channel();
+        let worker = std::thread::Builder::new()
+            .name("vibrobed-rrd".into())
+            .spawn(move || writer.run(rx, recycle_tx))
+            .map_err(|e| err("cannot start the writer thread", e))?;
+        self.tx = Some(tx);
+        self.recycled = Some(recycled);
+        self.worker = Some(worker);
+        Ok(())
+    }
 
-        let classes: Vec<ClassDescriptionMapElem> = (0..self.layout.species.max(1))
-            .map(|s| {
-                let c = SPECIES_PALETTE[s % SPECIES_PALETTE.len()];
-                let id = u16::try_from(s).unwrap_or(u16::MAX);
-                (
-                    id,
-                    format!("species {s}").as_str(),
-                    Rgba32::from_rgb(c[0], c[1], c[2]),
-                )
-                    .into()
-            })
-            .collect();
-        self.rec
-            .log_static(DISKS_ENTITY, &AnnotationContext::new(classes))
-            .map_err(|e| err("annotation context", e))?;
-
-        if let (Some(top), false) = (self.layout.top, self.layout.y_periodic) {
-            let w = self.layout.width;
-            self.rec
-                .log_static(
-                    LID_ENTITY,
-                    &LineStrips2D::new([line([[0.0, top], [w, top]])])
-                        .with_colors([rgb(WALL_COLOR)])
-                        .with_radii([Radius::new_ui_points(1.5)]),
-                )
-                .map_err(|e| err("lid", e))?;
+    /// Hands `msg` to the writer (on this thread before the first frame); when the writer has
+    /// stopped (after an error), returns its error.
+    fn send(&mut self, msg: Msg) -> Result<(), String> {
+        if let Some(writer) = self.pending.as_mut() {
+            return match msg {
+                Msg::Text { time, level, text } => writer.text(time, &level, &text),
+                Msg::Frame(_) => Err(err("send", "the writer thread was not started")),
+            };
         }
-        if let Some(top) = self.layout.top {
-            self.log_walls(top)?;
+        let sent = self
+            .tx
+            .as_ref()
+            .ok_or_else(|| err("send", "the recording is closed"))?
+            .send(msg);
+        if sent.is_err() {
+            self.tx = None;
+            return Err(self
+                .join()
+                .err()
+                .unwrap_or_else(|| err("send", "the writer thread stopped")));
         }
         Ok(())
     }
 
-    /// Logs (static) the two walls from y = 0 (or below, when the floor dips) up to `height`.
-    fn log_walls(&mut self, height: f64) -> Result<(), String> {
-        self.wall_height = Some(height);
-        if self.layout.x_periodic {
-            return Ok(());
+    /// Closes the queue and waits for the writer thread, which completes the file (or, before
+    /// the first frame, completes it on this thread).
+    fn join(&mut self) -> Result<(), String> {
+        if let Some(mut writer) = self.pending.take() {
+            return writer.close();
         }
-        let w = self.layout.width;
-        self.rec
-            .log_static(
-                WALLS_ENTITY,
-                &LineStrips2D::new([
-                    line([[0.0, 0.0], [0.0, height]]),
-                    line([[w, 0.0], [w, height]]),
-                ])
-                .with_colors([rgb(WALL_COLOR)])
-                .with_radii([Radius::new_ui_points(1.5)]),
-            )
-            .map_err(|e| err("walls", e))
+        self.tx = None;
+        match self.worker.take() {
+            Some(worker) => worker
+                .join()
+                .unwrap_or_else(|_| Err(err("writer thread", "panicked"))),
+            None => Ok(()),
+        }
     }
 
-    /// Writes one frame on timelines `frame` = `f.index` and `sim_time` = `f.time`: the disks,
-    /// the floor line (when `f.floor_height` is `Some`) and every series value under
-    /// `series/<name>`. Fails when the per-disk slices have different lengths.
+    /// Queues one frame, written on timelines `frame` = `f.index` and `sim_time` = `f.time`:
+    /// the disks, the floor line (when `f.floor_height` is `Some`), the profiles (when
+    /// `f.profile` is `Some`) and every series value under `series/<name>`. Fails when the
+    /// per-disk slices have different lengths, or with the writer's error once it failed.
     pub fn frame(&mut self, f: &FrameView) -> Result<(), String> {
         let n = f.x.len();
         if f.y.len() != n || f.vx.len() != n || f.vy.len() != n || f.radius.len() != n {
@@ -272,22 +400,243 @@ impl RerunRecorder {
                 n
             ));
         }
+        self.start(n)?;
+        let mut buf = self
+            .recycled
+            .as_ref()
+            .and_then(|r| r.try_recv().ok())
+            .unwrap_or_default();
+        buf.fill(f);
+        self.send(Msg::Frame(buf))
+    }
+
+    /// Logs a line of text under `log` at simulated time `time` (on the `frame` timeline, the
+    /// last frame queued before it). `level` is a Rerun level (`TRACE`, `DEBUG`, `INFO`,
+    /// `WARN`, `ERROR`, `CRITICAL`; case-insensitive, `warning` means `WARN`).
+    pub fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<(), String> {
+        let level = match level.to_ascii_uppercase().as_str() {
+            "WARNING" => TextLogLevel::WARN.to_owned(),
+            other => other.to_owned(),
+        };
+        self.send(Msg::Text {
+            time,
+            level,
+            text: text.to_owned(),
+        })
+    }
+
+    /// Writes what is queued, sends the blueprint if no frame was written, flushes everything
+    /// to disk and closes the file, writing its footer. Dropping a `RerunRecorder` without
+    /// calling this also completes the file, but silently.
+    pub fn finish(mut self) -> Result<(), String> {
+        self.join()
+    }
+}
+
+impl Drop for RerunRecorder {
+    /// A recorder dropped without [`finish`](Self::finish) (an error or a panic in the run)
+    /// still writes what is queued and completes the file, laid out.
+    fn drop(&mut self) {
+        let _ = self.join();
+    }
+}
+
+/// Values of one entity gathered over a batch, with their times.
+#[derive(Debug)]
+struct Column<T> {
+    frames: Vec<i64>,
+    nanos: Vec<i64>,
+    values: Vec<T>,
+}
+
+impl<T> Default for Column<T> {
+    fn default() -> Self {
+        Self {
+            frames: Vec::new(),
+            nanos: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+}
+
+impl<T> Column<T> {
+    fn push(&mut self, frame: i64, nanos: i64, value: T) {
+        self.frames.push(frame);
+        self.nanos.push(nanos);
+        self.values.push(value);
+    }
+
+    /// The time columns, leaving the column empty (its buffers kept).
+    fn take_times(&mut self) -> [TimeColumn; 2] {
+        [
+            TimeColumn::new_sequence(FRAME_TIMELINE, self.frames.drain(..)),
+            TimeColumn::new_duration_nanos(SIM_TIME_TIMELINE, self.nanos.drain(..)),
+        ]
+    }
+}
+
+/// Frames gathered by the writer thread, logged together.
+#[derive(Debug, Default)]
+struct Batch {
+    /// Disk positions of all frames, one after the other; `values` holds each frame's count.
+    disks: Column<usize>,
+    positions: Vec<[f32; 2]>,
+    colors: Vec<Color>,
+    floor: Column<LineStrip2D>,
+    packing: Column<LineStrip2D>,
+    temperature: Column<LineStrip2D>,
+    series: BTreeMap<&'static str, Column<f64>>,
+}
+
+/// The writer thread's side: the stream and what has been logged so far.
+struct Writer {
+    rec: RecordingStream,
+    layout: SceneLayout,
+    color_by: ColorBy,
+    /// Height the walls are currently drawn to (open top only).
+    wall_height: Option<f64>,
+    /// Radii last logged (re-logged only on change).
+    last_radii: Vec<f64>,
+    /// Species last logged (re-logged only on change).
+    last_species: Vec<u32>,
+    blueprint_sent: bool,
+    /// Index of the last frame logged.
+    last_frame: Option<i64>,
+    batch: Batch,
+}
+
+impl Writer {
+    /// Logs the queued messages until the queue closes, then completes the file.
+    fn run(mut self, rx: Receiver<Msg>, recycle: Sender<Box<FrameBuf>>) -> Result<(), String> {
+        let mut result = Ok(());
+        for msg in rx {
+            let step = match msg {
+                Msg::Frame(buf) => {
+                    let r = self.frame(&buf);
+                    let _ = recycle.send(buf);
+                    r
+                }
+                Msg::Text { time, level, text } => self.text(time, &level, &text),
+            };
+            if let Err(e) = step {
+                result = Err(e);
+                break; // Dropping `rx` tells the recorder.
+            }
+        }
+        let closed = self.close();
+        result.and(closed)
+    }
+
+    fn close(&mut self) -> Result<(), String> {
+        let flushed = self.flush_batch();
         if !self.blueprint_sent {
-            self.send_blueprint(f.series)?;
+            self.send_blueprint(&[], None, None)?;
+        }
+        flushed?;
+        self.rec.flush_blocking().map_err(|e| err("flush", e))
+        // The stream is dropped with `self`: the footer is written then.
+    }
+
+    fn log_static_scene(&mut self) -> Result<(), String> {
+        let flip = Transform3D::from_scale((1.0, -1.0, 1.0));
+        for entity in [DISKS_ENTITY, "scene"] {
+            self.rec
+                .log_static(entity, &flip)
+                .map_err(|e| err("transform", e))?;
         }
 
+        let classes: Vec<ClassDescriptionMapElem> = (0..self.layout.species.max(1))
+            .map(|s| {
+                let c = SPECIES_PALETTE[s % SPECIES_PALETTE.len()];
+                let id = u16::try_from(s).unwrap_or(u16::MAX);
+                (
+                    id,
+                    format!("species {s}").as_str(),
+                    Rgba32::from_rgb(c[0], c[1], c[2]),
+                )
+                    .into()
+            })
+            .collect();
         self.rec
-            .set_time_sequence(FRAME_TIMELINE, i64::try_from(f.index).unwrap_or(i64::MAX));
-        self.set_sim_time(f.time);
+            .log_static(DISKS_ENTITY, &AnnotationContext::new(classes))
+            .map_err(|e| err("annotation context", e))?;
+
+        let w = self.layout.width;
+        if let (Some(top), false) = (self.layout.top, self.layout.y_periodic) {
+            self.rec
+                .log_static(
+                    LID_ENTITY,
+                    &LineStrips2D::new([line([[0.0, top], [w, top]])])
+                        .with_colors([rgb(WALL_COLOR)])
+                        .with_radii([Radius::new_ui_points(1.5)]),
+                )
+                .map_err(|e| err("lid", e))?;
+        }
+        if let Some(top) = self.layout.top {
+            self.log_walls(top)?;
+        }
+        Ok(())
+    }
+
+    /// Logs (static) the two walls from y = 0 up to `height`, or the periodic edges.
+    fn log_walls(&mut self, height: f64) -> Result<(), String> {
+        self.wall_height = Some(height);
+        let w = self.layout.width;
+        let (entity, color, width) = if self.layout.x_periodic {
+            (PERIODIC_EDGES_ENTITY, EDGE_COLOR, 0.75)
+        } else {
+            (WALLS_ENTITY, WALL_COLOR, 1.5)
+        };
+        self.rec
+            .log_static(
+                entity,
+                &LineStrips2D::new([
+                    line([[0.0, 0.0], [0.0, height]]),
+                    line([[w, 0.0], [w, height]]),
+                ])
+                .with_colors([rgb(color)])
+                .with_radii([Radius::new_ui_points(width)]),
+            )
+            .map_err(|e| err("walls", e))
+    }
+
+    fn set_time(&self, frame: Option<i64>, time: f64) {
+        if let Some(f) = frame {
+            self.rec.set_time_sequence(FRAME_TIMELINE, f);
+        }
+        self.rec.set_time(
+            SIM_TIME_TIMELINE,
+            TimeCell::from_duration_nanos(nanos(time)),
+        );
+    }
+
+    fn text(&mut self, time: f64, level: &str, text: &str) -> Result<(), String> {
+        self.set_time(self.last_frame, time);
+        self.rec
+            .log(
+                LOG_ENTITY,
+                &TextLog::new(text).with_level(TextLogLevel::from(level.to_owned())),
+            )
+            .map_err(|e| err("text log", e))
+    }
+
+    fn frame(&mut self, f: &FrameBuf) -> Result<(), String> {
+        let n = f.x.len();
+        let index = i64::try_from(f.index).unwrap_or(i64::MAX);
+        let t = nanos(f.time);
+        if !self.blueprint_sent {
+            let view_top = self.view_top(f);
+            self.send_blueprint(&f.series, f.profile.as_ref(), Some(view_top))?;
+        }
+        self.last_frame = Some(index);
 
         // Open top: grow the walls when something rises above 80 % of them.
-        if self.layout.top.is_none() && !self.layout.x_periodic {
-            let mut highest = f.floor_height.unwrap_or(0.0);
-            for (y, r) in f.y.iter().zip(f.radius) {
-                if y + r > highest {
-                    highest = y + r;
-                }
-            }
+        if self.layout.top.is_none() {
+            let highest =
+                f.y.iter()
+                    .zip(&f.radius)
+                    .map(|(y, r)| y + r)
+                    .fold(f.floor_height.unwrap_or(0.0), f64::max);
             let needed = if highest > 0.0 {
                 highest * 1.25
             } else {
@@ -298,120 +647,403 @@ impl RerunRecorder {
             }
         }
 
-        self.positions.clear();
-        self.positions
-            .extend(f.x.iter().zip(f.y).map(|(&x, &y)| [x as f32, y as f32]));
-        let mut points = Points2D::new(self.positions.iter().copied());
-
-        if self.last_radii.as_slice() != f.radius {
-            points = points.with_radii(f.radius.iter().map(|&r| Radius::new_scene_units(r as f32)));
-            self.last_radii.clear();
-            self.last_radii.extend_from_slice(f.radius);
-        }
+        // Radii and class ids: with the first frame and whenever they change.
         let species_changed = if f.species.is_empty() {
             self.last_species.len() != n || self.last_species.iter().any(|&s| s != 0)
         } else {
-            self.last_species.as_slice() != f.species
+            self.last_species != f.species
         };
-        if species_changed {
-            self.last_species.clear();
-            if f.species.is_empty() {
-                self.last_species.resize(n, 0);
+        if self.last_radii != f.radius || species_changed {
+            self.set_time(Some(index), f.time);
+            let class_ids: Vec<ClassId> = if f.species.is_empty() {
+                vec![ClassId::from(0u16); n]
             } else {
-                self.last_species.extend_from_slice(f.species);
-            }
-            points = points.with_class_ids(
-                self.last_species
+                f.species
                     .iter()
-                    .map(|&s| ClassId::from(u16::try_from(s).unwrap_or(u16::MAX))),
-            );
-        }
-        if self.color_by == ColorBy::Speed {
-            let mut vmax = 0.0f64;
-            for (vx, vy) in f.vx.iter().zip(f.vy) {
-                vmax = vmax.max(vx.hypot(*vy));
-            }
-            self.colors.clear();
-            self.colors.extend(f.vx.iter().zip(f.vy).map(|(vx, vy)| {
-                if vmax > 0.0 {
-                    speed_color(vx.hypot(*vy) / vmax)
-                } else {
-                    speed_color(0.0)
-                }
-            }));
-            points = points.with_colors(self.colors.iter().copied());
-        }
-        // With `ColorBy::Species` no colours are logged: the class ids pick them from the
-        // annotation context.
-        self.rec
-            .log(DISKS_ENTITY, &points)
-            .map_err(|e| err("disks", e))?;
-
-        if let Some(h) = f.floor_height {
-            let w = self.layout.width;
+                    .map(|&s| ClassId::from(u16::try_from(s).unwrap_or(u16::MAX)))
+                    .collect()
+            };
             self.rec
                 .log(
-                    FLOOR_ENTITY,
-                    &LineStrips2D::new([line([[0.0, h], [w, h]])])
-                        .with_colors([rgb(FLOOR_COLOR)])
-                        .with_radii([Radius::new_ui_points(2.5)]),
+                    DISKS_ENTITY,
+                    &Points2D::update_fields()
+                        .with_radii(f.radius.iter().map(|&r| Radius::new_scene_units(r as f32)))
+                        .with_class_ids(class_ids),
                 )
-                .map_err(|e| err("floor", e))?;
+                .map_err(|e| err("radii", e))?;
+            self.last_radii.clone_from(&f.radius);
+            self.last_species = if f.species.is_empty() {
+                vec![0; n]
+            } else {
+                f.species.clone()
+            };
         }
 
-        for (name, value) in f.series {
+        let b = &mut self.batch;
+        b.disks.push(index, t, n);
+        b.positions
+            .extend(f.x.iter().zip(&f.y).map(|(&x, &y)| [x as f32, y as f32]));
+        if self.color_by == ColorBy::Speed {
+            let scale = self.layout.speed_scale;
+            b.colors.extend(
+                f.vx.iter()
+                    .zip(&f.vy)
+                    .map(|(vx, vy)| speed_color(vx.hypot(*vy) / scale)),
+            );
+        }
+        if let Some(h) = f.floor_height {
+            let strip =
+                LineStrip2D::from_iter([[0.0, h as f32], [self.layout.width as f32, h as f32]]);
+            b.floor.push(index, t, strip);
+        }
+        if let Some(p) = &f.profile {
+            let phi = p
+                .height
+                .iter()
+                .zip(&p.packing_fraction)
+                .map(|(&h, &v)| [v as f32, h as f32]);
+            b.packing.push(index, t, LineStrip2D::from_iter(phi));
+            let temp = p
+                .height
+                .iter()
+                .zip(p.temperature_x.iter().zip(&p.temperature_y))
+                .zip(&p.density)
+                .filter(|(_, &d)| d > 0.0)
+                .map(|((&h, (&tx, &ty)), _)| [(0.5 * (tx + ty)) as f32, h as f32]);
+            b.temperature.push(index, t, LineStrip2D::from_iter(temp));
+        }
+        for &(name, value) in &f.series {
+            b.series.entry(name).or_default().push(index, t, value);
+        }
+        if b.disks.values.len() >= BATCH || b.positions.len() >= BATCH_POINTS {
+            self.flush_batch()?;
+        }
+        Ok(())
+    }
+
+    /// Logs the gathered frames column-wise: one chunk per entity.
+    fn flush_batch(&mut self) -> Result<(), String> {
+        let b = &mut self.batch;
+        if b.disks.values.is_empty() {
+            return Ok(());
+        }
+        let lengths: Vec<usize> = b.disks.values.drain(..).collect();
+        let mut points = Points2D::new(b.positions.drain(..));
+        if !b.colors.is_empty() {
+            points = points.with_colors(b.colors.drain(..));
+        }
+        let columns = points.columns(lengths).map_err(|e| err("disks", e))?;
+        self.rec
+            .send_columns(DISKS_ENTITY, b.disks.take_times(), columns)
+            .map_err(|e| err("disks", e))?;
+
+        for (entity, column, color) in [
+            (FLOOR_ENTITY, &mut b.floor, FLOOR_COLOR),
+            (PACKING_PROFILE_ENTITY, &mut b.packing, PACKING_COLOR),
+            (
+                TEMPERATURE_PROFILE_ENTITY,
+                &mut b.temperature,
+                TEMPERATURE_COLOR,
+            ),
+        ] {
+            if column.values.is_empty() {
+                continue;
+            }
+            let k = column.values.len();
+            let strips = LineStrips2D::new(column.values.drain(..))
+                .with_colors(std::iter::repeat_n(rgb(color), k))
+                .with_radii(std::iter::repeat_n(Radius::new_ui_points(2.0), k));
+            let columns = strips
+                .columns(std::iter::repeat_n(1, k))
+                .map_err(|e| err(entity, e))?;
             self.rec
-                .log(format!("{SERIES_PREFIX}/{name}"), &Scalars::single(*value))
+                .send_columns(entity, column.take_times(), columns)
+                .map_err(|e| err(entity, e))?;
+        }
+        for (name, column) in &mut b.series {
+            if column.values.is_empty() {
+                continue;
+            }
+            let columns = Scalars::new(column.values.drain(..))
+                .columns_of_unit_batches()
+                .map_err(|e| err(name, e))?;
+            self.rec
+                .send_columns(
+                    format!("{SERIES_PREFIX}/{name}"),
+                    column.take_times(),
+                    columns,
+                )
                 .map_err(|e| err(&format!("series {name}"), e))?;
         }
         Ok(())
     }
 
-    fn set_sim_time(&self, time: f64) {
-        // Nanosecond resolution; negative times (e.g. before the end of warm-up) are allowed.
-        let nanos = (time * 1e9).round();
-        let nanos = if nanos.is_finite() {
-            nanos.clamp(-9.0e18, 9.0e18) as i64
+    /// Top of the bed view: the lid (or periodic height), else the top of the profiles, else
+    /// three times the highest disk top of the first frame.
+    fn view_top(&self, f: &FrameBuf) -> f64 {
+        if let Some(top) = self.layout.top {
+            return top;
+        }
+        if let Some((_, top)) = f.profile.as_ref().and_then(profile_range) {
+            return top;
+        }
+        let highest =
+            f.y.iter()
+                .zip(&f.radius)
+                .map(|(y, r)| y + r)
+                .fold(f.floor_height.unwrap_or(0.0), f64::max);
+        if highest > 0.0 {
+            3.0 * highest
         } else {
-            0
-        };
-        self.rec
-            .set_time(SIM_TIME_TIMELINE, TimeCell::from_duration_nanos(nanos));
+            self.layout.width
+        }
     }
 
-    /// Logs a line of text under `log` at simulated time `time` (the `frame` timeline keeps the
-    /// last frame index written from this thread). `level` is a Rerun level (`TRACE`, `DEBUG`,
-    /// `INFO`, `WARN`, `ERROR`, `CRITICAL`; case-insensitive, `warning` means `WARN`).
-    pub fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<(), String> {
-        let level = match level.to_ascii_uppercase().as_str() {
-            "WARNING" => TextLogLevel::WARN.to_owned(),
-            other => other.to_owned(),
-        };
-        self.set_sim_time(time);
+    /// Logs the static parts of one profile view: its y-up transform stretching values of
+    /// `0..x_max` to the view's width, the axes with ticks and the titles. Returns the view's
+    /// bounds (in the root's coordinates: y flipped).
+    fn log_profile_axes(
+        &self,
+        entity: &str,
+        title: &str,
+        x_max: f64,
+        (bottom, top): (f64, f64),
+    ) -> Result<[f64; 4], String> {
+        let span = top - bottom;
+        let kx = PROFILE_ASPECT * span / x_max;
         self.rec
-            .log(
-                LOG_ENTITY,
-                &TextLog::new(text).with_level(TextLogLevel::from(level)),
+            .log_static(entity, &Transform3D::from_scale((kx as f32, -1.0, 1.0)))
+            .map_err(|e| err("profile transform", e))?;
+        let tick = 0.015 * span;
+        let mut strips = vec![
+            vec![[0.0, bottom as f32], [x_max as f32, bottom as f32]],
+            vec![[0.0, bottom as f32], [0.0, top as f32]],
+        ];
+        let mut labels: Vec<(f64, f64, String)> = Vec::new();
+        let x_step = nice_ceiling(x_max / 5.0);
+        let mut x = 0.0;
+        while x <= x_max * (1.0 + 1e-9) {
+            strips.push(vec![
+                [x as f32, bottom as f32],
+                [x as f32, (bottom - tick) as f32],
+            ]);
+            labels.push((x, bottom - 3.0 * tick, tick_label(x)));
+            x += x_step;
+        }
+        let h_step = nice_ceiling(span / 5.0);
+        let mut h = (bottom / h_step).ceil() * h_step;
+        while h <= top + 1e-9 * span {
+            let x_tick = tick / kx;
+            strips.push(vec![[0.0, h as f32], [(-x_tick) as f32, h as f32]]);
+            labels.push((-4.0 * x_tick, h, tick_label(h)));
+            h += h_step;
+        }
+        labels.push((0.5 * x_max, bottom - 7.0 * tick, title.to_owned()));
+        labels.push((0.0, top + 6.0 * tick, "height".to_owned()));
+        self.rec
+            .log_static(
+                format!("{entity}/axes"),
+                &LineStrips2D::new(strips)
+                    .with_colors([rgb(AXIS_COLOR)])
+                    .with_radii([Radius::new_ui_points(1.0)]),
             )
-            .map_err(|e| err("text log", e))
+            .map_err(|e| err("profile axes", e))?;
+        self.rec
+            .log_static(
+                format!("{entity}/axes/labels"),
+                &Points2D::new(labels.iter().map(|(x, y, _)| [*x as f32, *y as f32]))
+                    .with_labels(labels.iter().map(|(_, _, l)| l.as_str()))
+                    .with_radii([Radius::new_ui_points(0.0)])
+                    .with_colors([rgb(AXIS_COLOR)])
+                    .with_show_labels(true),
+            )
+            .map_err(|e| err("profile labels", e))?;
+        let margin = 0.15 * span;
+        Ok([
+            -margin,
+            x_max * kx + 0.3 * margin,
+            -(top + margin),
+            -(bottom - 1.5 * margin),
+        ])
     }
 
-    /// Series groups: `energy/kinetic` belongs to group `energy`; a name without `/` is a
-    /// group of its own.
-    fn send_blueprint(&mut self, series: &[(&'static str, f64)]) -> Result<(), String> {
-        let mut groups: BTreeMap<&str, ()> = BTreeMap::new();
+    /// Logs the colour scale in the sky of the bed view, near its top right corner below
+    /// `view_top`: a bar of 20 coloured segments from 0 to the scale, and labels under it.
+    fn log_speed_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
+        let w = self.layout.width;
+        let span = view_top - bottom;
+        let length = (0.2 * w).min(1.5 * span);
+        let (x0, y) = (w - length - 0.01 * w, view_top - 0.1 * span);
+        let thickness = 0.025 * span;
+        let scale = self.layout.speed_scale;
+        let segments = 20;
+        let strips: Vec<[[f32; 2]; 2]> = (0..segments)
+            .map(|k| {
+                let a = x0 + length * k as f64 / segments as f64;
+                let b = x0 + length * (k + 1) as f64 / segments as f64;
+                line([[a, y], [b, y]])
+            })
+            .collect();
+        let colors: Vec<Color> = (0..segments)
+            .map(|k| speed_color((k as f64 + 0.5) / segments as f64))
+            .collect();
+        self.rec
+            .log_static(
+                SPEED_SCALE_ENTITY,
+                &LineStrips2D::new(strips)
+                    .with_colors(colors)
+                    .with_radii([Radius::new_scene_units(thickness as f32)]),
+            )
+            .map_err(|e| err("colour scale", e))?;
+        let labels = [
+            (x0, "0".to_owned()),
+            (x0 + 0.5 * length, tick_label(0.5 * scale)),
+            (x0 + length, format!("≥ {}", tick_label(scale))),
+            (x0 - 0.2 * length, "speed |v|".to_owned()),
+        ];
+        self.rec
+            .log_static(
+                format!("{SPEED_SCALE_ENTITY}/labels"),
+                &Points2D::new(labels.iter().enumerate().map(|(i, (x, _))| {
+                    let y = if i < 3 { y - 3.5 * thickness } else { y };
+                    [*x as f32, y as f32]
+                }))
+                .with_labels(labels.iter().map(|(_, l)| l.as_str()))
+                .with_radii([Radius::new_ui_points(0.0)])
+                .with_colors([rgb(AXIS_COLOR)])
+                .with_show_labels(true),
+            )
+            .map_err(|e| err("colour scale", e))
+    }
+
+    /// The legend: what the colours and the views show.
+    fn log_legend(&self, has_profiles: bool) -> Result<(), String> {
+        let mut text = String::new();
+        match self.color_by {
+            ColorBy::Speed => text.push_str(&format!(
+                "**Disks**: speed |v| on one scale for the whole run, blue at rest → grey at \
+                 {} → red at {} and above (bar at the top right; `output.speed_scale`).\n\n",
+                tick_label(0.5 * self.layout.speed_scale),
+                tick_label(self.layout.speed_scale)
+            )),
+            ColorBy::Species => text.push_str(
+                "**Disks coloured by species** (radius class; hover a disk for its class).\n\n",
+            ),
+        }
+        text.push_str(
+            "**Follow a disk**: click it; instance *i* is disk *i* in every frame (and line *i* \
+             of a `--trajectory` frame).\n\n",
+        );
+        if has_profiles {
+            text.push_str(
+                "**Profiles** of the current frame in the summary's height bins: packing \
+                 fraction φ (a disk's area counts in the bin of its centre) and granular \
+                 temperature T = (Tx + Ty)/2 about each bin's mean velocity.\n\n",
+            );
+        }
+        text.push_str("Floor: orange. Walls: grey; periodic edges: dark grey.");
+        self.rec
+            .log_static(
+                LEGEND_ENTITY,
+                &TextDocument::new(text).with_media_type(MediaType::markdown()),
+            )
+            .map_err(|e| err("legend", e))
+    }
+
+    /// Sends the blueprint (see the module documentation): `series` names the time series,
+    /// `profile` (the first frame's) gives the height range of the profile views, `view_top`
+    /// the top of the bed view.
+    fn send_blueprint(
+        &mut self,
+        series: &[(&'static str, f64)],
+        profile: Option<&ProfileTable>,
+        view_top: Option<f64>,
+    ) -> Result<(), String> {
+        self.blueprint_sent = true;
+        let mut bounds: Vec<(String, [f64; 4])> = Vec::new();
+        let range = profile.and_then(profile_range);
+        let w = self.layout.width;
+
+        // The bed, across the top.
+        let bed_bottom = range.map_or(0.0, |(b, _)| b.min(0.0));
+        let bed = if let Some(top) = view_top {
+            let span = top - bed_bottom;
+            if self.color_by == ColorBy::Speed {
+                self.log_speed_scale(top, bed_bottom)?;
+            }
+            let (view, path) = view_with_path(
+                Spatial2DView::new(self.layout.name.clone())
+                    .with_origin("/")
+                    .with_contents([format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()]),
+            );
+            bounds.push((
+                path,
+                [
+                    -0.01 * w,
+                    1.01 * w,
+                    -(top + 0.02 * span),
+                    -(bed_bottom - 0.04 * span),
+                ],
+            ));
+            view
+        } else {
+            Spatial2DView::new(self.layout.name.clone())
+                .with_origin("/")
+                .with_contents([format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()])
+                .into()
+        };
+
+        // Below: profiles, time series, legend and log.
+        let mut row: Vec<ContainerLike> = Vec::new();
+        let mut shares: Vec<f32> = Vec::new();
+        if let (Some(p), Some(range)) = (profile, range) {
+            // A layer of centres in one bin thinner than a diameter can exceed φ = 1.
+            let phi_max = 1.25;
+            let t_max = nice_ceiling(0.25 * self.layout.speed_scale.powi(2)).max(nice_ceiling(
+                p.temperature_x
+                    .iter()
+                    .zip(&p.temperature_y)
+                    .map(|(a, b)| 0.5 * (a + b))
+                    .fold(0.0, f64::max),
+            ));
+            for (entity, title, x_max, name) in [
+                (
+                    PACKING_PROFILE_ENTITY,
+                    "packing fraction φ",
+                    phi_max,
+                    "packing fraction vs height",
+                ),
+                (
+                    TEMPERATURE_PROFILE_ENTITY,
+                    "temperature T",
+                    t_max,
+                    "temperature vs height",
+                ),
+            ] {
+                let b = self.log_profile_axes(entity, title, x_max, range)?;
+                let (view, path) = view_with_path(
+                    Spatial2DView::new(name)
+                        .with_origin("/")
+                        .with_contents([format!("/{entity}/**")]),
+                );
+                bounds.push((path, b));
+                row.push(view);
+                shares.push(1.0);
+            }
+        }
+        let mut groups: BTreeSet<&str> = BTreeSet::new();
         let mut loose: Vec<&str> = Vec::new();
         for (name, _) in series {
             match name.split_once('/') {
                 Some((g, _)) => {
-                    groups.insert(g, ());
+                    groups.insert(g);
                 }
                 None => loose.push(name),
             }
         }
-        let mut right: Vec<ContainerLike> = Vec::new();
-        for g in groups.keys() {
-            right.push(
+        let mut plots: Vec<ContainerLike> = Vec::new();
+        for g in &groups {
+            plots.push(
                 TimeSeriesView::new(*g)
                     .with_origin(format!("/{SERIES_PREFIX}/{g}"))
                     .into(),
@@ -420,68 +1052,126 @@ impl RerunRecorder {
         // A series without a group has its own view: sharing one y axis would squash the
         // smaller (e.g. centre-of-mass height beside collisions per unit time).
         for name in &loose {
-            right.push(
+            plots.push(
                 TimeSeriesView::new(*name)
                     .with_origin(format!("/{SERIES_PREFIX}/{name}"))
                     .into(),
             );
         }
-        right.push(
-            TextLogView::new("log")
-                .with_origin(format!("/{LOG_ENTITY}"))
-                .into(),
+        if !plots.is_empty() {
+            row.push(Vertical::new(plots).into());
+            shares.push(1.4);
+        }
+        self.log_legend(profile.is_some())?;
+        row.push(
+            Vertical::new([
+                TextDocumentView::new("legend")
+                    .with_origin(format!("/{LEGEND_ENTITY}"))
+                    .into(),
+                TextLogView::new("log")
+                    .with_origin(format!("/{LOG_ENTITY}"))
+                    .into(),
+            ])
+            .with_row_shares([2.0, 1.0])
+            .into(),
         );
+        shares.push(1.0);
 
-        let disks = Spatial2DView::new(self.layout.name.clone())
-            .with_origin("/")
-            .with_contents([format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()]);
-        let root = Horizontal::new([disks.into(), Vertical::new(right).into()])
-            .with_column_shares([2.0, 1.0]);
+        let root = Vertical::new([bed, Horizontal::new(row).with_column_shares(shares).into()])
+            .with_row_shares([1.0, 2.0]);
         // Side and time panels collapsed (the time panel keeps its play controls), so that the
         // views get the window; simulated time is the timeline shown.
-        Blueprint::new(root)
+        let blueprint = Blueprint::new(root)
             .with_auto_views(false)
             .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
             .with_selection_panel(SelectionPanel::from_state(PanelState::Collapsed))
             .with_time_panel(
                 TimePanel::new()
                     .with_state(PanelState::Collapsed)
-                    .with_timeline(SIM_TIME_TIMELINE),
-            )
-            .send(
-                &self.rec,
-                BlueprintActivation {
-                    make_active: true,
-                    make_default: true,
-                },
-            )
-            .map_err(|e| err("blueprint", e))?;
-        self.blueprint_sent = true;
-        Ok(())
-    }
-
-    /// Sends the blueprint if no frame was written, flushes everything to disk and closes the
-    /// file, writing its footer. Dropping a `RerunRecorder` without calling this also completes
-    /// the file, but silently.
-    pub fn finish(mut self) -> Result<(), String> {
-        if !self.blueprint_sent {
-            self.send_blueprint(&[])?;
-        }
-        self.rec.flush_blocking().map_err(|e| err("flush", e))?;
-        drop(self);
-        Ok(())
+                    .with_timeline(SIM_TIME_TIMELINE)
+                    .with_play_state(PlayState::Following),
+            );
+        send_with_bounds(&self.rec, &blueprint, &bounds)
     }
 }
 
-impl Drop for RerunRecorder {
-    /// A recorder dropped without [`finish`](Self::finish) (an error or a panic in the run)
-    /// still sends the blueprint, so that the file opens laid out; the `RecordingStream` inside
-    /// then flushes and writes the footer.
-    fn drop(&mut self) {
-        if !self.blueprint_sent {
-            let _ = self.send_blueprint(&[]);
+/// (bottom, top) of the bins of a profile table.
+fn profile_range(p: &ProfileTable) -> Option<(f64, f64)> {
+    let (first, last) = (*p.height.first()?, *p.height.last()?);
+    let half = if p.height.len() > 1 {
+        0.5 * (last - first) / (p.height.len() - 1) as f64
+    } else {
+        0.5
+    };
+    Some((first - half, last + half))
+}
+
+/// The view as a container entry, and its path in the blueprint store.
+fn view_with_path(view: Spatial2DView) -> (ContainerLike, String) {
+    match ContainerLike::from(view) {
+        ContainerLike::View(v) => {
+            let path = v.blueprint_path().to_string();
+            (ContainerLike::View(v), path)
+        }
+        other => (other, String::new()),
+    }
+}
+
+/// Sends `blueprint` to `rec` together with the visual bounds `[x0, x1, y0, y1]` of the views at
+/// the given blueprint paths (the Rust blueprint API has no setter for a 2D view's bounds: they
+/// are logged as the `VisualBounds2D` property of each view into the same blueprint store).
+fn send_with_bounds(
+    rec: &RecordingStream,
+    blueprint: &Blueprint,
+    bounds: &[(String, [f64; 4])],
+) -> Result<(), String> {
+    let activation = BlueprintActivation {
+        make_active: true,
+        make_default: true,
+    };
+    let (memory, storage) = RecordingStreamBuilder::new(APPLICATION_ID)
+        .memory()
+        .map_err(|e| err("blueprint", e))?;
+    blueprint
+        .send(&memory, activation)
+        .map_err(|e| err("blueprint", e))?;
+    let mut messages = Vec::new();
+    let mut command = None;
+    for msg in storage.take() {
+        match msg {
+            LogMsg::BlueprintActivationCommand(cmd) => command = Some(cmd),
+            msg if msg.store_id().is_blueprint() => messages.push(msg),
+            _ => {}
         }
     }
+    let command = command.ok_or_else(|| err("blueprint", "no activation command"))?;
+    if !bounds.is_empty() {
+        let (extra, extra_storage) = RecordingStreamBuilder::new(APPLICATION_ID)
+            .recording_id(command.blueprint_id.recording_id().clone())
+            .blueprint()
+            .memory()
+            .map_err(|e| err("blueprint", e))?;
+        extra.set_time_sequence("blueprint", 0);
+        for (path, [x0, x1, y0, y1]) in bounds {
+            extra
+                .log(
+                    format!("{path}/VisualBounds2D"),
+                    &VisualBounds2D::new(Range2D {
+                        x_range: Range1D([*x0, *x1]),
+                        y_range: Range1D([*y0, *y1]),
+                    }),
+                )
+                .map_err(|e| err("view bounds", e))?;
+        }
+        messages.extend(
+            extra_storage
+                .take()
+                .into_iter()
+                .filter(|m| matches!(m, LogMsg::ArrowMsg(..))),
+        );
+    }
+    rec.send_blueprint(messages, command);
+    Ok(())
 }
 
 /// One frame of `disks` as decoded from a recording.
@@ -500,6 +1190,9 @@ pub struct DiskFrame {
     /// Colours logged with this frame as `0xRRGGBBAA` (empty when colouring by species).
     pub colors: Vec<u32>,
 }
+
+/// One frame of a live profile: the frame and the points `(value, height)` of its line strip.
+pub type ProfileFrame = (i64, Vec<[f32; 2]>);
 
 /// One `TextLog` row.
 #[derive(Debug, Clone, PartialEq)]
@@ -535,12 +1228,17 @@ pub struct RecordingContents {
     pub disks: Vec<DiskFrame>,
     /// Floor height per frame: `(frame, height)`, sorted by frame.
     pub floor: Vec<(i64, f32)>,
+    /// Live profiles by name (`packing_fraction`, `temperature`), sorted by frame.
+    pub profiles: BTreeMap<String, Vec<ProfileFrame>>,
     /// Series values by name (without the `series/` prefix): `(frame, value)`, sorted by frame.
     pub series: BTreeMap<String, Vec<(i64, f64)>>,
     /// Text log entries sorted by simulated time (entries without time first; ties in file order).
     pub log: Vec<LogLine>,
     /// Whether a blueprint (with its activation command) is in the file.
     pub has_blueprint: bool,
+    /// Visual bounds `[x0, x1, y0, y1]` the blueprint gives its 2D views (in the views'
+    /// coordinates: y downwards, so heights are negated), in file order.
+    pub view_bounds: Vec<[f64; 4]>,
     /// Whether the file ends with a footer holding the manifest of the recording store, i.e. the
     /// stream was closed properly.
     pub has_footer: bool,
@@ -619,11 +1317,20 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
             }
             LogMsg::ArrowMsg(store_id, arrow_msg) => (store_id, arrow_msg),
         };
-        if !store_id.is_recording() {
-            continue;
-        }
         let chunk = Chunk::from_arrow_msg(&arrow_msg)
             .map_err(|e| format!("decoding a chunk of {}: {e}", path.display()))?;
+        if !store_id.is_recording() {
+            if entity_name(&chunk).ends_with("/VisualBounds2D") {
+                let id = VisualBounds2D::descriptor_range().component;
+                for v in chunk.iter_component::<VisualBounds2DComponent>(id) {
+                    for b in v.iter() {
+                        let (x, y) = (b.0.x_range.0, b.0.y_range.0);
+                        out.view_bounds.push([x[0], x[1], y[0], y[1]]);
+                    }
+                }
+            }
+            continue;
+        }
         let entity = entity_name(&chunk);
         if chunk.is_static() {
             out.static_entities.insert(entity);
@@ -684,10 +1391,21 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
         } else if entity == FLOOR_ENTITY {
             for (f, v) in rows_of(strips_id)
                 .into_iter()
-                .zip(chunk.iter_component::<rerun::components::LineStrip2D>(strips_id))
+                .zip(chunk.iter_component::<LineStrip2D>(strips_id))
             {
                 if let Some(p) = v.first().and_then(|s| s.0.first()) {
                     out.floor.push((f, p.y()));
+                }
+            }
+        } else if entity == PACKING_PROFILE_ENTITY || entity == TEMPERATURE_PROFILE_ENTITY {
+            let name = entity.trim_start_matches("profiles/").to_owned();
+            let values = out.profiles.entry(name).or_default();
+            for (f, v) in rows_of(strips_id)
+                .into_iter()
+                .zip(chunk.iter_component::<LineStrip2D>(strips_id))
+            {
+                if let Some(s) = v.first() {
+                    values.push((f, s.0.iter().map(|p| [p.x(), p.y()]).collect()));
                 }
             }
         } else if let Some(name) = entity.strip_prefix(&format!("{SERIES_PREFIX}/")) {
@@ -743,6 +1461,9 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
     });
     for values in out.series.values_mut() {
         values.sort_by_key(|&(f, _)| f);
+    }
+    for values in out.profiles.values_mut() {
+        values.sort_by_key(|(f, _)| *f);
     }
 
     let manifests = decoder

@@ -120,6 +120,12 @@ pub fn validate(s: &Scenario) -> Result<()> {
     if let Some(dt) = s.output.sample_interval {
         positive("output.sample_interval", dt)?;
     }
+    if let Some(dt) = s.output.trajectory_interval {
+        positive("output.trajectory_interval", dt)?;
+    }
+    if let Some(v) = s.output.speed_scale {
+        positive("output.speed_scale", v)?;
+    }
     if let Some(h) = s.output.profile_height {
         positive("output.profile_height", h)?;
     }

@@ -324,6 +324,16 @@ pub struct Output {
     /// Colour disks in the recording by `speed` or `species`.
     #[serde(default)]
     pub color_by: ColorChoice,
+    /// Speed drawn full red when the recording colours disks by speed (default: three times the
+    /// floor's peak speed, else three times the initial root-mean-square speed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_scale: Option<f64>,
+    /// Write a trajectory (extended XYZ) to this file. Absent: no trajectory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<String>,
+    /// Simulated time between trajectory frames (default: the frame interval).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory_interval: Option<f64>,
 }
 
 impl Default for Output {
@@ -335,6 +345,9 @@ impl Default for Output {
             profile_height: None,
             rrd: None,
             color_by: ColorChoice::Speed,
+            speed_scale: None,
+            trajectory: None,
+            trajectory_interval: None,
         }
     }
 }
