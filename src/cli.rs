@@ -6,8 +6,9 @@
 //! failure, 130 interrupted by Ctrl-C (the summary so far is still written, marked
 //! `"ending": "interrupted"`, and the recording is closed properly).
 
+use crate::checkpoint::{check_resume_sets, Checkpoint};
 use crate::error::{Error, Result};
-use crate::run::{run, RunOptions};
+use crate::run::{run, CheckpointPlan, RunOptions};
 use crate::scenario::Scenario;
 use crate::signals;
 use crate::summary::Ending;
@@ -50,6 +51,44 @@ pub enum Command {
         /// Override a scenario field by its dotted path, e.g. particles.count=10000.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Write the run's complete state to this file at the end, however the run ends
+        /// (completed, event limit, SIGINT/SIGTERM/SIGHUP), for `vibrobed resume`.
+        #[arg(long, value_name = "FILE")]
+        checkpoint: Option<PathBuf>,
+        /// Also write the checkpoint every T units of simulated time (needs --checkpoint).
+        #[arg(long, value_name = "T", requires = "checkpoint")]
+        checkpoint_every: Option<f64>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Continue a run from its checkpoint: the same events, bit for bit, as if it had not
+    /// stopped. The summary and profiles cover the whole run; a recording or trajectory holds
+    /// the resumed part (a recording under the same recording id: open both files together).
+    Resume {
+        /// The checkpoint file (from `run --checkpoint`).
+        checkpoint_file: PathBuf,
+        /// Only run.duration and run.max_events can change, e.g. run.duration=400 to extend.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Record the resumed part to this Rerun file (.rrd); not a file an earlier part wrote.
+        #[arg(long)]
+        rrd: Option<PathBuf>,
+        /// Write the summary JSON here instead of stdout.
+        #[arg(long)]
+        summary: Option<PathBuf>,
+        /// Write the height profiles as CSV here (gravity scenes).
+        #[arg(long)]
+        profiles: Option<PathBuf>,
+        /// Write the resumed part's trajectory in extended XYZ here.
+        #[arg(long)]
+        trajectory: Option<PathBuf>,
+        /// Where to keep checkpointing (default: the checkpoint file itself).
+        #[arg(long, value_name = "FILE")]
+        checkpoint: Option<PathBuf>,
+        /// Simulated time between checkpoints (default: the saved run's).
+        #[arg(long, value_name = "T")]
+        checkpoint_every: Option<f64>,
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
@@ -172,10 +211,27 @@ fn execute(cli: Cli) -> Result<i32> {
             profiles,
             trajectory,
             sets,
+            checkpoint,
+            checkpoint_every,
             quiet,
         } => {
             let s = Scenario::load(&scenario, &sets)?;
             print_advisories(&s);
+            let checkpoint = match checkpoint {
+                Some(path) => Some(CheckpointPlan {
+                    path,
+                    every: checkpoint_every,
+                    scenario: std::fs::read_to_string(&scenario).map_err(|e| {
+                        Error::input(
+                            "SCENARIO",
+                            format!("cannot read {}: {e}", scenario.display()),
+                        )
+                    })?,
+                    source: scenario.clone(),
+                    sets: sets.clone(),
+                }),
+                None => None,
+            };
             signals::install();
             let result = run(
                 &s,
@@ -185,28 +241,104 @@ fn execute(cli: Cli) -> Result<i32> {
                     sink: None,
                     interrupt: Some(signals::stop_flag()),
                     progress: !quiet,
+                    checkpoint,
+                    resume: None,
                 },
             )?;
-            if let Some(path) = &profiles {
-                match &result.profiles {
-                    Some(p) => write_file(path, &p.to_csv())?,
-                    None => {
-                        return Err(Error::input(
-                            "--profiles",
-                            "this scene has no height profiles (they need gravity)",
-                        ))
-                    }
+            write_results(&result, profiles.as_deref(), summary.as_deref())
+        }
+        Command::Resume {
+            checkpoint_file,
+            sets,
+            rrd,
+            summary,
+            profiles,
+            trajectory,
+            checkpoint,
+            checkpoint_every,
+            quiet,
+        } => {
+            check_resume_sets(&sets)?;
+            let ck = Checkpoint::read(&checkpoint_file)?;
+            if let Some(path) = &rrd {
+                if ck.recordings.iter().any(|r| same_file(r, path)) {
+                    return Err(Error::input(
+                        "--rrd",
+                        format!(
+                            "{} holds an earlier part of this run: record the resumed part to a \
+                             new file (the viewer shows both as one recording)",
+                            path.display()
+                        ),
+                    ));
                 }
             }
-            let json = result.to_json();
-            match &summary {
-                Some(path) => write_file(path, &json)?,
-                None => print!("{json}"),
+            let all_sets: Vec<String> = ck.sets.iter().chain(&sets).cloned().collect();
+            let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+            let plan = CheckpointPlan {
+                path: checkpoint.unwrap_or_else(|| checkpoint_file.clone()),
+                every: checkpoint_every.or(ck.every),
+                scenario: ck.scenario.clone(),
+                source: ck.source.clone(),
+                sets: all_sets,
+            };
+            if !quiet {
+                eprintln!(
+                    "resuming {} (scenario {}) at t = {}",
+                    checkpoint_file.display(),
+                    ck.source.display(),
+                    ck.driver.time()
+                );
             }
-            Ok(match result.ending {
-                Ending::Completed | Ending::EventLimit => 0,
-                Ending::Interrupted => signals::exit_code(),
-            })
+            signals::install();
+            let result = run(
+                &s,
+                RunOptions {
+                    rrd,
+                    trajectory,
+                    sink: None,
+                    interrupt: Some(signals::stop_flag()),
+                    progress: !quiet,
+                    checkpoint: Some(plan),
+                    resume: Some(Box::new(ck)),
+                },
+            )?;
+            write_results(&result, profiles.as_deref(), summary.as_deref())
         }
     }
+}
+
+/// `true` when `a` and `b` name the same file (compared canonically when both exist).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Writes a run's profiles and summary; the exit code of its ending.
+fn write_results(
+    result: &crate::summary::Summary,
+    profiles: Option<&Path>,
+    summary: Option<&Path>,
+) -> Result<i32> {
+    if let Some(path) = profiles {
+        match &result.profiles {
+            Some(p) => write_file(path, &p.to_csv())?,
+            None => {
+                return Err(Error::input(
+                    "--profiles",
+                    "this scene has no height profiles (they need gravity)",
+                ))
+            }
+        }
+    }
+    let json = result.to_json();
+    match summary {
+        Some(path) => write_file(path, &json)?,
+        None => print!("{json}"),
+    }
+    Ok(match result.ending {
+        Ending::Completed | Ending::EventLimit => 0,
+        Ending::Interrupted => signals::exit_code(),
+    })
 }

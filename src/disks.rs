@@ -3,7 +3,7 @@
 
 /// A disk's motion: its state at its own time stamp (kept together: the hot data of the event
 /// loop, one cache line's worth per disk).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Motion {
     /// Centre x at time `t`.
     pub x: f64,
@@ -18,7 +18,7 @@ pub struct Motion {
 }
 
 /// Storage of N disks: motions together, static properties in their own arrays.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Disks {
     /// Position, velocity and time stamp of each disk.
     pub motion: Vec<Motion>,

@@ -36,7 +36,7 @@ pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, speed: f64) ->
 
 /// The restitution law of pair collisions: a constant `e`, made elastic by the optional cures
 /// of inelastic collapse (TC model, normal-speed cutoff).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Restitution {
     /// Normal restitution.
     pub e: f64,
@@ -71,7 +71,7 @@ impl Restitution {
 /// The restitution law together with the memory it needs: each disk's last collision time
 /// (TC model only; nothing is allocated otherwise). One home for choosing `e`, shared by every
 /// integration scheme.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CollisionLaw {
     /// The law.
     pub law: Restitution,

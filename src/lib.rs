@@ -18,6 +18,7 @@
 //! (`tests/common/reference.rs`).
 
 pub mod accuracy;
+pub mod checkpoint;
 pub mod cli;
 pub mod disks;
 pub mod dynamics;

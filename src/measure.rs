@@ -6,7 +6,7 @@ use crate::simulation::Snapshot;
 use serde::Serialize;
 
 /// Instantaneous observables of one snapshot.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Observables {
     /// Σ ½ m v².
     pub kinetic: f64,
@@ -54,7 +54,7 @@ impl Observables {
 }
 
 /// Time-averaged height profiles in equal bins between `bottom` and `top`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Profiles {
     bottom: f64,
     top: f64,

@@ -1,6 +1,7 @@
 //! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
 //! the next, measure, record, and summarise.
 
+use crate::checkpoint::Checkpoint;
 use crate::disks::Disks;
 use crate::dynamics::{Ballistic, Flight, Straight};
 use crate::error::{Error, Result};
@@ -13,6 +14,7 @@ use crate::scenario::{checks::mean_disk_area, Scenario, Scheme, XBoundary, YBoun
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
 use crate::simulation::{EnergyFlow, Progress, Scene, Simulation, Snapshot};
 use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary, Temperature};
+use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -38,36 +40,99 @@ pub struct RunOptions {
     pub sink: Option<Box<dyn FrameSink>>,
     /// Stop at the next event once this flag is set.
     pub interrupt: Option<&'static AtomicBool>,
+    /// Write checkpoints (`--checkpoint`): at the end, however the run ends, and every
+    /// `every` of simulated time if set.
+    pub checkpoint: Option<CheckpointPlan>,
+    /// Continue the run a checkpoint holds (`vibrobed resume`) instead of starting afresh.
+    pub resume: Option<Box<Checkpoint>>,
     /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
     pub progress: bool,
 }
 
+/// Where and how often a run writes checkpoints, and what it needs to rebuild its scene.
+#[derive(Debug, Clone, Default)]
+pub struct CheckpointPlan {
+    /// The checkpoint file (rewritten atomically each time).
+    pub path: PathBuf,
+    /// Simulated time between checkpoints; `None`: only at the end (and on a signal).
+    pub every: Option<f64>,
+    /// The scenario's text.
+    pub scenario: String,
+    /// Where the scenario was read from.
+    pub source: PathBuf,
+    /// The `--set` overrides, in order.
+    pub sets: Vec<String>,
+}
+
 /// Runs a validated scenario and returns its summary.
 pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
+    if (opts.checkpoint.is_some() || opts.resume.is_some())
+        && s.engine.scheme != Scheme::EventDriven
+    {
+        return Err(Error::input(
+            "engine.scheme",
+            "checkpoints need the event-driven scheme (the approximate schemes cannot be resumed)",
+        ));
+    }
+    if let Some(every) = opts.checkpoint.as_ref().and_then(|c| c.every) {
+        if !(every.is_finite() && every > 0.0) {
+            return Err(Error::input(
+                "--checkpoint-every",
+                format!("must be a positive finite simulated time (got {every})"),
+            ));
+        }
+    }
     let (scene, disks) = Scene::build(s)?;
     let rrd = opts
         .rrd
         .clone()
         .or_else(|| s.output.rrd.as_ref().map(PathBuf::from));
-    let sink = opts.sink.take();
+    let resume = opts.resume.take();
+    let recording_id = resume
+        .as_ref()
+        .and_then(|c| c.recording_id.clone())
+        .or_else(|| rrd.as_ref().map(|_| new_recording_id()));
+    let out = Outputs {
+        sink: opts.sink.take(),
+        rrd,
+        recording_id,
+        resume,
+    };
     match scene.gravity {
-        Some(g) => run_with(Ballistic { g }, s, &scene, disks, sink, rrd, &opts),
-        None => run_with(Straight, s, &scene, disks, sink, rrd, &opts),
+        Some(g) => run_with(Ballistic { g }, s, &scene, disks, out, &opts),
+        None => run_with(Straight, s, &scene, disks, out, &opts),
     }
+}
+
+/// Where a run's frames go, and the run it continues, if any.
+struct Outputs {
+    /// The caller's frame sink (tests), used instead of a recording.
+    sink: Option<Box<dyn FrameSink>>,
+    /// The recording file.
+    rrd: Option<PathBuf>,
+    /// The recording's id: the resumed run's, else a new one when recording.
+    recording_id: Option<String>,
+    /// The checkpoint to continue from.
+    resume: Option<Box<Checkpoint>>,
 }
 
 /// The frame sink: the caller's, else a recording opened only now that the engine has accepted
 /// the initial state (a refused scene leaves no file behind).
 fn sink_for(
-    sink: Option<Box<dyn FrameSink>>,
-    rrd: Option<PathBuf>,
+    out: &mut Outputs,
     s: &Scenario,
     scene: &Scene,
     disks: &crate::disks::Disks,
 ) -> Result<Option<Box<dyn FrameSink>>> {
-    match (sink, rrd) {
+    match (out.sink.take(), &out.rrd) {
         (Some(sink), _) => Ok(Some(sink)),
-        (None, Some(path)) => Ok(Some(open_recording(&path, s, scene, disks)?)),
+        (None, Some(path)) => Ok(Some(open_recording(
+            path,
+            s,
+            scene,
+            disks,
+            out.recording_id.as_deref(),
+        )?)),
         (None, None) => Ok(None),
     }
 }
@@ -78,25 +143,24 @@ fn run_with<F: Flight>(
     s: &Scenario,
     scene: &Scene,
     disks: crate::disks::Disks,
-    sink: Option<Box<dyn FrameSink>>,
-    rrd: Option<PathBuf>,
+    mut out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
     match s.engine.scheme {
         Scheme::EventDriven => {
             let sim = Simulation::new(flight, scene, disks)?;
-            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, opts)
+            let sink = sink_for(&mut out, s, scene, sim.disks())?;
+            drive(sim, s, scene, sink, out, opts)
         }
         Scheme::TimeStep => {
             let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, opts)
+            let sink = sink_for(&mut out, s, scene, sim.disks())?;
+            drive(sim, s, scene, sink, out, opts)
         }
         Scheme::SpaceTime => {
             let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(sink, rrd, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, opts)
+            let sink = sink_for(&mut out, s, scene, sim.disks())?;
+            drive(sim, s, scene, sink, out, opts)
         }
     }
 }
@@ -136,6 +200,15 @@ fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> Sce
     }
 }
 
+/// A new recording id, from the wall clock: two runs of one scene are two recordings in the
+/// viewer, while the parts of one resumed run share their first part's id.
+fn new_recording_id() -> String {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    format!("vibrobed-{nanos:x}")
+}
+
 /// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
 fn open_trajectory(
     s: &Scenario,
@@ -157,6 +230,7 @@ fn open_recording(
     s: &Scenario,
     scene: &Scene,
     disks: &crate::disks::Disks,
+    recording_id: Option<&str>,
 ) -> Result<Box<dyn FrameSink>> {
     use crate::output::frame::ColorBy;
     use crate::output::recording::RerunRecorder;
@@ -180,7 +254,7 @@ fn open_recording(
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
     };
-    let rec = RerunRecorder::create(path, &layout, color)
+    let rec = RerunRecorder::create_with_id(path, &layout, color, recording_id)
         .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;
     Ok(Box::new(Sink(rec)))
 }
@@ -191,6 +265,7 @@ fn open_recording(
     _s: &Scenario,
     _scene: &Scene,
     _disks: &crate::disks::Disks,
+    _recording_id: Option<&str>,
 ) -> Result<Box<dyn FrameSink>> {
     Err(Error::input(
         "--rrd",
@@ -211,7 +286,7 @@ fn frame_time(k: u64, dt: f64, duration: f64) -> f64 {
 }
 
 /// The window over which averages are taken (from the end of the warm-up).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 struct Window {
     time: f64,
     virial: f64,
@@ -219,7 +294,7 @@ struct Window {
 }
 
 /// When the run next stops, and for what: samples, frames, the end of the warm-up, the end.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 struct Stops {
     sample_dt: f64,
     frame_dt: f64,
@@ -232,6 +307,10 @@ struct Stops {
     k_frame: u64,
     /// Trajectory frames written so far.
     k_trajectory: u64,
+    /// Simulated time between checkpoints (∞: none on a schedule).
+    checkpoint_dt: f64,
+    /// The next scheduled checkpoint is the `k_checkpoint`-th (from 1: none at the start).
+    k_checkpoint: u64,
 }
 
 /// The next stop: its time and what is due then.
@@ -242,10 +321,11 @@ struct Stop {
     frame: bool,
     trajectory: bool,
     window: bool,
+    checkpoint: bool,
 }
 
 impl Stops {
-    fn new(s: &Scenario) -> Stops {
+    fn new(s: &Scenario, checkpoint_every: Option<f64>) -> Stops {
         let duration = s.run.duration;
         let default_dt = duration / 200.0;
         Stops {
@@ -265,7 +345,27 @@ impl Stops {
             k_sample: 0,
             k_frame: 0,
             k_trajectory: 0,
+            checkpoint_dt: checkpoint_every.unwrap_or(f64::INFINITY),
+            k_checkpoint: 1,
         }
+    }
+
+    /// After a resume at engine time `t`: frames and trajectory frames the saved run did not
+    /// write (it had no recording or trajectory) start at `t`, not at 0; checkpoints follow the
+    /// new interval from `t` on.
+    fn resume_at(&mut self, t: f64, checkpoint_every: Option<f64>) {
+        while frame_time(self.k_frame, self.frame_dt, f64::INFINITY) < t {
+            self.k_frame += 1;
+        }
+        while frame_time(self.k_trajectory, self.trajectory_dt, f64::INFINITY) < t {
+            self.k_trajectory += 1;
+        }
+        self.checkpoint_dt = checkpoint_every.unwrap_or(f64::INFINITY);
+        self.k_checkpoint = if self.checkpoint_dt.is_finite() {
+            (t / self.checkpoint_dt).floor() as u64 + 1
+        } else {
+            1
+        };
     }
 
     /// The next stop, given whether frames are recorded, whether a trajectory is written and
@@ -287,23 +387,26 @@ impl Stops {
         } else {
             self.warmup
         };
+        let t_checkpoint = self.k_checkpoint as f64 * self.checkpoint_dt;
         let time = t_sample
             .min(t_frame)
             .min(t_trajectory)
             .min(t_window)
+            .min(t_checkpoint)
             .min(self.duration);
         Stop {
             time,
             sample: time == t_sample,
             frame: time == t_frame,
             trajectory: time == t_trajectory,
+            checkpoint: time == t_checkpoint,
             window: time == t_window,
         }
     }
 }
 
 /// What is averaged over the window: temperatures, centre of mass, height profiles.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 struct Averages {
     window: Option<Window>,
     temperature: [f64; 2],
@@ -370,6 +473,34 @@ struct Driver<'a, E: Integrator> {
     /// The caller's stop flag, also looked at between stops (a run with dense samples or
     /// frames can spend its time there).
     interrupt: Option<&'static AtomicBool>,
+    /// Checkpoints to write, if asked.
+    checkpoint: Option<CheckpointPlan>,
+    /// The recording's id (kept across resumed parts) and the recordings written so far.
+    recording_id: Option<String>,
+    recordings: Vec<PathBuf>,
+    /// Wall time of the parts before a resume, and the clock of this part.
+    wall_before: f64,
+    clock: Instant,
+}
+
+/// The driver's state in a checkpoint: the stop schedule, the averages, the initial energy.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct DriverState {
+    stops: Stops,
+    averages: Averages,
+    initial: Observables,
+    last_frame_collisions: u64,
+    /// Wall seconds spent by the run so far (all its parts).
+    wall_seconds: f64,
+    /// The engine's time at the checkpoint.
+    time: f64,
+}
+
+impl DriverState {
+    /// Simulated time at which the checkpoint was taken.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -380,6 +511,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         sink: Option<Box<dyn FrameSink>>,
         trajectory: Option<TrajectoryWriter>,
         opts: &RunOptions,
+        recording_id: Option<String>,
     ) -> Driver<'a, E> {
         if let Some(flag) = opts.interrupt {
             sim.set_interrupt(flag);
@@ -398,7 +530,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             g,
             snap,
             initial,
-            stops: Stops::new(s),
+            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
@@ -408,7 +540,82 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             last_frame_collisions: 0,
             interrupt: opts.interrupt,
+            checkpoint: opts.checkpoint.clone(),
+            recording_id,
+            recordings: Vec::new(),
+            wall_before: 0.0,
+            clock: Instant::now(),
         }
+    }
+
+    /// Continues the run a checkpoint holds: the engine's state, the stop schedule (to the new
+    /// duration), the averages so far. The duration may be extended, not cut below the
+    /// checkpoint's time.
+    fn resume(&mut self, ck: Checkpoint) -> Result<()> {
+        let at = ck.driver.time;
+        if self.stops.duration < at {
+            return Err(Error::input(
+                "run.duration",
+                format!(
+                    "the checkpoint is at t = {at}; a resumed run must end at or after it (got {})",
+                    self.stops.duration
+                ),
+            ));
+        }
+        if ck.driver.averages.profiles.is_some() != self.averages.profiles.is_some() {
+            return Err(Error::input(
+                "CHECKPOINT",
+                "its profiles do not fit this scene",
+            ));
+        }
+        self.sim.restore_state(ck.engine)?;
+        let d = ck.driver;
+        let duration = self.stops.duration;
+        self.stops = Stops {
+            duration,
+            ..d.stops
+        };
+        self.stops.resume_at(
+            self.sim.time(),
+            self.checkpoint.as_ref().and_then(|c| c.every),
+        );
+        self.averages = d.averages;
+        self.initial = d.initial;
+        self.last_frame_collisions = d.last_frame_collisions;
+        self.wall_before = d.wall_seconds;
+        self.recordings = ck.recordings;
+        Ok(())
+    }
+
+    /// Writes a checkpoint, if asked: the engine between events, this driver, the scene's text.
+    fn save_checkpoint(&self) -> Result<()> {
+        let Some(plan) = &self.checkpoint else {
+            return Ok(());
+        };
+        let engine = self.sim.saved_state().ok_or_else(|| {
+            Error::input(
+                "engine.scheme",
+                "only the event-driven scheme can be checkpointed",
+            )
+        })?;
+        Checkpoint {
+            scenario: plan.scenario.clone(),
+            source: plan.source.clone(),
+            sets: plan.sets.clone(),
+            every: plan.every,
+            recording_id: self.recording_id.clone(),
+            recordings: self.recordings.clone(),
+            driver: DriverState {
+                stops: self.stops,
+                averages: self.averages.clone(),
+                initial: self.initial,
+                last_frame_collisions: self.last_frame_collisions,
+                wall_seconds: self.wall_before + self.clock.elapsed().as_secs_f64(),
+                time: self.sim.time(),
+            },
+            engine,
+        }
+        .write(&plan.path)
     }
 
     /// Runs from stop to stop until the duration, the event limit or an interrupt.
@@ -447,6 +654,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             }
             if stop.trajectory {
                 self.trajectory_frame()?;
+            }
+            if stop.checkpoint {
+                self.stops.k_checkpoint += 1;
+                self.save_checkpoint()?;
             }
             progress.update(stop.time, self.sim.counts().collisions());
             if stop.time >= self.stops.duration {
@@ -578,6 +789,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             self.sim.time()
         };
         self.sim.snapshot_into(end_time, &mut self.snap);
+        // However the run ended (completed, event limit, signal), its state is saved: a resume
+        // can extend the duration or the event budget.
+        self.save_checkpoint()?;
         progress.finish(ending, end_time, self.sim.counts().collisions());
         if let Some(w) = self.trajectory.take() {
             w.finish().map_err(Error::Io)?;
@@ -617,9 +831,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             particles: n,
             ending,
             sim_time: end_time,
-            wall_seconds: wall,
+            wall_seconds: self.wall_before + wall,
             events: counts,
-            collisions_per_second: counts.collisions() as f64 / wall.max(1e-9),
+            collisions_per_second: counts.collisions() as f64 / (self.wall_before + wall).max(1e-9),
             energy: EnergySummary {
                 initial: EnergyAt::from(&self.initial),
                 final_: EnergyAt::from(&last),
@@ -683,19 +897,26 @@ fn drive<E: Integrator>(
     s: &Scenario,
     scene: &Scene,
     sink: Option<Box<dyn FrameSink>>,
+    out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
     let trajectory = open_trajectory(s, scene, opts, sim.disks())?;
-    let mut driver = Driver::new(sim, s, scene, sink, trajectory, opts);
+    let mut driver = Driver::new(sim, s, scene, sink, trajectory, opts, out.recording_id);
+    if let Some(ck) = out.resume {
+        driver.resume(*ck)?;
+    }
+    if let Some(rrd) = out.rrd {
+        driver.recordings.push(rrd);
+    }
     let progress = ProgressReport::start(
         ProgressMode::for_stderr(opts.progress),
         &s.name,
         driver.sim.disks().len(),
         s.run.duration,
     );
-    let clock = Instant::now();
+    driver.clock = Instant::now();
     let ending = driver.run(&progress)?;
-    let wall = clock.elapsed().as_secs_f64();
+    let wall = driver.clock.elapsed().as_secs_f64();
     driver.finish(ending, wall, progress)
 }
 

@@ -573,7 +573,7 @@ fn a_recording_sweep_records_every_run() {
     let dir = scratch("record");
     std::fs::write(
         dir.join("rec.json"),
-        r#"{"scenario": "bed.json", "set": ["run.duration=1"], "seeds": 2, "record": true}"#,
+        r#"{"scenario": "bed.json", "set": ["run.duration=1", "run.warmup=0"], "seeds": 2, "record": true}"#,
     )
     .unwrap();
     assert_ok(&vibrobed(

@@ -198,7 +198,7 @@ fn shared_cell(i: u32, j: u32) -> Error {
 /// One slot per cell (0 = empty, else disk number + 1), with a halo of `pad` cells around the
 /// grid: copies of the opposite edge where periodic, empty otherwise. A mask offset is then one
 /// fixed index step, with no wrapping or bounds tests while neighbour lists are built.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct DenseCells {
     pad: u32,
     stride: usize,
@@ -300,7 +300,7 @@ impl CellMap for DenseCells {
 }
 
 /// Isobe's compressed virtual array with bucketed hashing (arrays A, BX, BY, C, D).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SparseCells {
     nx: u64,
     /// Buckets − 1 (a power of two minus one).

@@ -13,7 +13,7 @@ use crate::error::Result;
 
 /// The grid storage a scene uses: dense for closed domains, Isobe's compressed array for an
 /// open top.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum Cells {
     /// One slot per cell.
     Dense(DenseCells),

@@ -6,7 +6,7 @@ use super::masks::Mask;
 
 /// Neighbour lists in compressed-row form: disk i's neighbours are
 /// `list[start[i + 1] .. start[i + 2]]` (the layout the in-place fill leaves behind).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighbourLists {
     start: Vec<u32>,
     list: Vec<u32>,

@@ -121,6 +121,16 @@ impl Floor {
         self.phase0 + self.omega * t
     }
 
+    /// Phase at local time 0 (in [0, 2π)): with the engine's clock, the floor's whole state.
+    pub fn phase_origin(&self) -> f64 {
+        self.phase0
+    }
+
+    /// Sets the phase at local time 0 (a checkpoint's floor).
+    pub fn set_phase_origin(&mut self, phase: f64) {
+        self.phase0 = phase;
+    }
+
     /// Moves the local time origin forward by `dt` (the engine re-bases its clock).
     pub fn rebase(&mut self, dt: f64) {
         self.phase0 = (self.phase0 + self.omega * dt).rem_euclid(TAU);

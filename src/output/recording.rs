@@ -289,7 +289,23 @@ impl RerunRecorder {
     /// logs the static scene (y-up transforms, the species annotation context, the walls or
     /// periodic edges, the lid, the colour scale) and starts the writer thread.
     pub fn create(path: &Path, layout: &SceneLayout, color_by: ColorBy) -> Result<Self, String> {
-        let rec = RecordingStreamBuilder::new(APPLICATION_ID)
+        Self::create_with_id(path, layout, color_by, None)
+    }
+
+    /// As [`create`](Self::create), with a given recording id: a run resumed from a checkpoint
+    /// writes its frames to a new file under the id of the recording it continues, so that the
+    /// viewer, given both files, shows them as one recording.
+    pub fn create_with_id(
+        path: &Path,
+        layout: &SceneLayout,
+        color_by: ColorBy,
+        recording_id: Option<&str>,
+    ) -> Result<Self, String> {
+        let mut builder = RecordingStreamBuilder::new(APPLICATION_ID);
+        if let Some(id) = recording_id {
+            builder = builder.recording_id(id);
+        }
+        let rec = builder
             .recording_name(layout.name.clone())
             // An explicit `--rrd` wins over a `RERUN=0` environment variable.
             .enabled(true)
@@ -1219,6 +1235,8 @@ pub struct EntityStats {
 pub struct RecordingContents {
     /// Application id of the recording store.
     pub application_id: Option<String>,
+    /// Recording id of the recording store (the parts of a resumed run share it).
+    pub recording_id: Option<String>,
     /// Temporal data per entity path (written without the leading `/`, e.g. `disks`,
     /// `series/energy/kinetic`).
     pub entities: BTreeMap<String, EntityStats>,
@@ -1306,6 +1324,7 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
             LogMsg::SetStoreInfo(info) => {
                 if info.info.store_id.is_recording() {
                     out.application_id = Some(info.info.application_id().to_string());
+                    out.recording_id = Some(info.info.store_id.recording_id().to_string());
                 } else {
                     out.has_blueprint = true;
                 }

@@ -6,13 +6,22 @@
 
 /// A tournament tree over `times[0..n]`. The tree stores disk numbers only; the times live in
 /// the caller's array (`times[n]` must be +∞: padding leaves point to it).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct CompleteBinaryTree {
     leaves: usize,
     node: Vec<u32>,
 }
 
 impl CompleteBinaryTree {
+    /// `true` when the tree has the shape [`build`](Self::build) gives for `n` disks and points
+    /// only at disks `0..=n` (a checkpoint's tree is checked before it is used).
+    pub fn fits(&self, n: usize) -> bool {
+        let leaves = n.max(1);
+        self.leaves == leaves
+            && self.node.len() == 2 * leaves
+            && self.node.iter().all(|&k| k as usize <= n)
+    }
+
     /// Builds the tree over `times[0..n]`, where `times.len() == n + 1` and `times[n] = ∞`.
     /// The tree is heap-shaped with exactly `n` leaves (node k has children 2k and 2k + 1, leaf
     /// i sits at n + i), so it needs 2n entries for any n, not 2·next_power_of_two(n).

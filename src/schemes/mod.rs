@@ -18,9 +18,9 @@ pub mod time_step;
 
 use crate::disks::Disks;
 use crate::dynamics::Flight;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::locals::{SideBounds, Top};
-use crate::simulation::{EnergyFlow, EventCounts, Progress, Simulation, Snapshot};
+use crate::simulation::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, Snapshot};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 
@@ -91,6 +91,18 @@ pub trait Integrator {
     fn setup(&self) -> Setup;
     /// Errors and steps of an approximate scheme (`None` for the exact engine).
     fn approximation(&self) -> Option<SchemeStats>;
+    /// The engine's complete state between events, for a checkpoint (`None`: this scheme has
+    /// none; only the exact engine can be checkpointed).
+    fn saved_state(&self) -> Option<EngineState> {
+        None
+    }
+    /// Puts a checkpoint's state back into an engine built for the same scene.
+    fn restore_state(&mut self, _state: EngineState) -> Result<()> {
+        Err(Error::input(
+            "engine.scheme",
+            "only the event-driven scheme can be checkpointed and resumed",
+        ))
+    }
 }
 
 impl<F: Flight> Integrator for Simulation<F> {
@@ -136,6 +148,12 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn approximation(&self) -> Option<SchemeStats> {
         None
+    }
+    fn saved_state(&self) -> Option<EngineState> {
+        Some(self.state())
+    }
+    fn restore_state(&mut self, state: EngineState) -> Result<()> {
+        self.restore(state)
     }
 }
 

@@ -3,7 +3,7 @@
 
 /// The absolute time of the engine's local clock zero, summed with compensation (Neumaier) so
 /// that millions of re-basings add no drift: absolute = `hi + (lo + local)`.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(super) struct Epoch {
     pub(super) hi: f64,
     pub(super) lo: f64,

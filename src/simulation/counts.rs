@@ -1,9 +1,9 @@
 //! What the engine counts: events by kind, and the energy exchanged and lost.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Counts of events by kind.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct EventCounts {
     /// Disk–disk collisions.
     pub pair: u64,
@@ -40,7 +40,7 @@ impl EventCounts {
 }
 
 /// Energy exchanged with the outside and lost in collisions since the start.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyFlow {
     /// Work done by the floor on the disks (can be negative for a lossy static floor).
     pub injected: f64,

@@ -18,7 +18,7 @@
 //! earlier of the two deadlines.
 
 /// The re-mapping deadline and what it is made of.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Dutc {
     margin: f64,
     used: f64,

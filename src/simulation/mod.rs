@@ -28,11 +28,13 @@ mod resting;
 pub mod riders;
 pub mod scene;
 mod setup;
+mod state;
 
 pub use counts::{EnergyFlow, EventCounts};
 pub use log::{Collision, Partner};
 pub use observe::Snapshot;
 pub use scene::Scene;
+pub use state::EngineState;
 
 use crate::disks::Disks;
 use crate::dynamics::Flight;

@@ -22,7 +22,7 @@ pub const RIGHT_WALL: u32 = u32::MAX - 2;
 pub const CARRIED: usize = 4;
 
 /// Who rides the floor and what rests on what; empty for scenes without a floor.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Riders {
     riding: Vec<bool>,
     lift: Vec<f64>,
@@ -31,6 +31,16 @@ pub struct Riders {
 }
 
 impl Riders {
+    /// Number of disks tracked (0 without a floor).
+    pub fn len(&self) -> usize {
+        self.riding.len()
+    }
+
+    /// `true` when no disk is tracked (no floor).
+    pub fn is_empty(&self) -> bool {
+        self.riding.is_empty()
+    }
+
     /// Room for `n` disks, none riding.
     pub fn new(n: usize) -> Riders {
         Riders {

@@ -1,0 +1,137 @@
+//! The engine's complete mutable state, for checkpoints: everything an event boundary holds that
+//! the scene does not fix (disks, pending predictions, the event tree, the grid and neighbour
+//! lists, the clock, the floor's phase, the cures' memory, who rests on what, the counts).
+//!
+//! What the scene fixes (flight law, grid geometry, mask, boundaries, list margin, switches) is
+//! rebuilt from the scenario; [`Simulation::restore`] then overwrites the rest, so the resumed
+//! engine pops the same events in the same order as the one that was saved, bit for bit.
+
+use super::clock::Epoch;
+use super::counts::{EnergyFlow, EventCounts};
+use super::dutc::Dutc;
+use super::riders::Riders;
+use super::Simulation;
+use crate::disks::Disks;
+use crate::dynamics::Flight;
+use crate::error::{Error, Result};
+use crate::globals::{Cells, NeighbourLists};
+use crate::interactions::CollisionLaw;
+use crate::scheduler::CompleteBinaryTree;
+use serde::{Deserialize, Serialize};
+
+/// The event-driven engine's mutable state at an event boundary.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct EngineState {
+    disks: Disks,
+    ev_time: Vec<f64>,
+    ev_partner: Vec<u32>,
+    ev_counter: Vec<u32>,
+    tree: CompleteBinaryTree,
+    cells: Cells,
+    lists: NeighbourLists,
+    restitution: CollisionLaw,
+    floor_phase: Option<f64>,
+    base: Epoch,
+    now: f64,
+    dutc: Dutc,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    riders: Riders,
+}
+
+impl EngineState {
+    /// Number of disks.
+    pub fn len(&self) -> usize {
+        self.disks.len()
+    }
+
+    /// `true` without disks.
+    pub fn is_empty(&self) -> bool {
+        self.disks.len() == 0
+    }
+}
+
+impl<F: Flight> Simulation<F> {
+    /// The engine's state now (between events), for a checkpoint.
+    pub fn state(&self) -> EngineState {
+        EngineState {
+            disks: self.disks.clone(),
+            ev_time: self.ev_time.clone(),
+            ev_partner: self.ev_partner.clone(),
+            ev_counter: self.ev_counter.clone(),
+            tree: self.tree.clone(),
+            cells: self.cells.clone(),
+            lists: self.lists.clone(),
+            restitution: self.restitution.clone(),
+            floor_phase: self.floor.as_ref().map(|f| f.phase_origin()),
+            base: self.base,
+            now: self.now,
+            dutc: self.dutc,
+            counts: self.counts,
+            flow: self.flow,
+            virial: self.virial,
+            max_overlap: self.max_overlap,
+            riders: self.riders.clone(),
+        }
+    }
+
+    /// Puts a saved state into an engine built for the same scene. Refuses a state whose shape
+    /// does not fit the scene (another number of disks, a floor where there is none, a grid of
+    /// another kind), so that a mismatched checkpoint is an error, not a panic later.
+    pub fn restore(&mut self, state: EngineState) -> Result<()> {
+        let n = self.disks.len();
+        let mismatch = |what: &str| {
+            Error::input(
+                "checkpoint",
+                format!("the saved engine does not fit this scene ({what})"),
+            )
+        };
+        let d = &state.disks;
+        if d.len() != n
+            || d.radius.len() != n
+            || d.mass.len() != n
+            || d.species.len() != n
+            || d.counter.len() != n
+        {
+            return Err(mismatch("number of disks"));
+        }
+        if state.ev_time.len() != n + 1
+            || state.ev_partner.len() != n
+            || state.ev_counter.len() != n
+            || !state.tree.fits(n)
+        {
+            return Err(mismatch("event tables"));
+        }
+        if state.floor_phase.is_some() != self.floor.is_some() {
+            return Err(mismatch("floor"));
+        }
+        if std::mem::discriminant(&state.cells) != std::mem::discriminant(&self.cells) {
+            return Err(mismatch("grid kind"));
+        }
+        if state.riders.len() != self.riders.len() {
+            return Err(mismatch("riders"));
+        }
+        self.disks = state.disks;
+        self.ev_time = state.ev_time;
+        self.ev_partner = state.ev_partner;
+        self.ev_counter = state.ev_counter;
+        self.tree = state.tree;
+        self.cells = state.cells;
+        self.lists = state.lists;
+        self.restitution = state.restitution;
+        if let (Some(floor), Some(phase)) = (self.floor.as_mut(), state.floor_phase) {
+            floor.set_phase_origin(phase);
+        }
+        self.base = state.base;
+        self.now = state.now;
+        self.dutc = state.dutc;
+        self.counts = state.counts;
+        self.flow = state.flow;
+        self.virial = state.virial;
+        self.max_overlap = state.max_overlap;
+        self.riders = state.riders;
+        Ok(())
+    }
+}
