@@ -1,0 +1,73 @@
+//! What a run averages over its window (after the warm-up): temperatures, centre of mass, height
+//! profiles.
+
+use crate::disks::Disks;
+use crate::measure::{Observables, Profiles};
+use crate::scenario::Scenario;
+use crate::simulation::{Scene, Snapshot};
+use crate::summary::Temperature;
+use serde::{Deserialize, Serialize};
+
+/// The window over which averages are taken (from the end of the warm-up).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub(super) struct Window {
+    pub(super) time: f64,
+    pub(super) virial: f64,
+    pub(super) floor_impacts: u64,
+}
+
+/// What is averaged over the window: temperatures, centre of mass, height profiles.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub(super) struct Averages {
+    pub(super) window: Option<Window>,
+    pub(super) temperature: [f64; 2],
+    pub(super) com_height: f64,
+    pub(super) samples: usize,
+    pub(super) profiles: Option<Profiles>,
+}
+
+impl Averages {
+    /// Adds one sample (after the warm-up only).
+    pub(super) fn add(&mut self, snap: &Snapshot, disks: &Disks, o: &Observables) {
+        self.temperature[0] += o.temperature[0];
+        self.temperature[1] += o.temperature[1];
+        self.com_height += o.com_height;
+        self.samples += 1;
+        if let Some(p) = self.profiles.as_mut() {
+            p.add(snap, disks);
+        }
+    }
+
+    pub(super) fn temperature(&self) -> Temperature {
+        let n = self.samples.max(1) as f64;
+        Temperature {
+            x: self.temperature[0] / n,
+            y: self.temperature[1] / n,
+            mean: 0.5 * (self.temperature[0] + self.temperature[1]) / n,
+        }
+    }
+}
+
+/// Empty height profiles for a gravity scene: from the floor's lowest point to
+/// `output.profile_height` (default: twice the highest disk top at the start).
+pub(super) fn empty_profiles(
+    s: &Scenario,
+    scene: &Scene,
+    snap: &Snapshot,
+    disks: &Disks,
+) -> Option<Profiles> {
+    scene.gravity?;
+    let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
+    let top = s.output.profile_height.unwrap_or_else(|| {
+        let highest = (0..disks.len())
+            .map(|i| snap.y[i] + disks.radius[i])
+            .fold(0.0, f64::max);
+        2.0 * highest.max(bottom + 1.0)
+    });
+    Some(Profiles::new(
+        s.output.profile_bins,
+        bottom,
+        top,
+        s.domain.width,
+    ))
+}

@@ -1,0 +1,461 @@
+//! One run of an engine from its start to its ending: the stops, the measurements at each, the
+//! frames and checkpoints, and the summary.
+
+use super::averages::{empty_profiles, Averages, Window};
+use super::state::DriverState;
+use super::stops::Stops;
+use super::{CheckpointPlan, FrameSink, RunOptions};
+use crate::checkpoint::Checkpoint;
+use crate::error::{Error, Result};
+use crate::locals::Top;
+use crate::measure::Observables;
+use crate::output::frame::FrameView;
+use crate::output::progress::ProgressReport;
+use crate::output::trajectory::TrajectoryWriter;
+use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
+use crate::schemes::Integrator;
+use crate::simulation::{EnergyFlow, Progress, Scene, Snapshot};
+use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// One run of an engine from the start to its ending: the engine, where its frames go, and what
+/// is measured along the way.
+pub(super) struct Driver<'a, E: Integrator> {
+    pub(super) sim: E,
+    pub(super) s: &'a Scenario,
+    pub(super) scene: &'a Scene,
+    pub(super) sink: Option<Box<dyn FrameSink>>,
+    pub(super) trajectory: Option<TrajectoryWriter>,
+    pub(super) g: f64,
+    pub(super) snap: Snapshot,
+    pub(super) initial: Observables,
+    pub(super) stops: Stops,
+    pub(super) averages: Averages,
+    pub(super) last_frame_collisions: u64,
+    /// The caller's stop flag, also looked at between stops (a run with dense samples or
+    /// frames can spend its time there).
+    pub(super) interrupt: Option<&'static AtomicBool>,
+    /// Checkpoints to write, if asked.
+    pub(super) checkpoint: Option<CheckpointPlan>,
+    /// The recording's id (kept across resumed parts) and the recordings written so far.
+    pub(super) recording_id: Option<String>,
+    pub(super) recordings: Vec<PathBuf>,
+    /// Wall time of the parts before a resume, and the clock of this part.
+    pub(super) wall_before: f64,
+    pub(super) clock: Instant,
+}
+
+impl<'a, E: Integrator> Driver<'a, E> {
+    pub(super) fn new(
+        mut sim: E,
+        s: &'a Scenario,
+        scene: &'a Scene,
+        sink: Option<Box<dyn FrameSink>>,
+        trajectory: Option<TrajectoryWriter>,
+        opts: &RunOptions,
+        recording_id: Option<String>,
+    ) -> Driver<'a, E> {
+        if let Some(flag) = opts.interrupt {
+            sim.set_interrupt(flag);
+        }
+        let g = scene.gravity.unwrap_or(0.0);
+        let mut snap = Snapshot::default();
+        sim.snapshot_into(0.0, &mut snap);
+        let initial = Observables::of(&snap, sim.disks(), g);
+        let profiles = empty_profiles(s, scene, &snap, sim.disks());
+        Driver {
+            sim,
+            s,
+            scene,
+            sink,
+            trajectory,
+            g,
+            snap,
+            initial,
+            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
+            averages: Averages {
+                window: None,
+                temperature: [0.0; 2],
+                com_height: 0.0,
+                samples: 0,
+                profiles,
+            },
+            last_frame_collisions: 0,
+            interrupt: opts.interrupt,
+            checkpoint: opts.checkpoint.clone(),
+            recording_id,
+            recordings: Vec::new(),
+            wall_before: 0.0,
+            clock: Instant::now(),
+        }
+    }
+
+    /// Continues the run a checkpoint holds: the engine's state, the stop schedule (to the new
+    /// duration), the averages so far. The duration may be extended, not cut below the
+    /// checkpoint's time.
+    pub(super) fn resume(&mut self, ck: Checkpoint) -> Result<()> {
+        let at = ck.driver.time;
+        if self.stops.duration < at {
+            return Err(Error::input(
+                "run.duration",
+                format!(
+                    "the checkpoint is at t = {at}; a resumed run must end at or after it (got {})",
+                    self.stops.duration
+                ),
+            ));
+        }
+        if ck.driver.averages.profiles.is_some() != self.averages.profiles.is_some() {
+            return Err(Error::input(
+                "CHECKPOINT",
+                "its profiles do not fit this scene",
+            ));
+        }
+        self.sim.restore_state(ck.engine)?;
+        let d = ck.driver;
+        let duration = self.stops.duration;
+        self.stops = Stops {
+            duration,
+            ..d.stops
+        };
+        self.stops.resume_at(
+            self.sim.time(),
+            self.checkpoint.as_ref().and_then(|c| c.every),
+        );
+        self.averages = d.averages;
+        self.initial = d.initial;
+        self.last_frame_collisions = d.last_frame_collisions;
+        self.wall_before = d.wall_seconds;
+        self.recordings = ck.recordings;
+        Ok(())
+    }
+
+    /// Writes a checkpoint, if asked: the engine between events, this driver, the scene's text.
+    pub(super) fn save_checkpoint(&self) -> Result<()> {
+        let Some(plan) = &self.checkpoint else {
+            return Ok(());
+        };
+        let engine = self.sim.saved_state().ok_or_else(|| {
+            Error::input(
+                "engine.scheme",
+                "only the event-driven scheme can be checkpointed",
+            )
+        })?;
+        Checkpoint {
+            scenario: plan.scenario.clone(),
+            source: plan.source.clone(),
+            sets: plan.sets.clone(),
+            every: plan.every,
+            recording_id: self.recording_id.clone(),
+            recordings: self.recordings.clone(),
+            driver: DriverState {
+                stops: self.stops,
+                averages: self.averages.clone(),
+                initial: self.initial,
+                last_frame_collisions: self.last_frame_collisions,
+                wall_seconds: self.wall_before + self.clock.elapsed().as_secs_f64(),
+                time: self.sim.time(),
+            },
+            engine,
+        }
+        .write(&plan.path)
+    }
+
+    /// Runs from stop to stop until the duration, the event limit or an interrupt.
+    pub(super) fn run(&mut self, progress: &ProgressReport) -> Result<Ending> {
+        if let Some(sink) = self.sink.as_mut() {
+            let text = format!(
+                "start: {} disks, scene {}",
+                self.sim.disks().len(),
+                self.s.name
+            );
+            sink.log_text(0.0, "INFO", &text)?;
+        }
+        loop {
+            if self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                return Ok(Ending::Interrupted);
+            }
+            let stop = self.stops.next(
+                self.sink.is_some(),
+                self.trajectory.is_some(),
+                self.averages.window.is_some(),
+            );
+            match self.sim.advance_to(stop.time)? {
+                Progress::Reached => {}
+                Progress::EventLimit => return Ok(Ending::EventLimit),
+                Progress::Interrupted => return Ok(Ending::Interrupted),
+            }
+            self.sim.snapshot_into(stop.time, &mut self.snap);
+            if stop.window {
+                self.open_window(stop.time)?;
+            }
+            if stop.sample {
+                self.sample()?;
+            }
+            if stop.frame {
+                self.frame()?;
+            }
+            if stop.trajectory {
+                self.trajectory_frame()?;
+            }
+            if stop.checkpoint {
+                self.stops.k_checkpoint += 1;
+                self.save_checkpoint()?;
+            }
+            progress.update(stop.time, self.sim.counts().collisions());
+            if stop.time >= self.stops.duration {
+                return Ok(Ending::Completed);
+            }
+        }
+    }
+
+    /// The warm-up is over: averaging starts.
+    pub(super) fn open_window(&mut self, t: f64) -> Result<()> {
+        self.averages.window = Some(Window {
+            time: t,
+            virial: self.sim.virial(),
+            floor_impacts: self.sim.counts().floor,
+        });
+        if let (Some(sink), true) = (self.sink.as_mut(), self.stops.warmup > 0.0) {
+            sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
+        }
+        Ok(())
+    }
+
+    /// A sample: measured into the averages after the warm-up; invariants checked if asked.
+    pub(super) fn sample(&mut self) -> Result<()> {
+        self.stops.k_sample += 1;
+        if self.averages.window.is_some() {
+            let o = Observables::of(&self.snap, self.sim.disks(), self.g);
+            self.averages.add(&self.snap, self.sim.disks(), &o);
+        }
+        if self.scene.check_invariants {
+            check_sample(&self.sim, &self.snap, &self.initial, self.g)?;
+        }
+        Ok(())
+    }
+
+    /// A frame: the disks and the time series, to the sink.
+    pub(super) fn frame(&mut self) -> Result<()> {
+        self.stops.k_frame += 1;
+        let Some(sink) = self.sink.as_mut() else {
+            return Ok(());
+        };
+        let sim = &self.sim;
+        let snap = &self.snap;
+        let o = Observables::of(snap, sim.disks(), self.g);
+        let flow = sim.energy_flow_at(snap.time);
+        let collisions = sim.counts().collisions();
+        let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
+        self.last_frame_collisions = collisions;
+        let series = [
+            ("temperature/x", o.temperature[0]),
+            ("temperature/y", o.temperature[1]),
+            ("energy/kinetic", o.kinetic),
+            ("energy/potential", o.potential),
+            ("energy/injected", flow.injected),
+            ("energy/dissipated", flow.dissipated),
+            ("com_height", o.com_height),
+            (
+                "collisions_per_time",
+                if self.stops.k_frame > 1 { rate } else { 0.0 },
+            ),
+        ];
+        let d = sim.disks();
+        let profile = self
+            .averages
+            .profiles
+            .as_ref()
+            .map(|p| p.of_snapshot(snap, d));
+        sink.frame(&FrameView {
+            index: self.stops.k_frame - 1,
+            time: snap.time,
+            x: &snap.x,
+            y: &snap.y,
+            vx: &snap.vx,
+            vy: &snap.vy,
+            radius: &d.radius,
+            species: &d.species,
+            floor_height: snap.floor_height,
+            series: &series,
+            profile: profile.as_ref(),
+        })
+    }
+
+    /// A trajectory frame: every disk, to the extended XYZ file.
+    pub(super) fn trajectory_frame(&mut self) -> Result<()> {
+        self.stops.k_trajectory += 1;
+        let Some(w) = self.trajectory.as_mut() else {
+            return Ok(());
+        };
+        let (snap, d) = (&self.snap, self.sim.disks());
+        w.frame(&FrameView {
+            index: self.stops.k_trajectory - 1,
+            time: snap.time,
+            x: &snap.x,
+            y: &snap.y,
+            vx: &snap.vx,
+            vy: &snap.vy,
+            radius: &d.radius,
+            species: &d.species,
+            floor_height: snap.floor_height,
+            series: &[],
+            profile: None,
+        })
+        .map_err(Error::Io)
+    }
+
+    /// Closes the recording with a note on how the run ended.
+    pub(super) fn close_sink(&mut self, ending: Ending, end_time: f64) -> Result<()> {
+        if let Some(mut sink) = self.sink.take() {
+            let note = match ending {
+                Ending::Completed => "run completed".to_string(),
+                Ending::Interrupted => format!("interrupted at t = {end_time}"),
+                Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+            };
+            let level = if ending == Ending::Completed {
+                "INFO"
+            } else {
+                "WARN"
+            };
+            sink.log_text(end_time, level, &note)?;
+            sink.finish()?;
+        }
+        Ok(())
+    }
+
+    /// Ends the run: the final state, the outputs closed, the summary.
+    pub(super) fn finish(
+        mut self,
+        ending: Ending,
+        wall: f64,
+        progress: ProgressReport,
+    ) -> Result<Summary> {
+        let end_time = if ending == Ending::Completed {
+            self.stops.duration
+        } else {
+            self.sim.time()
+        };
+        self.sim.snapshot_into(end_time, &mut self.snap);
+        // However the run ended (completed, event limit, signal), its state is saved: a resume
+        // can extend the duration or the event budget.
+        self.save_checkpoint()?;
+        progress.finish(ending, end_time, self.sim.counts().collisions());
+        if let Some(w) = self.trajectory.take() {
+            w.finish().map_err(Error::Io)?;
+        }
+        self.close_sink(ending, end_time)?;
+        Ok(self.summarise(ending, end_time, wall))
+    }
+
+    /// The summary of a run that ended at `end_time`.
+    pub(super) fn summarise(&self, ending: Ending, end_time: f64, wall: f64) -> Summary {
+        let (s, scene, sim) = (self.s, self.scene, &self.sim);
+        let n = sim.disks().len();
+        let last = Observables::of(&self.snap, sim.disks(), self.g);
+        let flow = sim.energy_flow_at(self.snap.time);
+        let avg = &self.averages;
+        let measured = avg
+            .window
+            .as_ref()
+            .map(|w| (end_time - w.time, w))
+            .filter(|(dt, _)| *dt > 0.0);
+        let compressibility_factor = match (closed_elastic(s, scene), measured) {
+            (true, Some((dt, w))) if avg.samples > 0 => {
+                let kt = last.kinetic / n as f64; // conserved in a closed elastic box
+                Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
+            }
+            _ => None,
+        };
+        let box_area = match scene.top {
+            Top::Lid { height, .. } | Top::Periodic { height } => Some(s.domain.width * height),
+            Top::Open => None,
+        };
+        let counts = sim.counts();
+        let setup = sim.setup();
+        Summary {
+            scenario: s.name.clone(),
+            seed: s.seed,
+            particles: n,
+            ending,
+            sim_time: end_time,
+            wall_seconds: self.wall_before + wall,
+            events: counts,
+            collisions_per_second: counts.collisions() as f64 / (self.wall_before + wall).max(1e-9),
+            energy: EnergySummary {
+                initial: EnergyAt::from(&self.initial),
+                final_: EnergyAt::from(&last),
+                injected: flow.injected,
+                dissipated: flow.dissipated,
+                balance_error: balance_error(&self.initial, &last, &flow),
+            },
+            temperature: avg.temperature(),
+            compressibility_factor,
+            packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
+            max_overlap: sim.max_overlap(),
+            com_height: scene
+                .gravity
+                .map(|_| avg.com_height / avg.samples.max(1) as f64),
+            impacts_per_unit_time: match (&scene.floor, measured) {
+                (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
+                _ => None,
+            },
+            profiles: avg.profiles.as_ref().map(|p| p.table()),
+            engine: EngineSummary {
+                scheme: setup.scheme.into(),
+                mask: setup.mask,
+                cell: setup.cell,
+                grid: setup.grid,
+                bytes_per_disk: setup.bytes as f64 / n as f64,
+                samples: avg.samples,
+            },
+            approximation: sim.approximation(),
+        }
+    }
+}
+
+/// `true` for a closed elastic box without gravity, where the compressibility factor is defined.
+pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
+    scene.gravity.is_none()
+        && s.domain.y_boundary != YBoundary::Open
+        && scene.restitution == 1.0
+        && s.domain.wall_restitution == 1.0
+        && scene
+            .floor
+            .as_ref()
+            .is_none_or(|f| f.is_static() && f.restitution == 1.0)
+}
+
+/// |now − initial − injected + dissipated| relative to the largest term of the energy budget.
+pub(super) fn balance_error(initial: &Observables, now: &Observables, flow: &EnergyFlow) -> f64 {
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
+    let scale = initial
+        .energy()
+        .abs()
+        .max(now.energy().abs())
+        .max(flow.injected.abs())
+        .max(flow.dissipated)
+        .max(f64::MIN_POSITIVE);
+    balance.abs() / scale
+}
+
+/// Invariant checks at a sample: no overlap, energy balance.
+pub(super) fn check_sample<E: Integrator>(
+    sim: &E,
+    snap: &Snapshot,
+    initial: &Observables,
+    g: f64,
+) -> Result<()> {
+    sim.check_state(snap)?;
+    let now = Observables::of(snap, sim.disks(), g);
+    let flow = sim.energy_flow_at(snap.time);
+    let error = balance_error(initial, &now, &flow);
+    if error > 1e-9 {
+        return Err(Error::Runtime(format!(
+            "energy budget off by {error:e} (relative) at time {}",
+            snap.time
+        )));
+    }
+    Ok(())
+}
