@@ -20,7 +20,7 @@
 //! another order), cut short, or damaged is refused with a message, never half read.
 
 use crate::error::{Error, Result};
-use crate::run::DriverState;
+use crate::run::state::DriverState;
 use crate::simulation::EngineState;
 use serde::{Deserialize, Serialize};
 use std::hash::Hasher;

@@ -17,11 +17,10 @@ use std::time::Instant;
 
 mod averages;
 mod driver;
-mod state;
+pub mod state;
 mod stops;
 
 use driver::Driver;
-pub use state::DriverState;
 
 /// Where frames go (the Rerun recorder, or a test's collector).
 pub trait FrameSink {
