@@ -6,8 +6,8 @@
 //! failure, 130 interrupted by Ctrl-C (the summary so far is still written, marked
 //! `"ending": "interrupted"`, and the recording is closed properly).
 
-use crate::checkpoint::{check_resume_sets, Checkpoint};
 use crate::error::{Error, Result};
+use crate::run::checkpoint::{check_resume_sets, Checkpoint};
 use crate::run::{run, CheckpointPlan, RunOptions};
 use crate::scenario::Scenario;
 use crate::signals;

@@ -18,7 +18,6 @@
 //! (`tests/common/reference.rs`).
 
 pub mod accuracy;
-pub mod checkpoint;
 pub mod cli;
 pub mod disks;
 pub mod dynamics;

@@ -1,7 +1,6 @@
 //! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
 //! the next, measure, record, and summarise.
 
-use crate::checkpoint::Checkpoint;
 use crate::dynamics::{Ballistic, Flight, Straight};
 use crate::error::{Error, Result};
 use crate::output::frame::{FrameView, SceneLayout};
@@ -11,11 +10,13 @@ use crate::scenario::{Scenario, Scheme, XBoundary, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
 use crate::simulation::{Scene, Simulation};
 use crate::summary::Summary;
+use checkpoint::Checkpoint;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 mod averages;
+pub mod checkpoint;
 mod driver;
 pub mod state;
 mod stops;

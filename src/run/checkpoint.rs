@@ -19,8 +19,8 @@
 //! bits, so nothing is rounded. A file written by another build (whose engine could pop events in
 //! another order), cut short, or damaged is refused with a message, never half read.
 
+use super::state::DriverState;
 use crate::error::{Error, Result};
-use crate::run::state::DriverState;
 use crate::simulation::EngineState;
 use serde::{Deserialize, Serialize};
 use std::hash::Hasher;
