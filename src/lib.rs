@@ -4,6 +4,7 @@
 //! The code is organised after the physics (see DESIGN.md §6):
 //! - [`dynamics`]: how disks fly between collisions;
 //! - [`interactions`]: when two disks touch and what their collision does;
+//! - [`restitution`]: the restitution law of every collision and the cures of inelastic collapse;
 //! - [`locals`]: what a single disk hits (walls, lid, floor);
 //! - [`globals`]: the grid, masks and neighbour lists;
 //! - [`scheduler`]: the event sorter (complete binary tree);
@@ -28,6 +29,7 @@ pub mod locals;
 pub mod measure;
 pub mod output;
 pub mod placement;
+pub mod restitution;
 pub mod run;
 pub mod scenario;
 pub mod scheduler;

@@ -4,7 +4,7 @@ pub mod floor;
 
 use crate::disks::Motion;
 use crate::dynamics::{time_to_fall, time_to_rise};
-use crate::interactions::CollisionLaw;
+use crate::restitution::CollisionLaw;
 
 /// What bounds the domain in x.
 #[derive(Debug, Clone, Copy, PartialEq)]

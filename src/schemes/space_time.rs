@@ -20,9 +20,10 @@ use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeS
 use crate::disks::{Disks, Motion};
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
+use crate::interactions::{collide, contact_time};
 use crate::locals::floor::{Floor, FloorEvent};
 use crate::locals::{Side, SideBounds, Top};
+use crate::restitution::{CollisionLaw, Restitution};
 use crate::scenario::Engine;
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::cmp::Ordering as CmpOrdering;

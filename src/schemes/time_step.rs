@@ -16,9 +16,10 @@ use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeS
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time, CollisionLaw, Restitution};
+use crate::interactions::{collide, contact_time};
 use crate::locals::floor::Floor;
 use crate::locals::{Side, SideBounds, Top};
+use crate::restitution::{CollisionLaw, Restitution};
 use crate::scenario::{Engine, FloorModel};
 use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -15,7 +15,7 @@ use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::globals::{Cells, NeighbourLists};
-use crate::interactions::CollisionLaw;
+use crate::restitution::CollisionLaw;
 use crate::scheduler::CompleteBinaryTree;
 use serde::{Deserialize, Serialize};
 
