@@ -402,8 +402,6 @@ fn sweep(quick: bool) -> Vec<(f64, &'static str)> {
 /// Runs the accuracy report for `scenario` and writes its files into `opts.out`.
 pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
     let clock = Instant::now();
-    std::fs::create_dir_all(&opts.out)
-        .map_err(|e| Error::Io(format!("cannot create {}: {e}", opts.out.display())))?;
     // The reference: the scene on the exact engine, without recording.
     let mut reference = scenario.clone();
     reference.engine = crate::scenario::Engine {
@@ -427,6 +425,10 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
         .collect();
     let has_floor = reference.floor.is_some();
     let (scene0, disks0) = Scene::build(&reference)?;
+    // Every variant's engine accepts the scene before anything is written.
+    crate::run::check(scenario)?;
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| Error::Io(format!("cannot create {}: {e}", opts.out.display())))?;
     let (a_min, _) = disks0.radius_range();
     let diameter = 2.0 * a_min;
 

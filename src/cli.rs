@@ -137,12 +137,93 @@ pub enum Command {
 }
 
 /// Writes `text` to `path` atomically (a temporary file renamed into place).
+/// Writes `text` to `FILE.partial` beside `path`, then renames it into place: a reader never
+/// sees a half-written file, and a failed write leaves nothing behind.
 fn write_file(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("partial");
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".partial");
+    let tmp = std::path::PathBuf::from(tmp);
     std::fs::write(&tmp, text)
         .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            Error::Io(format!("cannot write {}: {e}", path.display()))
+        })
 }
+
+/// The output files a command line asks for.
+#[derive(Default)]
+struct OutputArgs<'a> {
+    rrd: Option<&'a Path>,
+    summary: Option<&'a Path>,
+    profiles: Option<&'a Path>,
+    trajectory: Option<&'a Path>,
+    checkpoint: Option<&'a Path>,
+}
+
+/// Refuses, before anything runs, output files that cannot be written: a path that is a
+/// directory or lies in a directory that does not exist, profiles of a scene without gravity,
+/// a recording from a build without recording. A run that starts can write all it was asked for.
+fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
+    let scenario_rrd = s.output.rrd.as_deref().map(Path::new);
+    let scenario_trajectory = s.output.trajectory.as_deref().map(Path::new);
+    let files = [
+        ("--rrd", args.rrd),
+        ("output.rrd", scenario_rrd.filter(|_| args.rrd.is_none())),
+        ("--summary", args.summary),
+        ("--profiles", args.profiles),
+        ("--trajectory", args.trajectory),
+        (
+            "output.trajectory",
+            scenario_trajectory.filter(|_| args.trajectory.is_none()),
+        ),
+        ("--checkpoint", args.checkpoint),
+    ];
+    for (field, path) in files {
+        let Some(path) = path else { continue };
+        if path.is_dir() {
+            return Err(Error::input(
+                field,
+                format!("{} is a directory: name a file", path.display()),
+            ));
+        }
+        let parent = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if !parent.is_dir() {
+            return Err(Error::input(
+                field,
+                format!(
+                    "{}: the directory {} does not exist",
+                    path.display(),
+                    parent.display()
+                ),
+            ));
+        }
+    }
+    if args.profiles.is_some() && s.gravity.is_none() {
+        return Err(Error::input(
+            "--profiles",
+            "this scene has no height profiles (they need gravity)",
+        ));
+    }
+    if !cfg!(feature = "record") && (args.rrd.is_some() || scenario_rrd.is_some()) {
+        let field = if args.rrd.is_some() {
+            "--rrd"
+        } else {
+            "output.rrd"
+        };
+        return Err(Error::input(
+            field,
+            "this build of vibrobed has no recording (build with the `record` feature)",
+        ));
+    }
+    Ok(())
+}
+
+/// Most seeds an accuracy ensemble may ask for (each seed is a full run of every variant).
+pub const MAX_SEEDS: usize = 1000;
 
 /// Prints the scenario's advisories (likely unintended settings) on stderr.
 fn print_advisories(s: &Scenario) {
@@ -167,8 +248,10 @@ fn execute(cli: Cli) -> Result<i32> {
         Command::Sweep { command } => command.execute(),
         Command::Check { scenario, sets } => {
             let s = Scenario::load(&scenario, &sets)?;
-            // Also resolve the scene (placement, grid, mask) without running it.
-            crate::simulation::Scene::build(&s)?;
+            // Also build the scene and its engine (placement, grid, mask, neighbour lists,
+            // first predictions) without running it, and check the scenario's output paths.
+            crate::run::check(&s)?;
+            output_paths(&s, &OutputArgs::default())?;
             print_advisories(&s);
             eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
             Ok(0)
@@ -183,8 +266,11 @@ fn execute(cli: Cli) -> Result<i32> {
             quiet,
         } => {
             let s = Scenario::load(&scenario, &sets)?;
-            if seeds == Some(0) {
-                return Err(Error::input("--seeds", "must be at least 1"));
+            if let Some(k) = seeds.filter(|k| !(1..=MAX_SEEDS).contains(k)) {
+                return Err(Error::input(
+                    "--seeds",
+                    format!("must lie in [1, {MAX_SEEDS}] (got {k})"),
+                ));
             }
             let report = crate::accuracy::report(
                 &s,
@@ -216,6 +302,16 @@ fn execute(cli: Cli) -> Result<i32> {
             quiet,
         } => {
             let s = Scenario::load(&scenario, &sets)?;
+            output_paths(
+                &s,
+                &OutputArgs {
+                    rrd: rrd.as_deref(),
+                    summary: summary.as_deref(),
+                    profiles: profiles.as_deref(),
+                    trajectory: trajectory.as_deref(),
+                    checkpoint: checkpoint.as_deref(),
+                },
+            )?;
             print_advisories(&s);
             let checkpoint = match checkpoint {
                 Some(path) => Some(CheckpointPlan {
@@ -274,6 +370,16 @@ fn execute(cli: Cli) -> Result<i32> {
             }
             let all_sets: Vec<String> = ck.sets.iter().chain(&sets).cloned().collect();
             let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+            output_paths(
+                &s,
+                &OutputArgs {
+                    rrd: rrd.as_deref(),
+                    summary: summary.as_deref(),
+                    profiles: profiles.as_deref(),
+                    trajectory: trajectory.as_deref(),
+                    checkpoint: checkpoint.as_deref(),
+                },
+            )?;
             let plan = CheckpointPlan {
                 path: checkpoint.unwrap_or_else(|| checkpoint_file.clone()),
                 every: checkpoint_every.or(ck.every),

@@ -232,24 +232,40 @@ pub fn melt_mc(
     let width = r.x1 - r.x0;
     let height = r.y1 - r.y0;
     let cell = 2.0 * a_max;
-    let ncx = ((width / cell).floor() as usize).max(1);
-    let ncy = ((height / cell).floor() as usize).max(1);
-    let (cw, ch) = (width / ncx as f64, height / ncy as f64);
+    let mut ncx = (width / cell).floor().clamp(1.0, 1e15) as usize;
+    let mut ncy = (height / cell).floor().clamp(1.0, 1e15) as usize;
     // Centres in one cell are ≥ 2 a_min apart: at most (⌊side/(2 a_min)⌋ + 1)² of them.
-    let per_side = (cw.max(ch) / (2.0 * a_min)).floor() as usize + 1;
-    let cap = per_side * per_side;
+    let per_side = |ncx: usize, ncy: usize| {
+        let side = (width / ncx as f64).max(height / ncy as f64);
+        (side / (2.0 * a_min)).floor() as usize + 1
+    };
+    let p = per_side(ncx, ncy);
+    let flat = ncx
+        .saturating_mul(ncy)
+        .saturating_mul(p.saturating_mul(p) + 1)
+        <= MAX_FLAT_SLOTS;
+    if !flat {
+        // A sparse region: fewer, larger cells, each with a list of its disks.
+        while ncx.saturating_mul(ncy) > 4 * n + 1024 {
+            if ncx >= ncy {
+                ncx = ncx.div_ceil(2);
+            } else {
+                ncy = ncy.div_ceil(2);
+            }
+        }
+    }
+    let (cw, ch) = (width / ncx as f64, height / ncy as f64);
+    let cap = per_side(ncx, ncy).pow(2);
+    let mut cells = CellSlots::new(ncx * ncy, cap, flat);
     let cell_of = |p: [f64; 2]| -> usize {
         let cx = (((p[0] - r.x0) / cw).max(0.0) as usize).min(ncx - 1);
         let cy = (((p[1] - r.y0) / ch).max(0.0) as usize).min(ncy - 1);
         cy * ncx + cx
     };
-    let mut count = vec![0u32; ncx * ncy];
-    let mut slots = vec![0u32; ncx * ncy * cap];
     let mut home: Vec<usize> = Vec::with_capacity(n);
     for (i, &p) in pos.iter().enumerate() {
         let c = cell_of(p);
-        slots[c * cap + count[c] as usize] = i as u32;
-        count[c] += 1;
+        cells.insert(c, i as u32);
         home.push(c);
     }
     let mut step = 0.5 * a_max;
@@ -290,7 +306,7 @@ pub fn melt_mc(
                         y = y.rem_euclid(ncy as i64);
                     }
                     let k = y as usize * ncx + x as usize;
-                    for &j in &slots[k * cap..k * cap + count[k] as usize] {
+                    for &j in cells.members(k) {
                         let j = j as usize;
                         if j == i {
                             continue;
@@ -316,19 +332,81 @@ pub fn melt_mc(
                 pos[i] = p;
                 let old = home[i];
                 if c != old {
-                    let members = &mut slots[old * cap..old * cap + count[old] as usize];
-                    let k = members.iter().position(|&m| m as usize == i).unwrap();
-                    let last = members.len() - 1;
-                    members.swap(k, last);
-                    count[old] -= 1;
-                    slots[c * cap + count[c] as usize] = i as u32;
-                    count[c] += 1;
+                    cells.remove(old, i as u32);
+                    cells.insert(c, i as u32);
                     home[i] = c;
                 }
             }
         }
         let rate = accepted as f64 / n as f64;
         step = (step * if rate > 0.5 { 1.2 } else { 0.8 }).clamp(1e-3 * a_max, 0.9 * cell);
+    }
+}
+
+/// Most words the Monte Carlo grid may hold as fixed-size slots (256 MiB); a sparser region
+/// gets fewer, larger cells with a list each.
+const MAX_FLAT_SLOTS: usize = 1 << 26;
+
+/// The disks in each cell of the Monte Carlo grid.
+enum CellSlots {
+    /// `cap` slots per cell in one flat array, and the count of each cell (dense regions: fast).
+    Flat {
+        cap: usize,
+        count: Vec<u32>,
+        slots: Vec<u32>,
+    },
+    /// A list per cell (sparse regions: memory follows the disks, not the area).
+    Lists(Vec<Vec<u32>>),
+}
+
+impl CellSlots {
+    fn new(cells: usize, cap: usize, flat: bool) -> CellSlots {
+        if flat {
+            CellSlots::Flat {
+                cap,
+                count: vec![0; cells],
+                slots: vec![0; cells * cap],
+            }
+        } else {
+            CellSlots::Lists(vec![Vec::new(); cells])
+        }
+    }
+
+    #[inline]
+    fn members(&self, c: usize) -> &[u32] {
+        match self {
+            CellSlots::Flat { cap, count, slots } => &slots[c * cap..c * cap + count[c] as usize],
+            CellSlots::Lists(lists) => &lists[c],
+        }
+    }
+
+    fn insert(&mut self, c: usize, i: u32) {
+        match self {
+            CellSlots::Flat { cap, count, slots } => {
+                slots[c * *cap + count[c] as usize] = i;
+                count[c] += 1;
+            }
+            CellSlots::Lists(lists) => lists[c].push(i),
+        }
+    }
+
+    fn remove(&mut self, c: usize, i: u32) {
+        let members: &mut [u32] = match self {
+            CellSlots::Flat { cap, count, slots } => {
+                count[c] -= 1;
+                &mut slots[c * *cap..c * *cap + count[c] as usize + 1]
+            }
+            CellSlots::Lists(lists) => &mut lists[c],
+        };
+        let k = members
+            .iter()
+            .position(|&m| m == i)
+            .expect("disk in its cell");
+        let last = members.len() - 1;
+        members.swap(k, last);
+        if let CellSlots::Lists(lists) = self {
+            lists[c].pop();
+        }
     }
 }
 

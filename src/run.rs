@@ -108,6 +108,28 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
     }
 }
 
+/// Builds the scene and the engine of `engine.scheme` (grid, neighbour lists, first
+/// predictions) without simulating: `vibrobed check` accepts exactly what a run accepts.
+pub fn check(s: &Scenario) -> Result<()> {
+    let (scene, disks) = Scene::build(s)?;
+    fn engine<F: Flight>(
+        flight: F,
+        s: &Scenario,
+        scene: &Scene,
+        disks: crate::disks::Disks,
+    ) -> Result<()> {
+        match s.engine.scheme {
+            Scheme::EventDriven => Simulation::new(flight, scene, disks).map(drop),
+            Scheme::TimeStep => TimeStep::new(flight, scene, disks, &s.engine).map(drop),
+            Scheme::SpaceTime => SpaceTime::new(flight, scene, disks, &s.engine).map(drop),
+        }
+    }
+    match scene.gravity {
+        Some(g) => engine(Ballistic { g }, s, &scene, disks),
+        None => engine(Straight, s, &scene, disks),
+    }
+}
+
 /// Where a run's frames go, and the run it continues, if any.
 struct Outputs {
     /// The caller's frame sink (tests), used instead of a recording.

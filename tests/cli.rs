@@ -283,9 +283,16 @@ fn assert_bad_input(case: &str, scenario: &Path, extra: &[&str], names: &[&str])
         "{case}: a summary was written despite bad input"
     );
     assert!(
-        !summary_path.with_extension("partial").exists(),
+        !partial_of(&summary_path).exists(),
         "{case}: a partial summary was left behind"
     );
+}
+
+/// The temporary file a summary is written to before it is renamed into place.
+fn partial_of(path: &std::path::Path) -> std::path::PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(".partial");
+    name.into()
 }
 
 /// The tiny scenario with one field replaced (`pointer` is a JSON pointer).

@@ -5,13 +5,65 @@ use super::*;
 /// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
 pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
 
+/// Smallest magnitude accepted for any positive quantity: below it squares and products of
+/// scene quantities underflow to zero in double precision.
+pub const MIN_MAGNITUDE: f64 = 1e-100;
+/// Largest magnitude accepted for any quantity: above it squares and products overflow.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+/// Most disks a scene may hold (the engine keeps a few hundred bytes per disk).
+pub const MAX_DISKS: usize = 20_000_000;
+/// Largest ratio of a length of the scene (width, height, floor amplitude) to the smallest
+/// radius: positions are then resolved to about 10⁻⁷ of a radius in double precision.
+pub const MAX_LENGTH_RATIO: f64 = 1e9;
+/// Most profile bins.
+pub const MAX_PROFILE_BINS: usize = 1_000_000;
+/// Most frames, samples or trajectory frames a run may ask for.
+pub const MAX_OUTPUT_TIMES: f64 = 1e7;
+/// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
+pub const MAX_STEPS: f64 = 1e12;
+
 fn positive(field: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
         Ok(())
+    } else if v.is_finite() && v > 0.0 {
+        Err(Error::input(
+            field,
+            format!(
+                "{v:e} is outside the range [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}] that double precision computes with (choose units closer to the scene)"
+            ),
+        ))
     } else {
         Err(Error::input(
             field,
             format!("must be a positive finite number (got {v})"),
+        ))
+    }
+}
+
+/// At most `limit` of something asked for by `count = span / interval`.
+fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
+    if count <= limit {
+        Ok(())
+    } else {
+        Err(Error::input(
+            field,
+            format!("asks for {count:.3e} {what} in the run; at most {limit:e} are supported"),
+        ))
+    }
+}
+
+/// A length of the scene, at most [`MAX_LENGTH_RATIO`] smallest radii.
+fn resolved_length(field: &str, what: &str, length: f64, a_min: f64) -> Result<()> {
+    let ratio = length / a_min;
+    if ratio <= MAX_LENGTH_RATIO {
+        Ok(())
+    } else {
+        Err(Error::input(
+            field,
+            format!(
+                "{what} of {length:.4e} is {ratio:.3e} radii of the smallest disk; at most {MAX_LENGTH_RATIO:e} \
+                 are resolved in double precision"
+            ),
         ))
     }
 }
@@ -128,10 +180,23 @@ pub fn validate(s: &Scenario) -> Result<()> {
     }
     if let Some(h) = s.output.profile_height {
         positive("output.profile_height", h)?;
+        if s.gravity.is_none() {
+            return Err(Error::input(
+                "output.profile_height",
+                "height profiles need gravity: this scene has none",
+            ));
+        }
     }
-    if s.output.profile_bins == 0 {
-        return Err(Error::input("output.profile_bins", "must be at least 1"));
+    if !(1..=MAX_PROFILE_BINS).contains(&s.output.profile_bins) {
+        return Err(Error::input(
+            "output.profile_bins",
+            format!(
+                "must lie in [1, {MAX_PROFILE_BINS}] (got {})",
+                s.output.profile_bins
+            ),
+        ));
     }
+    validate_output_counts(s)?;
     if s.engine.grid == GridChoice::Dense && s.domain.y_boundary == YBoundary::Open {
         return Err(Error::input(
             "engine.grid",
@@ -142,6 +207,67 @@ pub fn validate(s: &Scenario) -> Result<()> {
         positive("engine.skin", skin)?;
     }
     validate_scheme_knobs(&s.engine)?;
+    if let Some(dt) = s.engine.dt {
+        at_most("engine.dt", "steps", s.run.duration / dt, MAX_STEPS)?;
+    }
+    if let Some(d) = s.engine.sync_distance {
+        if d < 1e-3 {
+            return Err(Error::input(
+                "engine.sync_distance",
+                format!("must be at least 1e-3 smallest radii (got {d:e})"),
+            ));
+        }
+    }
+    validate_lengths(s)?;
+    Ok(())
+}
+
+/// Frames, samples and trajectory frames: how many the run asks for (their defaults follow
+/// [`crate::scenario::Output`]: the frame interval, else `run.duration / 200`).
+fn validate_output_counts(s: &Scenario) -> Result<()> {
+    let d = s.run.duration;
+    let o = &s.output;
+    if let Some(dt) = o.frame_interval {
+        at_most("output.frame_interval", "frames", d / dt, MAX_OUTPUT_TIMES)?;
+    }
+    if let Some(dt) = o.sample_interval {
+        at_most(
+            "output.sample_interval",
+            "samples",
+            d / dt,
+            MAX_OUTPUT_TIMES,
+        )?;
+    }
+    if let Some(dt) = o.trajectory_interval {
+        at_most(
+            "output.trajectory_interval",
+            "trajectory frames",
+            d / dt,
+            MAX_OUTPUT_TIMES,
+        )?;
+    }
+    Ok(())
+}
+
+/// Lengths the scene spans, in smallest radii: width, closed height, floor amplitude.
+fn validate_lengths(s: &Scenario) -> Result<()> {
+    let (a_min, _) = s.radius_range();
+    resolved_length("domain.width", "a width", s.domain.width, a_min)?;
+    if let Some(phi) = s.particles.packing_fraction {
+        let height = s.disk_count() as f64 * mean_disk_area(s) / (phi * s.domain.width);
+        resolved_length("particles.packing_fraction", "a bed height", height, a_min)?;
+    }
+    if let Some(h) = s.domain.height {
+        resolved_length("domain.height", "a height", h, a_min)?;
+    }
+    if let Some(floor) = &s.floor {
+        let field = if floor.gamma.is_some() {
+            "floor.gamma"
+        } else {
+            "floor.amplitude"
+        };
+        resolved_length(field, "a floor amplitude", s.floor_amplitude(), a_min)?;
+    }
     Ok(())
 }
 
@@ -225,10 +351,17 @@ fn validate_particles(s: &Scenario) -> Result<()> {
         }
     }
     let n = s.disk_count();
+    let count_field = match &p.radius {
+        Radius::Species(_) => "particles.radius.species",
+        _ => "particles.count",
+    };
     if n == 0 {
+        return Err(Error::input(count_field, "at least one disk is needed"));
+    }
+    if n > MAX_DISKS {
         return Err(Error::input(
-            "particles.count",
-            "at least one disk is needed",
+            count_field,
+            format!("asks for {n} disks; at most {MAX_DISKS} are supported"),
         ));
     }
     if let Some(m) = p.mass {
@@ -243,6 +376,7 @@ fn validate_particles(s: &Scenario) -> Result<()> {
             "give either particles.mass or particles.density, not both",
         ));
     }
+    validate_masses(s)?;
     if !(p.temperature.is_finite() && p.temperature >= 0.0) {
         return Err(Error::input(
             "particles.temperature",
@@ -308,6 +442,30 @@ fn validate_particles(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
+/// The disks' masses (from `particles.mass`, `particles.density`, a species' mass, or equal
+/// areal density) within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`]: collision impulses multiply them.
+fn validate_masses(s: &Scenario) -> Result<()> {
+    let p = &s.particles;
+    let (a_min, a_max) = s.radius_range();
+    let area = |a: f64| std::f64::consts::PI * a * a;
+    let (field, lightest, heaviest) = match (p.mass, p.density) {
+        (_, Some(rho)) => ("particles.density", rho * area(a_min), rho * area(a_max)),
+        (Some(m), None) => ("particles.mass", m, m),
+        (None, None) => ("particles.radius", 1.0, (a_max / a_min).powi(2)),
+    };
+    for m in [lightest, heaviest] {
+        if !(MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&m) {
+            return Err(Error::input(
+                field,
+                format!(
+                    "gives disks of mass {m:e}, outside the range [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}] that double precision computes with"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Mean disk area π⟨r²⟩ of the scene's radius law.
 pub fn mean_disk_area(s: &Scenario) -> f64 {
     let pi = std::f64::consts::PI;
@@ -315,7 +473,7 @@ pub fn mean_disk_area(s: &Scenario) -> f64 {
         Radius::Fixed(r) => pi * r * r,
         Radius::Uniform(u) => pi * (u.min * u.min + u.min * u.max + u.max * u.max) / 3.0,
         Radius::Species(list) => {
-            let n: usize = list.species.iter().map(|sp| sp.count).sum();
+            let n = s.disk_count();
             list.species
                 .iter()
                 .map(|sp| sp.count as f64 * pi * sp.radius * sp.radius)

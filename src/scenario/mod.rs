@@ -5,6 +5,7 @@
 //! [`Scenario`] (unknown fields rejected, errors name the dotted path) → [`Scenario::validate`]
 //! (physical sense: positive radii, reachable packing fraction, …).
 
+pub mod json;
 pub mod overrides;
 
 use crate::error::{Error, Result};
@@ -484,19 +485,11 @@ fn default_bins() -> usize {
 impl Scenario {
     /// Parses scenario JSON text, applying `--set` overrides (`KEY=VALUE`) first, then validates.
     pub fn from_json_with_overrides(text: &str, sets: &[String]) -> Result<Scenario> {
-        let mut value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
-            Error::input(
-                "",
-                format!(
-                    "malformed JSON at line {} column {}: {e}",
-                    e.line(),
-                    e.column()
-                ),
-            )
-        })?;
+        let mut value = json::parse(text)?;
         for set in sets {
             overrides::apply(&mut value, set)?;
         }
+        json::lists_only_where_lists_belong(&value)?;
         let scenario = Scenario::from_value(value)?;
         scenario.validate()?;
         Ok(scenario)
@@ -540,7 +533,11 @@ impl Scenario {
     /// Number of disks the scene holds.
     pub fn disk_count(&self) -> usize {
         match &self.particles.radius {
-            Radius::Species(list) => list.species.iter().map(|s| s.count).sum(),
+            // Saturating: a sum past the largest count is refused by validation, never wrapped.
+            Radius::Species(list) => list
+                .species
+                .iter()
+                .fold(0usize, |n, s| n.saturating_add(s.count)),
             _ => self.particles.count.unwrap_or(0),
         }
     }

@@ -48,7 +48,8 @@ impl CellList {
     ) {
         let width = sides.width();
         let x_periodic = matches!(sides, SideBounds::Periodic { .. });
-        self.nx = ((width / size).floor() as usize).max(1);
+        // At most O(N) cells: a wide, sparse domain gets fewer, wider cells (still ≥ `size`).
+        self.nx = ((width / size).floor().min(1e15) as usize).clamp(1, 2 * n + 3);
         if x_periodic && self.nx < 3 {
             self.nx = 1;
         }
@@ -56,7 +57,8 @@ impl CellList {
         self.cw = width / self.nx as f64;
         match top {
             Top::Periodic { height } => {
-                self.ny = ((height / size).floor() as usize).max(1);
+                self.ny = ((height / size).floor().min(1e15) as usize)
+                    .clamp(1, ((4 * n + 16) / self.nx).max(1));
                 if self.ny < 3 {
                     self.ny = 1;
                 }

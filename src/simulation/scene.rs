@@ -121,13 +121,28 @@ impl Scene {
                     x_periodic: s.domain.x_boundary == XBoundary::Periodic,
                     y_periodic: s.domain.y_boundary == YBoundary::Periodic,
                 };
-                placement::place(
-                    &radius,
-                    region,
-                    fill,
-                    *kind == PlacementKind::Random,
-                    &mut rng,
-                )?
+                let melt = *kind == PlacementKind::Random;
+                match placement::place(&radius, region, fill, melt, &mut rng) {
+                    Ok(positions) => positions,
+                    // Under an open top the bed's height is only a start: a few disks in a wide
+                    // box fill less than a row, so the bed is raised until the rows hold them.
+                    Err(_) if height.is_none() => {
+                        let mut fill = fill.max(2.0 * s.radius_range().1);
+                        loop {
+                            fill *= 1.25;
+                            if let Ok(p) = placement::place(&radius, region, fill, melt, &mut rng) {
+                                break p;
+                            }
+                            if fill > 4.0 * n as f64 * s.radius_range().1 {
+                                return Err(Error::input(
+                                    "domain.width",
+                                    "is too narrow for a row of the largest disks",
+                                ));
+                            }
+                        }
+                    }
+                    Err(e) => return Err(e),
+                }
             }
         };
         let mut disks = Disks::new(&positions, radius, mass, species);

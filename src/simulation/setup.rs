@@ -17,6 +17,29 @@ use crate::scenario::GridChoice;
 use crate::scheduler::CompleteBinaryTree;
 use std::sync::atomic::AtomicBool;
 
+/// Most cells a dense grid may hold (4 bytes each).
+pub const MAX_DENSE_CELLS: u64 = 1 << 28;
+
+/// Whether the grid is Isobe's hashed array: asked for, an open top, or (with `auto`) a closed
+/// domain so sparse that a dense grid would hold more than 16 cells per disk (plus 2²⁰).
+fn hashed_grid(choice: GridChoice, geometry: &GridGeometry, n: usize) -> Result<bool> {
+    let Some(ny) = geometry.ny else {
+        return Ok(true);
+    };
+    let dense_cells = geometry.nx as u64 * ny as u64;
+    match choice {
+        GridChoice::Hashed => Ok(true),
+        GridChoice::Auto => Ok(dense_cells > 16 * n as u64 + (1 << 20)),
+        GridChoice::Dense if dense_cells > MAX_DENSE_CELLS => Err(Error::input(
+            "engine.grid",
+            format!(
+                "a dense grid of this box needs {dense_cells} cells, more than {MAX_DENSE_CELLS}: use `hashed` or `auto`"
+            ),
+        )),
+        GridChoice::Dense => Ok(false),
+    }
+}
+
 impl<F: Flight> Simulation<F> {
     /// Sets up the engine for `scene` with the disks in their initial state (all at time 0).
     pub fn new(flight: F, scene: &Scene, disks: Disks) -> Result<Simulation<F>> {
@@ -59,7 +82,7 @@ impl<F: Flight> Simulation<F> {
             ev_partner: vec![partner::NONE; n],
             ev_counter: vec![0; n],
             tree: CompleteBinaryTree::default(),
-            cells: Cells::for_geometry(&geometry, &mask, scene.grid == GridChoice::Hashed),
+            cells: Cells::for_geometry(&geometry, &mask, hashed_grid(scene.grid, &geometry, n)?),
             geometry,
             mask,
             lists: NeighbourLists::default(),
