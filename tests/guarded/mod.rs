@@ -157,6 +157,7 @@ pub fn start(args: &[OsString], cwd: &Path, logs: &Path) -> Running {
         .arg(env!("CARGO_BIN_EXE_vibrobed"))
         .args(args)
         .current_dir(cwd)
+        .env("RUST_BACKTRACE", "0")
         .stdin(Stdio::null())
         .stdout(out)
         .stderr(err)
