@@ -41,8 +41,12 @@ fn assert_refused(out: &Outcome, fields: &[&str], dir: &Path, allowed: &[&str]) 
         "did not end by itself within {LIMIT_SECS} s: {what}"
     );
     assert_eq!(out.code(), Some(2), "expected exit 2: {what}");
-    let field = error_field(&out.stderr)
-        .unwrap_or_else(|| panic!("the error names no field ({:?}): {what}", error_line(&out.stderr)));
+    let field = error_field(&out.stderr).unwrap_or_else(|| {
+        panic!(
+            "the error names no field ({:?}): {what}",
+            error_line(&out.stderr)
+        )
+    });
     assert!(
         fields.is_empty() || fields.iter().any(|f| names(&field, f)),
         "the error names `{field}`, expected one of {fields:?}: {what}"
@@ -127,7 +131,12 @@ fn profile_bins_at_u64_max_are_refused() {
 
 #[test]
 fn a_height_of_1e18_is_refused() {
-    check_refuses("height-1e18", "box_walls.json", &["domain.height=1e18"], &[]);
+    check_refuses(
+        "height-1e18",
+        "box_walls.json",
+        &["domain.height=1e18"],
+        &[],
+    );
 }
 
 #[test]
@@ -396,7 +405,9 @@ fn an_existing_partial_file_survives_the_summary() {
     let summary = std::fs::read_to_string(dir.join("out.json")).expect("the summary");
     assert!(serde_json::from_str::<serde_json::Value>(&summary).is_ok());
     assert_eq!(
-        std::fs::read_to_string(dir.join("out.partial")).ok().as_deref(),
+        std::fs::read_to_string(dir.join("out.partial"))
+            .ok()
+            .as_deref(),
         Some("someone's data"),
         "out.partial was overwritten or removed: {what}"
     );
@@ -421,7 +432,10 @@ fn accuracy_leaves_no_out_directory(test: &str, name: &str, sets: &[&str]) {
     let out = vibrobed(&dir, &args);
     let what = out.describe();
     assert!(!out.panicked(), "panicked: {what}");
-    assert!(out.interrupted_at.is_none(), "did not end by itself: {what}");
+    assert!(
+        out.interrupted_at.is_none(),
+        "did not end by itself: {what}"
+    );
     assert!(
         matches!(out.code(), Some(1 | 2)),
         "expected a failure: {what}"
@@ -436,7 +450,11 @@ fn accuracy_leaves_no_out_directory(test: &str, name: &str, sets: &[&str]) {
 
 #[test]
 fn accuracy_of_an_invalid_scenario_creates_no_out_directory() {
-    accuracy_leaves_no_out_directory("accuracy-invalid", "bouncing_ball.json", &["particles.radius=-1"]);
+    accuracy_leaves_no_out_directory(
+        "accuracy-invalid",
+        "bouncing_ball.json",
+        &["particles.radius=-1"],
+    );
 }
 
 #[test]
@@ -457,7 +475,10 @@ fn a_byte_order_mark_is_accepted() {
     let text = std::fs::read_to_string(scenario("bouncing_ball.json")).expect("scenario");
     let path = dir.with_extension("json");
     std::fs::write(&path, format!("\u{feff}{text}")).expect("write");
-    let out = vibrobed(&dir, &guarded::args(&["check".into(), path.clone().into_os_string()]));
+    let out = vibrobed(
+        &dir,
+        &guarded::args(&["check".into(), path.clone().into_os_string()]),
+    );
     let _ = std::fs::remove_file(&path);
     let what = out.describe();
     assert!(!out.panicked(), "panicked: {what}");
@@ -473,7 +494,10 @@ fn a_duplicate_key_is_refused_naming_it() {
     let doubled = text.replacen('{', "{\n  \"gravity\": 2.0,", 1);
     let path = dir.with_extension("json");
     std::fs::write(&path, doubled).expect("write");
-    let out = vibrobed(&dir, &guarded::args(&["check".into(), path.clone().into_os_string()]));
+    let out = vibrobed(
+        &dir,
+        &guarded::args(&["check".into(), path.clone().into_os_string()]),
+    );
     let _ = std::fs::remove_file(&path);
     let what = out.describe();
     assert!(!out.panicked(), "panicked: {what}");
@@ -487,5 +511,10 @@ fn a_duplicate_key_is_refused_naming_it() {
 
 #[test]
 fn output_as_a_list_is_refused_naming_it() {
-    check_refuses("output-list", "vibrated_bed.json", &["output=[]"], &["output"]);
+    check_refuses(
+        "output-list",
+        "vibrated_bed.json",
+        &["output=[]"],
+        &["output"],
+    );
 }

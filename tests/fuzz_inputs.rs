@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Cases per command when `VIBROBED_FUZZ_CASES` is not set.
-const DEFAULT_CASES: u32 = 24;
+const DEFAULT_CASES: u32 = 64;
 
 /// Seed when `VIBROBED_FUZZ_SEED` is not set.
 const DEFAULT_SEED: u64 = 0x5eed_b0de;
@@ -560,8 +560,10 @@ fn fuzz(cmd: Subcommand) {
         max_shrink_iters: 0,
         ..Config::default()
     };
-    let mut runner =
-        TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes));
+    let mut runner = TestRunner::new_with_rng(
+        config,
+        TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
+    );
 
     let files = shipped();
     let strategy = case(files.len());
