@@ -645,13 +645,17 @@ fn fuzz(cmd: Subcommand) {
             })
             .or_default() += 1;
         eprintln!(
-            "fuzz {name} #{i}: exit {:?} in {:.2} s{}: {command_line}",
+            "fuzz {name} #{i}: exit {:?} in {:.2} s{}: {command_line}{}",
             out.code(),
             out.elapsed.as_secs_f64(),
             if verdict.needed_interrupt {
                 " (needed SIGINT)"
             } else {
                 ""
+            },
+            match error_line(&out.stderr) {
+                Some(line) => format!("\n    -> {line}"),
+                None => String::new(),
             },
         );
         if verdict.needed_interrupt {
