@@ -48,7 +48,13 @@ pub fn place(
         rows(radius, region, fill_height, rng)?
     };
     if melt && radius.len() > 1 {
-        let top = region.y0 + fill_height;
+        // The Monte Carlo region holds every disk the lattice placed.
+        let highest = pos
+            .iter()
+            .zip(radius)
+            .map(|(p, a)| p[1] + a)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let top = (region.y0 + fill_height).max(highest);
         let confine = Region {
             y1: top.min(region.y1),
             ..region
@@ -120,6 +126,9 @@ fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64;
     if r.x_periodic {
         d = width / even as f64; // tile the period exactly
     }
+    // Rows half a spacing apart sideways need only the pitch of the bisected spacing `lo ≤ d`
+    // between them (d²/4 + 3 lo²/4 ≥ lo²): the rows then fit the height `capacity` assumed.
+    let pitch_lo = pitch(lo);
     // Rows actually needed, spread evenly over the height.
     let mut needed = 0;
     let mut placed = 0;
@@ -132,9 +141,9 @@ fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64;
     } else if needed > 1 {
         (span_y / (needed - 1) as f64)
             .min(2.0 * pitch(d))
-            .max(pitch(d))
+            .max(pitch_lo)
     } else {
-        pitch(d)
+        pitch_lo
     };
     let x_start = if r.x_periodic {
         r.x0 + 0.25 * d

@@ -92,6 +92,14 @@ pub fn validate(s: &Scenario) -> Result<()> {
     }
     if let Some(g) = s.gravity {
         positive("gravity", g)?;
+        if s.domain.y_boundary == YBoundary::Periodic {
+            return Err(Error::input(
+                "gravity",
+                "with domain.y_boundary = periodic nothing holds the disks up: they fall forever \
+                 together, faster and faster; give a floor (y_boundary open or lid) or leave \
+                 gravity out",
+            ));
+        }
     }
     match (&s.floor, s.domain.y_boundary) {
         (Some(_), YBoundary::Periodic) => {
@@ -261,12 +269,24 @@ fn validate_lengths(s: &Scenario) -> Result<()> {
         resolved_length("domain.height", "a height", h, a_min)?;
     }
     if let Some(floor) = &s.floor {
-        let field = if floor.gamma.is_some() {
-            "floor.gamma"
-        } else {
-            "floor.amplitude"
-        };
-        resolved_length(field, "a floor amplitude", s.floor_amplitude(), a_min)?;
+        match floor.gamma {
+            Some(gamma) => resolved_length(
+                "floor.gamma",
+                &format!(
+                    "Γ = {gamma} with gravity = {} and floor.frequency = {} gives a floor amplitude Γg/ω²",
+                    s.gravity.unwrap_or(0.0),
+                    floor.frequency.unwrap_or(0.0)
+                ),
+                s.floor_amplitude(),
+                a_min,
+            )?,
+            None => resolved_length(
+                "floor.amplitude",
+                "a floor amplitude",
+                s.floor_amplitude(),
+                a_min,
+            )?,
+        }
     }
     Ok(())
 }
