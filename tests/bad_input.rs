@@ -245,16 +245,18 @@ fn a_duration_of_1e308_is_refused() {
 /// A run with `set` is refused naming `field`, or ends by itself, or stops within 1 s of SIGINT
 /// with exit 130.
 fn refused_or_interruptible(test: &str, set: &str, fields: &[&str]) {
+    refused_or_interruptible_with(test, &[set], fields)
+}
+
+/// [`refused_or_interruptible`] with several `--set`s.
+fn refused_or_interruptible_with(test: &str, sets: &[&str], fields: &[&str]) {
     let dir = fresh_dir(&format!("bad-{test}"));
-    let args: Vec<OsString> = guarded::args(&[
-        "run",
-        &scenario("vibrated_bed.json").display().to_string(),
-        "--quiet",
-        "--summary",
-        "summary.json",
-        "--set",
-        set,
-    ]);
+    let path = scenario("vibrated_bed.json").display().to_string();
+    let mut words = vec!["run", &path, "--quiet", "--summary", "summary.json"];
+    for set in sets {
+        words.extend(["--set", set]);
+    }
+    let args: Vec<OsString> = guarded::args(&words);
     let logs = dir.with_extension("logs");
     let mut child = guarded::start(&args, &dir, &logs);
     while !child.ended() && child.elapsed() < Duration::from_secs(3) {
@@ -284,6 +286,40 @@ fn refused_or_interruptible(test: &str, set: &str, fields: &[&str]) {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_disk_thrown_up_at_1000_is_interruptible() {
+    refused_or_interruptible_with(
+        "thrown",
+        &[
+            "particles.count=1",
+            r#"particles.placement={"positions": [[100, 1]], "velocities": [[0, 1000]]}"#,
+            "floor.gamma=null",
+            "floor.frequency=null",
+            "run.duration=1e6",
+            "output.frame_interval=1e5",
+        ],
+        &["particles.placement"],
+    );
+}
+
+#[test]
+fn a_tiny_time_step_is_interruptible() {
+    refused_or_interruptible_with(
+        "tiny-dt",
+        &["engine.scheme=time-step", "engine.dt=1e-9"],
+        &["engine.dt"],
+    );
+}
+
+#[test]
+fn a_tiny_synchronisation_distance_is_interruptible() {
+    refused_or_interruptible_with(
+        "tiny-sync",
+        &["engine.scheme=space-time", "engine.sync_distance=1e-3"],
+        &["engine.sync_distance"],
+    );
 }
 
 #[test]
