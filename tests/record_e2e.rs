@@ -458,7 +458,7 @@ fn interrupted_binary_leaves_a_complete_file() {
         .args(["run", "scenarios/vibrated_bed.json", "--quiet"])
         .args([
             "--set",
-            "run.duration=1000000",
+            "run.duration=100000",
             "--set",
             "output.frame_interval=0.05",
         ])
