@@ -483,7 +483,7 @@ fn bad_sweep_inputs_exit_2_naming_the_culprit() {
             &dir,
             r#"{"scenario": "bed.json", "axes": [{"key": "floor.gamma", "range": {"from": 1, "to": 2, "count": 0}}]}"#,
         ),
-        &["axes[0].range.count: must be at least 1"],
+        &["axes[0].range.count: must lie in [1, 100000]"],
     );
     assert_bad(
         &plan_of(
@@ -501,7 +501,30 @@ fn bad_sweep_inputs_exit_2_naming_the_culprit() {
     );
     assert_bad(
         &plan_of(&dir, r#"{"scenario": "bed.json", "seeds": 0}"#),
-        &["seeds: must be at least 1"],
+        &["seeds: must lie in [1, 100000]"],
+    );
+    // Sizes that cannot be planned in memory are refused before anything is expanded.
+    assert_bad(
+        &plan_of(
+            &dir,
+            r#"{"scenario": "bed.json", "seeds": 18446744073709551615}"#,
+        ),
+        &["seeds: must lie in [1, 100000]"],
+    );
+    assert_bad(
+        &plan_of(
+            &dir,
+            r#"{"scenario": "bed.json", "axes": [{"key": "floor.gamma", "range": {"from": 1, "to": 2, "count": 1000}},
+                {"key": "floor.frequency", "range": {"from": 1, "to": 2, "count": 1000}}]}"#,
+        ),
+        &["axes: every combination of the axes makes more than 100000 points"],
+    );
+    assert_bad(
+        &plan_of(
+            &dir,
+            r#"{"scenario": "bed.json", "axes": [{"key": "floor.gamma", "range": {"from": 1, "to": 2, "count": 1000}}], "seeds": 1000}"#,
+        ),
+        &["seeds: 1000 points × 1000 seeds make more than 100000 runs"],
     );
     assert_bad(
         &plan_of(&dir, r#"{"scenario": "missing.json"}"#),

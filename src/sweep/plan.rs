@@ -252,9 +252,15 @@ fn tidy(x: f64) -> f64 {
     format!("{x:.11e}").parse().unwrap_or(x)
 }
 
+/// Most runs one sweep may hold (points × seeds).
+pub const MAX_RUNS: usize = 100_000;
+
 fn range_values(here: &str, r: &Range) -> Result<Vec<Value>> {
-    if r.count == 0 {
-        return Err(Error::input(format!("{here}.count"), "must be at least 1"));
+    if !(1..=MAX_RUNS).contains(&r.count) {
+        return Err(Error::input(
+            format!("{here}.count"),
+            format!("must lie in [1, {MAX_RUNS}] (got {})", r.count),
+        ));
     }
     for (name, v) in [("from", r.from), ("to", r.to)] {
         if !v.is_finite() {
@@ -315,6 +321,18 @@ fn points(sweep: &SweepFile) -> Result<Vec<Vec<Value>>> {
     }
     if values.is_empty() {
         return Ok(vec![Vec::new()]);
+    }
+    if sweep.combine == Combine::Cross {
+        let total = values
+            .iter()
+            .try_fold(1usize, |n, v| n.checked_mul(v.len()))
+            .filter(|&n| n <= MAX_RUNS);
+        if total.is_none() {
+            return Err(Error::input(
+                "axes",
+                format!("every combination of the axes makes more than {MAX_RUNS} points"),
+            ));
+        }
     }
     match sweep.combine {
         Combine::Zip => {
@@ -392,7 +410,12 @@ pub fn expand(path: &Path) -> Result<Expanded> {
     }
     let seeds: Vec<Option<u64>> = match &sweep.seeds {
         None => vec![None],
-        Some(Seeds::Count(0)) => return Err(Error::input("seeds", "must be at least 1")),
+        Some(Seeds::Count(n)) if !(1..=MAX_RUNS as u64).contains(n) => {
+            return Err(Error::input(
+                "seeds",
+                format!("must lie in [1, {MAX_RUNS}] (got {n})"),
+            ))
+        }
         Some(Seeds::Count(n)) => (0..*n).map(Some).collect(),
         Some(Seeds::List(list)) if list.is_empty() => {
             return Err(Error::input("seeds", "must list at least one seed"))
@@ -417,6 +440,16 @@ pub fn expand(path: &Path) -> Result<Expanded> {
         ));
     }
     let points = points(&sweep)?;
+    if points.len().saturating_mul(seeds.len()) > MAX_RUNS {
+        return Err(Error::input(
+            "seeds",
+            format!(
+                "{} points × {} seeds make more than {MAX_RUNS} runs",
+                points.len(),
+                seeds.len()
+            ),
+        ));
+    }
     let keys: Vec<String> = sweep.axes.iter().map(|a| a.key.clone()).collect();
     let mut runs = Vec::with_capacity(points.len() * seeds.len());
     let mut scenarios = Vec::with_capacity(runs.capacity());
@@ -512,12 +545,11 @@ pub fn point_label(keys: &[String], values: &[Value]) -> String {
 }
 
 impl Expanded {
-    /// Builds every run's initial state (placement, grid, mask) as `check` does, without
-    /// running; the first failure names its point.
+    /// Builds every run's initial state and engine (placement, grid, mask, neighbour lists,
+    /// first predictions) as `check` does, without running; the first failure names its point.
     pub fn check_scenes(&self) -> Result<()> {
         for (run, s) in self.plan.runs.iter().zip(&self.scenarios) {
-            crate::simulation::Scene::build(s)
-                .map_err(|e| at(run.point, &run.values, &self.plan.axes, e))?;
+            crate::run::check(s).map_err(|e| at(run.point, &run.values, &self.plan.axes, e))?;
         }
         Ok(())
     }
