@@ -266,6 +266,12 @@ fn execute(cli: Cli) -> Result<i32> {
             quiet,
         } => {
             let s = Scenario::load(&scenario, &sets)?;
+            if out.exists() && !out.is_dir() {
+                return Err(Error::input(
+                    "--out",
+                    format!("{} is a file: name a directory", out.display()),
+                ));
+            }
             if let Some(k) = seeds.filter(|k| !(1..=MAX_SEEDS).contains(k)) {
                 return Err(Error::input(
                     "--seeds",

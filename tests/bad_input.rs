@@ -510,6 +510,23 @@ fn accuracy_of_an_unbuildable_scene_creates_no_out_directory() {
     );
 }
 
+#[test]
+fn accuracy_into_a_file_is_refused_naming_out() {
+    let dir = fresh_dir("bad-accuracy-out-file");
+    std::fs::write(dir.join("acc"), "a file, not a directory").expect("write");
+    let args = guarded::args(&[
+        "accuracy",
+        &scenario("bouncing_ball.json").display().to_string(),
+        "--quick",
+        "--quiet",
+        "--out",
+        "acc",
+    ]);
+    let out = vibrobed(&dir, &args);
+    assert_refused(&out, &["--out"], &dir, &["acc"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 // --- 8. The file itself. ---
 
 #[test]
