@@ -953,7 +953,7 @@ impl Writer {
         if has_profiles {
             text.push_str(
                 "**Profiles** of the current frame in the summary's height bins: packing \
-                 fraction φ (a disk's area counts in the bin of its centre) and granular \
+                 fraction φ (each disk's area split over the bins it covers) and granular \
                  temperature T = (Tx + Ty)/2 about each bin's mean velocity.\n\n",
             );
         }
