@@ -37,6 +37,18 @@ impl From<&Observables> for EnergyAt {
     }
 }
 
+/// The time-averaged normal force of the floor per unit width, beside the bed's weight per unit
+/// width `M g / width`: in a steady state (or a bed at rest) the two agree, the difference being
+/// the change of the disks' vertical momentum over the window divided by its length and width.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FloorPressure {
+    /// Vertical momentum the floor gave the disks over the window (impacts, and the force
+    /// carrying the disks at rest on it) per unit time and width.
+    pub measured: f64,
+    /// `M g / width`.
+    pub weight: f64,
+}
+
 /// The energy budget: final = initial + injected − dissipated, to round-off.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EnergySummary {
@@ -118,6 +130,9 @@ pub struct Summary {
     /// Floor impacts per unit simulated time (after warm-up), scenes with a floor.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub impacts_per_unit_time: Option<f64>,
+    /// Pressure on the floor (after warm-up), scenes with gravity and a floor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor_pressure: Option<FloorPressure>,
     /// Height profiles (gravity scenes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,

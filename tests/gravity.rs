@@ -292,6 +292,68 @@ fn energy_budget_closes_on_a_vibrated_bed() {
     );
 }
 
+/// The floor's momentum balance: the vertical momentum the floor gave the disks between t1 and
+/// t2 (impacts, and the force m (g + h'') carrying disks at rest) equals the change of the disks'
+/// vertical momentum plus their weight times t2 − t1. Booked independently at each event.
+fn floor_momentum_balance(file: &str, sets: &[&str], t1: f64, t2: f64) {
+    let text = std::fs::read_to_string(common::crate_path(file)).unwrap();
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let json =
+        serde_json::to_string(&vibrobed::Scenario::from_json_with_overrides(&text, &sets).unwrap())
+            .unwrap();
+    let mut sim = common::ballistic(&json);
+    let g = 1.0;
+    let mass: f64 = sim.disks().mass.iter().sum();
+    let state = |sim: &vibrobed::simulation::Simulation<vibrobed::dynamics::Ballistic>, t: f64| {
+        let snap = sim.snapshot(t);
+        let p: f64 = (0..snap.vy.len())
+            .map(|i| sim.disks().mass[i] * snap.vy[i])
+            .sum();
+        (p, sim.energy_flow_at(t).floor_impulse)
+    };
+    sim.advance_to(t1).unwrap();
+    let (p1, f1) = state(&sim, t1);
+    sim.advance_to(t2).unwrap();
+    let (p2, f2) = state(&sim, t2);
+    let weight = mass * g * (t2 - t1);
+    let error = ((f2 - f1) - (p2 - p1 + weight)).abs() / weight;
+    assert!(
+        error < 1e-9,
+        "{file}: floor gave {}, momentum change + weight {} (relative error {error:e}); \
+         {} disks at rest",
+        f2 - f1,
+        p2 - p1 + weight,
+        sim.riders()
+    );
+}
+
+#[test]
+fn the_floor_gives_exactly_the_momentum_the_disks_take() {
+    // A fluidized bed (impacts), a bed at rest on a static floor (disks riding it and resting
+    // on each other), and a stack on a sine floor at Γ = 1.2 (take-offs and landings).
+    floor_momentum_balance("scenarios/vibrated_bed.json", &[], 5.0, 25.0);
+    floor_momentum_balance("scenarios/hard/bed_at_rest_tc.json", &[], 10.0, 20.0);
+    floor_momentum_balance("scenarios/hard/stack_gamma_1.2.json", &[], 5.0, 15.0);
+}
+
+#[test]
+fn the_pressure_on_the_floor_is_the_weight_of_the_bed() {
+    let text = std::fs::read_to_string(common::crate_path("scenarios/vibrated_bed.json")).unwrap();
+    let sets = ["run.duration=100".to_string(), "run.warmup=20".to_string()];
+    let scenario = vibrobed::Scenario::from_json_with_overrides(&text, &sets).unwrap();
+    let s = run(&scenario, RunOptions::default()).unwrap();
+    let p = s
+        .floor_pressure
+        .expect("a floor scene reports its pressure");
+    assert_eq!(p.weight, 1000.0 * 1.0 / 200.0);
+    assert!(
+        (p.measured / p.weight - 1.0).abs() < 0.01,
+        "pressure {} against a weight of {} per unit width",
+        p.measured,
+        p.weight
+    );
+}
+
 #[test]
 fn an_inelastic_disk_comes_to_rest_on_a_static_floor() {
     let json = single_disk(5.5, 0.0, 0.0, r#"{"restitution": 0.5}"#);

@@ -14,6 +14,8 @@ pub(super) struct Window {
     pub(super) time: f64,
     pub(super) virial: f64,
     pub(super) floor_impacts: u64,
+    /// Vertical momentum the floor had given the disks when the window opened.
+    pub(super) floor_impulse: f64,
 }
 
 /// What is averaged over the window: temperatures, centre of mass, height profiles.

@@ -15,7 +15,7 @@ use crate::run::checkpoint::Checkpoint;
 use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
 use crate::schemes::Integrator;
 use crate::simulation::{EnergyFlow, Progress, Scene, Snapshot};
-use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, Summary};
+use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -216,6 +216,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             time: t,
             virial: self.sim.virial(),
             floor_impacts: self.sim.counts().floor,
+            floor_impulse: self.sim.energy_flow_at(t).floor_impulse,
         });
         if let (Some(sink), true) = (self.sink.as_mut(), self.stops.warmup > 0.0) {
             sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
@@ -399,6 +400,16 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 .map(|_| avg.com_height / avg.samples.max(1) as f64),
             impacts_per_unit_time: match (&scene.floor, measured) {
                 (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
+                _ => None,
+            },
+            floor_pressure: match (&scene.floor, scene.gravity, measured) {
+                (Some(_), Some(g), Some((dt, w))) => {
+                    let mass: f64 = sim.disks().mass.iter().sum();
+                    Some(FloorPressure {
+                        measured: (flow.floor_impulse - w.floor_impulse) / (dt * s.domain.width),
+                        weight: mass * g / s.domain.width,
+                    })
+                }
                 _ => None,
             },
             profiles: avg.profiles.as_ref().map(|p| p.table()),

@@ -412,6 +412,7 @@ impl<F: Flight> SpaceTime<F> {
                     self.counts.rest += 1;
                 }
                 self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
+                self.flow.floor_impulse += self.disks.mass[i] * (after - before);
                 self.disks.motion[i].vy = after;
                 self.counts.floor += 1;
                 self.moved(i);

@@ -322,6 +322,7 @@ impl<F: Flight> TimeStep<F> {
                     let elastic = self.restitution.boundary_elastic(i, now, hd - m.vy);
                     let after = floor.bounce_on(m.vy, hd, elastic);
                     self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
+                    self.flow.floor_impulse += mass * (after - m.vy);
                     self.stats.max_boundary_penetration =
                         self.stats.max_boundary_penetration.max(h - (m.y - a));
                     m.vy = after;

@@ -39,11 +39,16 @@ impl EventCounts {
     }
 }
 
-/// Energy exchanged with the outside and lost in collisions since the start.
+/// Energy (and the floor's momentum) exchanged with the outside, and energy lost in collisions,
+/// since the start.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct EnergyFlow {
     /// Work done by the floor on the disks (can be negative for a lossy static floor).
     pub injected: f64,
     /// Kinetic energy lost in pair, wall and lid collisions.
     pub dissipated: f64,
+    /// Vertical momentum the floor has given the disks: its impacts, and the force
+    /// `m (g + h'')` carrying the disks at rest on it. Its time average per unit width is the
+    /// pressure on the floor.
+    pub floor_impulse: f64,
 }

@@ -131,10 +131,12 @@ impl<F: Flight> Simulation<F> {
         self.predict(i);
     }
 
-    /// Sets the vertical velocity of (flying) disk `i`, booking the change as floor work.
+    /// Sets the vertical velocity of (flying) disk `i`, booking the change as floor work (and
+    /// floor momentum).
     pub(super) fn set_vy(&mut self, i: usize, vy: f64) {
         let m = &mut self.disks.motion[i];
         self.flow.injected += 0.5 * self.disks.mass[i] * (vy * vy - m.vy * m.vy);
+        self.flow.floor_impulse += self.disks.mass[i] * (vy - m.vy);
         m.vy = vy;
     }
 
@@ -162,6 +164,7 @@ impl<F: Flight> Simulation<F> {
             let m = &mut self.disks.motion[i];
             self.flow.injected +=
                 mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
+            self.flow.floor_impulse += mass * (hd_ride - m.vy);
             m.y = h + a;
             m.vy = hd_ride;
             self.riders.mount_on_floor(i, a);

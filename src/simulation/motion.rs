@@ -54,6 +54,7 @@ impl<F: Flight> Simulation<F> {
         let m = &mut self.disks.motion[i];
         if self.riders.is_riding(i) {
             self.flow.injected += mass * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
+            self.flow.floor_impulse += mass * (g * (t - m.t) + (vy - m.vy));
         }
         *m = crate::disks::Motion { x, y, vx, vy, t };
     }

@@ -105,7 +105,7 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Energy flows up to absolute time `t`, including the work the floor has done on riding
-    /// disks since they were last brought forward.
+    /// disks since they were last brought forward (and the momentum it gave them).
     pub fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         let mut flow = self.flow;
         let local = self.base.local(t);
@@ -114,6 +114,7 @@ impl<F: Flight> Simulation<F> {
             let (_, y, _, vy) = self.state_at(i, local);
             let m = &self.disks.motion[i];
             flow.injected += self.disks.mass[i] * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
+            flow.floor_impulse += self.disks.mass[i] * (g * (local - m.t) + (vy - m.vy));
         }
         flow
     }

@@ -81,6 +81,8 @@ impl<F: Flight> Simulation<F> {
         self.flow.dissipated += relative;
         self.flow.injected +=
             0.5 * mass * (ms.vx * ms.vx + hd * hd - mk.vx * mk.vx - mk.vy * mk.vy) + relative;
+        // The disks at rest below it are held by the floor, which takes the landing.
+        self.flow.floor_impulse += mass * (hd - mk.vy);
         let m = &mut self.disks.motion[k];
         m.vx = ms.vx;
         m.vy = hd;
