@@ -136,7 +136,6 @@ pub enum Command {
     },
 }
 
-/// Writes `text` to `path` atomically (a temporary file renamed into place).
 /// Writes `text` to `FILE.partial` beside `path`, then renames it into place: a reader never
 /// sees a half-written file, and a failed write leaves nothing behind.
 fn write_file(path: &Path, text: &str) -> Result<()> {
