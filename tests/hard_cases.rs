@@ -436,6 +436,34 @@ fn bed_at_rest_progresses_at_a_steady_rate() {
     }
 }
 
+/// Beds and stacks at rest press on the floor with their weight: the time-averaged vertical
+/// momentum the floor gives them (bounces, and the force carrying the disks at rest) per unit
+/// width is their weight per unit width, within 1%.
+#[test]
+fn beds_at_rest_press_on_the_floor_with_their_weight() {
+    for file in [
+        "bed_at_rest_tc.json",
+        "bed_at_rest_speed_cutoff.json",
+        "stack_gamma_0.5.json",
+        "rest_static_floor.json",
+        "long_run_riding.json",
+    ] {
+        let s = load(file, &[]);
+        let sum = run(&s, RunOptions::default()).unwrap();
+        let p = sum.floor_pressure.expect("a floor scene with gravity");
+        eprintln!(
+            "{file}: pressure {} against a weight of {}",
+            p.measured, p.weight
+        );
+        assert!(
+            (p.measured / p.weight - 1.0).abs() < 0.01,
+            "{file}: pressure {} against a weight of {} per unit width",
+            p.measured,
+            p.weight
+        );
+    }
+}
+
 /// Limitation, documented: the same bed in a width of exactly four diameters. Its bottom row
 /// fills the width with no room to spare; disks pressed into it ring ever faster (≈2·10⁶ events
 /// per unit time over t = 7.5–8, events 3·10⁻⁸ apart at t ≈ 8.04; time still advances) and the guard `run.max_events` stops the run
