@@ -136,20 +136,6 @@ pub enum Command {
     },
 }
 
-/// Writes `text` to `FILE.partial` beside `path`, then renames it into place: a reader never
-/// sees a half-written file, and a failed write leaves nothing behind.
-fn write_file(path: &Path, text: &str) -> Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".partial");
-    let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Io(format!("cannot write {}: {e}", path.display()))
-        })
-}
-
 /// The output files a command line asks for.
 #[derive(Default)]
 struct OutputArgs<'a> {
@@ -434,7 +420,7 @@ fn write_results(
 ) -> Result<i32> {
     if let Some(path) = profiles {
         match &result.profiles {
-            Some(p) => write_file(path, &p.to_csv())?,
+            Some(p) => crate::output::write_atomic(path, &p.to_csv())?,
             None => {
                 return Err(Error::input(
                     "--profiles",
@@ -445,7 +431,7 @@ fn write_results(
     }
     let json = result.to_json();
     match summary {
-        Some(path) => write_file(path, &json)?,
+        Some(path) => crate::output::write_atomic(path, &json)?,
         None => print!("{json}"),
     }
     Ok(match result.ending {

@@ -9,6 +9,7 @@
 //! whichever worker runs it and in whatever order.
 
 use crate::error::{Error, Result};
+pub use crate::output::write_atomic;
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
 use crate::summary::Ending;
@@ -16,25 +17,6 @@ use crate::sweep::plan::{Expanded, Plan, RunSpec};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-
-/// Writes `text` to `path` through a temporary file renamed into place.
-pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
-    let tmp = temp_name(path);
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Io(format!("cannot write {}: {e}", path.display()))
-        })
-}
-
-/// A temporary name beside `path`, unique to this process.
-fn temp_name(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map_or("out".into(), |n| n.to_string_lossy());
-    path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
-}
 
 /// Output folder of run `index`.
 pub fn run_dir(out: &Path, index: usize) -> PathBuf {
