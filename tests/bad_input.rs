@@ -173,6 +173,33 @@ fn a_height_of_1e9_is_refused() {
     check_refuses("height-1e9", "box_walls.json", &["domain.height=1e9"], &[]);
 }
 
+/// A closed box of 10⁵ × 10⁵ holding two disks: a dense grid would need ~5·10⁹ cells (an 88 GB
+/// allocation that aborted); `auto` takes the hashed array, and the run finishes under the
+/// guard's 4 GiB address space.
+#[test]
+fn a_huge_sparse_box_runs_in_little_memory() {
+    let dir = fresh_dir("bad-sparse-box");
+    let out = vibrobed(
+        &dir,
+        &run_args(
+            "box_walls.json",
+            &["--summary", "s.json"],
+            &[
+                "domain.width=1e5",
+                "domain.height=1e5",
+                "particles.count=2",
+                "run.duration=1",
+                "run.warmup=0",
+            ],
+        ),
+    );
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert_eq!(out.code(), Some(0), "{what}");
+    assert!(dir.join("s.json").exists(), "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 // --- 4. Species counts whose sum overflows. ---
 
 #[test]
@@ -354,6 +381,15 @@ fn run_args(name: &str, extra: &[&str], sets: &[&str]) -> Vec<OsString> {
     args
 }
 
+/// `run` with these arguments is refused naming one of `fields`, from a fresh directory it
+/// leaves empty.
+fn run_refuses(test: &str, name: &str, extra: &[&str], sets: &[&str], fields: &[&str]) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let out = vibrobed(&dir, &run_args(name, extra, sets));
+    assert_refused(&out, fields, &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A run long enough that simulating before refusing shows as a timeout.
 const LONG: &[&str] = &["run.duration=100000"];
 
@@ -362,33 +398,25 @@ const SHORT: &[&str] = &["run.duration=1", "run.warmup=0"];
 
 #[test]
 fn profiles_without_gravity_are_refused_before_the_run() {
-    let dir = fresh_dir("bad-profiles");
-    let out = vibrobed(
-        &dir,
-        &run_args(
-            "box_walls.json",
-            &["--profiles", "p.csv", "--summary", "s.json"],
-            LONG,
-        ),
+    run_refuses(
+        "profiles",
+        "box_walls.json",
+        &["--profiles", "p.csv", "--summary", "s.json"],
+        LONG,
+        &["--profiles"],
     );
-    assert_refused(&out, &["--profiles"], &dir, &[]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(feature = "record")]
 #[test]
 fn profiles_without_gravity_are_refused_before_recording() {
-    let dir = fresh_dir("bad-profiles-rrd");
-    let out = vibrobed(
-        &dir,
-        &run_args(
-            "box_walls.json",
-            &["--profiles", "p.csv", "--rrd", "r.rrd"],
-            LONG,
-        ),
+    run_refuses(
+        "profiles-rrd",
+        "box_walls.json",
+        &["--profiles", "p.csv", "--rrd", "r.rrd"],
+        LONG,
+        &["--profiles"],
     );
-    assert_refused(&out, &["--profiles"], &dir, &[]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -409,29 +437,25 @@ fn a_summary_into_a_directory_is_refused() {
 
 #[test]
 fn a_summary_in_a_missing_directory_is_refused() {
-    let dir = fresh_dir("bad-summary-nodir");
-    let out = vibrobed(
-        &dir,
-        &run_args("bouncing_ball.json", &["--summary", "nodir/x.json"], SHORT),
+    run_refuses(
+        "summary-nodir",
+        "bouncing_ball.json",
+        &["--summary", "nodir/x.json"],
+        SHORT,
+        &["--summary"],
     );
-    assert_refused(&out, &["--summary"], &dir, &[]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(feature = "record")]
 #[test]
 fn a_recording_in_a_missing_directory_is_refused() {
-    let dir = fresh_dir("bad-rrd-nodir");
-    let out = vibrobed(
-        &dir,
-        &run_args(
-            "bouncing_ball.json",
-            &["--rrd", "nodir/r.rrd", "--summary", "s.json"],
-            SHORT,
-        ),
+    run_refuses(
+        "rrd-nodir",
+        "bouncing_ball.json",
+        &["--rrd", "nodir/r.rrd", "--summary", "s.json"],
+        SHORT,
+        &["--rrd"],
     );
-    assert_refused(&out, &["--rrd"], &dir, &[]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -5,9 +5,10 @@ use super::averages::{empty_profiles, Averages, Window};
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
+use crate::disks::Disks;
 use crate::error::{Error, Result};
 use crate::locals::Top;
-use crate::measure::Observables;
+use crate::measure::{Observables, ProfileTable};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
 use crate::output::trajectory::TrajectoryWriter;
@@ -269,19 +270,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .profiles
             .as_ref()
             .map(|p| p.of_snapshot(snap, d));
-        sink.frame(&FrameView {
-            index: self.stops.k_frame - 1,
-            time: snap.time,
-            x: &snap.x,
-            y: &snap.y,
-            vx: &snap.vx,
-            vy: &snap.vy,
-            radius: &d.radius,
-            species: &d.species,
-            floor_height: snap.floor_height,
-            series: &series,
-            profile: profile.as_ref(),
-        })
+        sink.frame(&frame_view(
+            self.stops.k_frame - 1,
+            snap,
+            d,
+            &series,
+            profile.as_ref(),
+        ))
     }
 
     /// A trajectory frame: every disk, to the extended XYZ file.
@@ -291,20 +286,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             return Ok(());
         };
         let (snap, d) = (&self.snap, self.sim.disks());
-        w.frame(&FrameView {
-            index: self.stops.k_trajectory - 1,
-            time: snap.time,
-            x: &snap.x,
-            y: &snap.y,
-            vx: &snap.vx,
-            vy: &snap.vy,
-            radius: &d.radius,
-            species: &d.species,
-            floor_height: snap.floor_height,
-            series: &[],
-            profile: None,
-        })
-        .map_err(Error::Io)
+        w.frame(&frame_view(self.stops.k_trajectory - 1, snap, d, &[], None))
+            .map_err(Error::Io)
     }
 
     /// Closes the recording with a note on how the run ended.
@@ -423,6 +406,29 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             approximation: sim.approximation(),
         }
+    }
+}
+
+/// Frame `index` of the disks in `snap`, with the time series and live profiles it carries.
+fn frame_view<'a>(
+    index: u64,
+    snap: &'a Snapshot,
+    d: &'a Disks,
+    series: &'a [(&'static str, f64)],
+    profile: Option<&'a ProfileTable>,
+) -> FrameView<'a> {
+    FrameView {
+        index,
+        time: snap.time,
+        x: &snap.x,
+        y: &snap.y,
+        vx: &snap.vx,
+        vy: &snap.vy,
+        radius: &d.radius,
+        species: &d.species,
+        floor_height: snap.floor_height,
+        series,
+        profile,
     }
 }
 
