@@ -280,12 +280,19 @@ pub fn rider_contact(
             if fd <= 0.0 {
                 return Some(RiderContact::At(t));
             }
-            // Touching but separating: the lower bound stays ≥ f for 2 f'/M.
-            let m = bound(fd / bound(0.0).max(f64::MIN_POSITIVE));
-            if m <= 0.0 {
-                return None;
+            // Touching but separating: F stays ≥ f + f'σ − ½Mσ² ≥ 0 for σ ≤ 2f'/M(σ), where
+            // M(σ) bounds |F''| over the window σ. The widest such σ is the fixed point of
+            // σ = 2f'/M(σ) (M grows with σ): approach it geometrically, then keep the step
+            // inside the window its bound holds on.
+            if bound(0.0) <= 0.0 {
+                return None; // nothing will ever bend the separation back
             }
-            tau += (2.0 * fd / m).max(f64::EPSILON * t.abs().max(1.0));
+            let mut w = fd / bound(0.0);
+            for _ in 0..8 {
+                w = (w * 2.0 * fd / bound(w)).sqrt();
+            }
+            let step = w.min(2.0 * fd / bound(w));
+            tau += step.max(f64::EPSILON * t.abs().max(1.0));
             continue;
         }
         if window.is_nan() {

@@ -31,6 +31,16 @@ impl<F: Flight> Simulation<F> {
         match who {
             partner::LEFT | partner::RIGHT => {
                 self.bring(i, now);
+                if self.resting_contacts
+                    && self.is_riding(i)
+                    && self.disks.motion[i].vx.abs() < self.sleep_speed(i)
+                {
+                    self.stop_sliding(i);
+                    self.counts.wall += 1;
+                    self.moved(i);
+                    self.release_carried(i, None);
+                    return Ok(());
+                }
                 self.unsettle(i);
                 let side = if who == partner::LEFT {
                     Side::Left
@@ -155,22 +165,34 @@ impl<F: Flight> Simulation<F> {
         // or stay put (fixed-position model).
         let (h, hd_ride) = floor.ride(now);
         let rests = floor.comes_to_rest(after - hd_ride, self.disks.radius[i], g, now);
-        let lift = floor.max_speed();
+        let lift_speed = floor.max_speed();
         self.set_vy(i, after);
         self.counts.floor += 1;
         if rests {
             let mass = self.disks.mass[i];
             let a = self.disks.radius[i];
             let m = &mut self.disks.motion[i];
+            // A disk that rested a little above the surface (it came to rest beside a disk at
+            // rest, within TOUCH radii of the floor) and is knocked onto the floor keeps its
+            // height: moving it down could push it into a smaller neighbour.
+            let above = if m.y - h > a * (1.0 + 1e-12) {
+                m.y - h
+            } else {
+                a
+            };
             self.flow.injected +=
-                mass * (g * (h + a - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
+                mass * (g * (h + above - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
             self.flow.floor_impulse += mass * (hd_ride - m.vy);
-            m.y = h + a;
+            m.y = h + above;
             m.vy = hd_ride;
-            self.riders.mount_on_floor(i, a);
+            self.riders.mount_on_floor(i, above);
             self.counts.rest += 1;
+            if self.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {
+                self.stop_sliding(i);
+            }
+            let m = &self.disks.motion[i];
             let vx = m.vx.abs();
-            self.dutc.ride(now, vx + lift, g);
+            self.dutc.ride(now, vx + lift_speed, g);
         }
     }
 
@@ -213,9 +235,12 @@ impl<F: Flight> Simulation<F> {
         } else {
             0.0
         };
-        if rode[0] != rode[1] && self.resting_contacts && min_rebound > 0.0 {
+        if rode[0] && rode[1] && self.resting_contacts && self.rest_together(i, j, dx, dy)? {
+            return Ok(());
+        }
+        if rode[0] != rode[1] && self.resting_contacts {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
-            if self.try_rest_on(k, s, e, min_rebound)? {
+            if self.try_rest_on(k, s, e)? {
                 return Ok(());
             }
         }

@@ -86,8 +86,14 @@ impl<F: Flight> Simulation<F> {
                     speed,
                 )
             } else {
-                let limit = (now + best).min(self.dutc.deadline);
+                let mut limit = (now + best).min(self.dutc.deadline);
                 let (r, f) = if rider { (i, j) } else { (j, i) };
+                if f == j {
+                    // The flyer re-predicts (against i too) at its own event, if not before:
+                    // a contact after that is its to find (this keeps a rider from searching
+                    // far along a flyer that bounces on the floor beside it).
+                    limit = limit.min(self.ev_time[j]);
+                }
                 match self.rider_contact(r, f, limit) {
                     Some(RiderContact::At(t)) => Some(t - now),
                     Some(RiderContact::Recheck(t)) => {

@@ -39,13 +39,7 @@ impl<F: Flight> Simulation<F> {
     /// Flying disk `k` lands on riding disk `s` (both brought to now) with restitution `e`,
     /// pressed together so that the smallest rebound is `min_rebound > 0`. Comes to rest on
     /// `s` (and returns `true`) if the landing is gentle and the place is stable.
-    pub(super) fn try_rest_on(
-        &mut self,
-        k: usize,
-        s: usize,
-        e: f64,
-        min_rebound: f64,
-    ) -> Result<bool> {
+    pub(super) fn try_rest_on(&mut self, k: usize, s: usize, e: f64) -> Result<bool> {
         let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
         let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
         let dist = (dx * dx + dy * dy).sqrt();
@@ -53,99 +47,180 @@ impl<F: Flight> Simulation<F> {
         let (dvx, dvy) = (mk.vx - ms.vx, mk.vy - ms.vy);
         let u = dvx * nx + dvy * ny;
         let slide = (dvy * nx - dvx * ny).abs();
-        if -e * u > min_rebound || slide > min_rebound {
+        let gentle = self.sleep_speed(k);
+        if gentle == 0.0 || -e * u > gentle || slide > gentle {
             return Ok(false);
         }
-        let Some(supports) = self.stable_supports(k, s) else {
-            return Ok(false);
-        };
         let floor = self.floor.as_ref().expect("riders need a floor");
         let now = self.now;
         let (h, hd) = floor.ride(now);
-        // Carried at s's velocity into a wall or a disk it touches, k is squeezed: no rest.
-        if self.squeezed(k, ms.vx, hd) {
-            return Ok(false);
-        }
-        if let Top::Lid { height, .. } = self.top {
-            if mk.y + self.disks.radius[k] + 2.0 * floor.amplitude >= height {
-                return Ok(false); // the stack could be pushed into the lid
+        let rest_v = (ms.vx, hd);
+        let ak = self.disks.radius[k];
+        let supports = if mk.y - h - ak <= TOUCH * ak {
+            [NO_DISK; 2] // beside s, on the floor
+        } else {
+            match self.stable_supports(k, s, Some(rest_v)) {
+                Some(supports) => supports,
+                None => return Ok(false),
+            }
+        };
+        // Slow flying supports (an arch: each holds the other) must come to rest with k.
+        let mut arch = [(NO_DISK, [NO_DISK; 2]); 2];
+        for (slot, &c) in supports.iter().enumerate() {
+            if c < RIGHT_WALL && !self.is_riding(c as usize) {
+                let c = c as usize;
+                let (_, yc, _, _) = self.state_at(c, now);
+                let ac = self.disks.radius[c];
+                let supports_c = if yc - h - ac <= TOUCH * ac {
+                    Some([NO_DISK; 2]) // on the floor
+                } else {
+                    self.stable_supports(c, k, None)
+                };
+                match supports_c {
+                    Some(sc) if !self.squeezed(c, rest_v.0, hd) && !self.near_lid(c) => {
+                        arch[slot] = (c as u32, sc)
+                    }
+                    _ => return Ok(false),
+                }
             }
         }
-        let lift_speed = floor.max_speed();
-        self.check_contact(k, s, dist)?;
-        if !self.riders.mount_on_disks(k, mk.y - h, supports) {
+        // Carried at s's velocity into a wall or a disk it touches, k is squeezed: no rest.
+        if self.squeezed(k, ms.vx, hd) || self.near_lid(k) {
             return Ok(false);
         }
-        let mass = self.disks.mass[k];
-        let relative = 0.5 * mass * (dvx * dvx + (mk.vy - hd).powi(2));
-        self.flow.dissipated += relative;
-        self.flow.injected +=
-            0.5 * mass * (ms.vx * ms.vx + hd * hd - mk.vx * mk.vx - mk.vy * mk.vy) + relative;
-        // The disks at rest below it are held by the floor, which takes the landing.
-        self.flow.floor_impulse += mass * (hd - mk.vy);
-        let m = &mut self.disks.motion[k];
-        m.vx = ms.vx;
-        m.vy = hd;
-        self.virial += dist * mass * -u;
+        self.check_contact(k, s, dist)?;
+        if !self.come_to_rest(k, h, supports, rest_v) {
+            return Ok(false);
+        }
+        self.virial += dist * self.disks.mass[k] * -u;
         self.counts.pair += 1;
-        self.counts.rest += 1;
-        self.dutc
-            .ride(now, ms.vx.abs() + lift_speed, self.flight.g());
-        self.moved(k);
+        for (c, sc) in arch {
+            if c != NO_DISK {
+                let c = c as usize;
+                self.bring(c, now);
+                if !self.come_to_rest(c, h, sc, rest_v) {
+                    // c could not be carried (its supports are full): k falls from rest.
+                    self.riders.dismount(k);
+                    self.moved(k);
+                }
+            }
+        }
         // `s` did not change: only its own event (this one, if it was its) needs renewing.
         self.predict(s);
         Ok(true)
     }
 
+    /// Whether disk `k` at rest could be pushed into the lid by the floor's motion.
+    fn near_lid(&self, k: usize) -> bool {
+        match (self.top, self.floor.as_ref()) {
+            (Top::Lid { height, .. }, Some(floor)) => {
+                let (_, y, _, _) = self.state_at(k, self.now);
+                y + self.disks.radius[k] + 2.0 * floor.amplitude >= height
+            }
+            _ => false,
+        }
+    }
+
+    /// Flying disk `k` (brought to now) comes to rest on `supports`, moving with velocity
+    /// `(vx, h'(now))`; the floor's surface is at `h`. Its kinetic energy relative to the floor's
+    /// motion is booked as dissipated and the rest of the change as work of the floor (which
+    /// carries the stack). `false` (nothing changed) if a support carries too many disks.
+    fn come_to_rest(&mut self, k: usize, h: f64, supports: [u32; 2], (vx, hd): (f64, f64)) -> bool {
+        let mk = self.disks.motion[k];
+        if supports == [NO_DISK; 2] {
+            // On the floor itself, where it is (within TOUCH radii of the surface: moving it
+            // down could push it into a smaller neighbour).
+            self.riders.mount_on_floor(k, mk.y - h);
+        } else if !self.riders.mount_on_disks(k, mk.y - h, supports) {
+            return false;
+        }
+        let mass = self.disks.mass[k];
+        let relative = 0.5 * mass * ((mk.vx - vx).powi(2) + (mk.vy - hd).powi(2));
+        self.flow.dissipated += relative;
+        self.flow.injected +=
+            0.5 * mass * (vx * vx + hd * hd - mk.vx * mk.vx - mk.vy * mk.vy) + relative;
+        // The disks at rest below it are held by the floor, which takes the landing.
+        self.flow.floor_impulse += mass * (hd - mk.vy);
+        let m = &mut self.disks.motion[k];
+        m.vx = vx;
+        m.vy = hd;
+        self.counts.rest += 1;
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        self.dutc
+            .ride(self.now, vx.abs() + floor.max_speed(), self.flight.g());
+        self.moved(k);
+        true
+    }
+
     /// What carries flying disk `k` (at now) if it rests on riding disk `hit`: `hit` alone if it
-    /// is straight below, else one support on each side of the vertical (riding disks touching
-    /// `k`, or side walls); `None` if `k` would slide or roll off.
-    fn stable_supports(&self, k: usize, hit: usize) -> Option<[u32; 2]> {
+    /// is straight below, else two supports (riding disks touching `k`, or side walls) whose
+    /// contact normals bracket the vertical, so that normal forces alone balance `k`'s weight;
+    /// `None` if `k` would slide or roll off. A support beside `k`, even a little above its
+    /// centre, carries it together with one below on the other side.
+    ///
+    /// With `slow = Some(v)`, flying disks touching `k` that move with velocity within their
+    /// sleep speed of `v` count as supports too (they can come to rest with `k`).
+    fn stable_supports(&self, k: usize, hit: usize, slow: Option<(f64, f64)>) -> Option<[u32; 2]> {
         let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
         let touch = TOUCH * ak;
-        // Supports pushing k towards +x (below-left of it) and towards −x (below-right).
-        let mut from_left = None;
-        let mut from_right = None;
+        // Contact normals (pointing from the support to k) of everything touching k.
+        let mut normals: [(u32, f64, f64); 8] = [(NO_DISK, 0.0, 0.0); 8];
+        let mut found = 0;
         let others = self
             .lists
             .of(k)
             .iter()
             .map(|&c| c as usize)
-            .filter(|&c| c != hit && self.is_riding(c));
+            .filter(|&c| c != hit);
         for c in std::iter::once(hit).chain(others) {
-            let (xc, yc, _, _) = self.state_at(c, now);
+            let (xc, yc, vxc, vyc) = self.state_at(c, now);
+            if c != hit && !self.is_riding(c) {
+                let Some((vx, vy)) = slow else { continue };
+                let speed = (vxc - vx).hypot(vyc - vy);
+                if speed > self.sleep_speed(c) {
+                    continue;
+                }
+            }
             let (dx, dy) = self.wrap(xk - xc, yk - yc);
             let dist = (dx * dx + dy * dy).sqrt();
             if dist - (ak + self.disks.radius[c]) > touch {
                 continue;
             }
             let (nx, ny) = (dx / dist, dy / dist);
-            if ny < -VERTICAL {
-                continue; // above k: carries nothing
+            if c == hit && nx.abs() <= VERTICAL && ny > 0.0 {
+                return Some([c as u32, NO_DISK]);
             }
-            if nx.abs() <= VERTICAL && ny > 0.0 {
-                if c == hit {
-                    return Some([c as u32, NO_DISK]);
-                }
-                continue;
-            }
-            if nx > 0.0 {
-                from_left.get_or_insert(c as u32);
-            } else {
-                from_right.get_or_insert(c as u32);
+            if found < normals.len() {
+                normals[found] = (c as u32, nx, ny);
+                found += 1;
             }
         }
         if let SideBounds::Walls { width, .. } = self.sides {
-            if xk - ak <= touch {
-                from_left.get_or_insert(LEFT_WALL);
+            if xk - ak <= touch && found < normals.len() {
+                normals[found] = (LEFT_WALL, 1.0, 0.0);
+                found += 1;
             }
-            if width - xk - ak <= touch {
-                from_right.get_or_insert(RIGHT_WALL);
+            if width - xk - ak <= touch && found < normals.len() {
+                normals[found] = (RIGHT_WALL, -1.0, 0.0);
+                found += 1;
             }
         }
-        Some([from_left?, from_right?])
+        // The pair pushing from the left (n_x > 0) and from the right (n_x < 0) whose normals
+        // bracket the vertical most widely: (0, 1) = α n_l + β n_r with α, β > 0 exactly when
+        // n_l × n_r > 0.
+        let normals = &normals[..found];
+        let mut best: Option<([u32; 2], f64)> = None;
+        for &(l, lx, ly) in normals.iter().filter(|n| n.1 > 0.0) {
+            for &(r, rx, ry) in normals.iter().filter(|n| n.1 < 0.0) {
+                let cross = lx * ry - ly * rx;
+                if cross > VERTICAL && best.is_none_or(|(_, b)| cross > b) {
+                    best = Some(([l, r], cross));
+                }
+            }
+        }
+        best.map(|(pair, _)| pair)
     }
 
     /// Whether disk `k` (at now), given the velocity `(vx, vy)`, would move into a side wall or a
@@ -211,6 +286,59 @@ impl<F: Flight> Simulation<F> {
             t = t.min(now + dt);
         }
         t
+    }
+
+    /// Below this horizontal speed a disk at rest stops sliding: the smallest rebound on a rider
+    /// (`√(2·(g + h'')·PAIR_REST_HEIGHT·a)`), at the present floor acceleration.
+    pub(super) fn sleep_speed(&self, i: usize) -> f64 {
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let press = self.flight.g() + floor.ride_acceleration(self.now);
+        if press <= 0.0 {
+            return 0.0;
+        }
+        crate::locals::floor::Floor::pair_rest_speed(self.disks.radius[i], press)
+    }
+
+    /// Riding disk `i` (brought to now) stops sliding: its horizontal kinetic energy is lost
+    /// (static friction with what carries it).
+    pub(super) fn stop_sliding(&mut self, i: usize) {
+        let m = &mut self.disks.motion[i];
+        self.flow.dissipated += 0.5 * self.disks.mass[i] * m.vx * m.vx;
+        m.vx = 0.0;
+    }
+
+    /// Riding disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`) touch while
+    /// approaching slower than the sleep speed: instead of a collision that would throw both
+    /// off their supports, they stay at rest and slide on together with their common horizontal
+    /// velocity (momentum kept, the relative kinetic energy booked as dissipated), or stop if
+    /// that is below the sleep speed too. Returns `false` (nothing done) for a faster approach.
+    pub(super) fn rest_together(&mut self, i: usize, j: usize, dx: f64, dy: f64) -> Result<bool> {
+        let dist = (dx * dx + dy * dy).sqrt();
+        let (vi, vj) = (self.disks.motion[i].vx, self.disks.motion[j].vx);
+        let u = (vi - vj) * dx / dist;
+        let sleep = self.sleep_speed(i).min(self.sleep_speed(j));
+        if u.abs() >= sleep {
+            return Ok(false);
+        }
+        self.check_contact(i, j, dist)?;
+        let (mi, mj) = (self.disks.mass[i], self.disks.mass[j]);
+        let v = (mi * vi + mj * vj) / (mi + mj);
+        self.flow.dissipated += 0.5 * mi * mj / (mi + mj) * (vi - vj).powi(2);
+        self.virial += dist * mi * (v - vi) * dx / dist;
+        self.disks.motion[i].vx = v;
+        self.disks.motion[j].vx = v;
+        if v.abs() < sleep {
+            self.stop_sliding(i);
+            self.stop_sliding(j);
+        }
+        self.counts.pair += 1;
+        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
+        self.moved(i);
+        self.predict(j);
+        // What rested on them slid with their old velocities.
+        self.release_carried(i, None);
+        self.release_carried(j, None);
+        Ok(true)
     }
 
     /// Riding disk `i` is about to change velocity: if it rests on disks, it leaves them.
