@@ -273,6 +273,8 @@ hard_cases! {
     rest_static_floor: "rest_static_floor.json", 100.0; // [3.5]
     bed_at_rest_tc: "bed_at_rest_tc.json", 1e4; // [2.1e3: at rest by t ≈ 8]
     bed_at_rest_speed_cutoff: "bed_at_rest_speed_cutoff.json", 1e4; // [2.1e3]
+    bed_riding_gamma_05: "bed_riding_gamma_0.5.json", 2e4; // [4.0e3: at rest by t ≈ 11]
+    bouncing_bed_gamma_15: "bouncing_bed_gamma_1.5.json", 2e4; // [2.4e3]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
@@ -448,6 +450,84 @@ fn beds_at_rest_come_to_rest_and_cost_nothing() {
         assert!(end.vx.iter().chain(&end.vy).all(|&v| v == 0.0));
         assert!(sim.max_overlap() < TOLERANCE);
     }
+}
+
+/// The same bed on a sine floor with Γ = 0.5 comes to rest and rides the floor as one rigid
+/// body: by half the run every disk is at rest, and from then on there are no events; every
+/// disk keeps its height above the floor's surface, y − h(t), and moves with h'(t).
+#[test]
+fn a_bed_at_rest_rides_a_slow_floor() {
+    let s = load("bed_riding_gamma_0.5.json", &[]);
+    let n = s.particles.count.unwrap();
+    let mut sim = common::ballistic(&json_of(&s));
+    let fl = sim.floor().unwrap().clone();
+    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let half = 0.5 * s.run.duration;
+    sim.advance_to(half).unwrap();
+    assert_eq!(sim.riders(), n, "not every disk rests at t = {half}");
+    let before = sim.counts().popped();
+    let start = sim.snapshot(half);
+    let h0 = start.floor_height.unwrap();
+    for k in 1..=40 {
+        let t = half + k as f64 * (s.run.duration - half) / 40.0;
+        assert_eq!(
+            sim.advance_to(t).unwrap(),
+            vibrobed::simulation::Progress::Reached
+        );
+        let snap = sim.snapshot(t);
+        let h = snap.floor_height.unwrap();
+        let hd = fl.amplitude * w * (phi0 + w * t).cos();
+        for i in 0..n {
+            assert!(
+                ((snap.y[i] - h) - (start.y[i] - h0)).abs() < 1e-9,
+                "disk {i} at {t} moved relative to the floor"
+            );
+            assert_eq!(snap.x[i], start.x[i], "disk {i} at {t} slid");
+            assert_eq!(snap.vx[i], 0.0);
+            assert!(
+                (snap.vy[i] - hd).abs() < 1e-9,
+                "disk {i} at {t} does not move with the floor"
+            );
+        }
+    }
+    assert_eq!(
+        sim.counts().popped(),
+        before,
+        "a bed riding the floor has events"
+    );
+    assert!(sim.max_overlap() < TOLERANCE);
+}
+
+/// The same bed on a sine floor with Γ = 1.5 bounces: the floor throws it off every period
+/// (take-offs happen), and the events per period stay bounded — those of the last ten periods are
+/// within a factor 2 of those of periods 10 to 20, and below 10⁴ per period (it is ≈ 2.5·10³).
+#[test]
+fn a_bouncing_bed_costs_a_steady_number_of_events_per_period() {
+    let s = load("bouncing_bed_gamma_1.5.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let mut per_period = Vec::new();
+    let mut t = 0.0;
+    while t < s.run.duration {
+        let before = sim.counts().popped();
+        t += 1.0; // the period (f = 1)
+        assert_eq!(
+            sim.advance_to(t).unwrap(),
+            vibrobed::simulation::Progress::Reached
+        );
+        per_period.push((sim.counts().popped() - before) as f64);
+    }
+    let mean = |r: &[f64]| r.iter().sum::<f64>() / r.len() as f64;
+    let (early, late) = (mean(&per_period[10..20]), mean(&per_period[30..40]));
+    eprintln!(
+        "bouncing bed: {early:.0} events per period over periods 10–20, {late:.0} over 30–40"
+    );
+    assert!(late < 1e4 && early < 1e4, "{per_period:?}");
+    assert!(late < 2.0 * early && early < 2.0 * late, "{per_period:?}");
+    assert!(
+        sim.counts().takeoff > 0,
+        "the floor never threw the bed off"
+    );
+    assert!(sim.max_overlap() < TOLERANCE);
 }
 
 /// Beds and stacks at rest press on the floor with their weight: the time-averaged vertical
