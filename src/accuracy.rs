@@ -618,7 +618,8 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
                 &[format!("collisions.tc={tc:e}")],
             ));
         }
-        for &f in factors {
+        // A bed at rest has no thermal speed to scale a cutoff with.
+        for &f in factors.iter().filter(|_| v_th > 0.0) {
             let v = f * v_th;
             variants.push(Variant::new(
                 "dissipation",
@@ -626,6 +627,14 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
                 &[format!("collisions.speed_cutoff={v:e}")],
             ));
         }
+    }
+    if scene0.floor.is_some() && reference.collisions.resting_contacts {
+        // What resting contacts buy where a bed comes to rest: the same scene without them.
+        variants.push(Variant::new(
+            "resting",
+            "resting contacts off",
+            &["collisions.resting_contacts=false".into()],
+        ));
     }
     let mut rec = Variant::new("recording", "recording frames on", &[]);
     rec.record = true;

@@ -78,6 +78,47 @@ fn the_exact_engine_is_the_reference() {
     assert!(r.rows.iter().any(|r| r.family == "space-time"));
     assert!(r.rows.iter().any(|r| r.family == "floor"));
     assert!(r.rows.iter().any(|r| r.family == "dissipation"));
+    assert!(r.rows.iter().any(|r| r.family == "resting"));
+}
+
+/// On a bed that comes to rest, the report shows what resting contacts remove: without them
+/// the same bed collides many times as often (its micro-bouncing), and no speed-cutoff row is
+/// offered (a bed at rest has no thermal speed to scale it with).
+#[test]
+fn a_settling_bed_shows_what_resting_contacts_remove() {
+    let out = scratch("resting");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/hard/bed_at_rest_tc.json"
+    ))
+    .unwrap();
+    // `--quick` runs a quarter of it: averages over t = 10–15, when the bed is at rest (t ≈ 8).
+    let sets = ["run.duration=60".to_string(), "run.warmup=40".to_string()];
+    let s = Scenario::from_json_with_overrides(&text, &sets).unwrap();
+    let r = report(
+        &s,
+        &Options {
+            out,
+            quick: true,
+            ..Default::default()
+        },
+    )
+    .expect("report runs");
+    let resting = r
+        .rows
+        .iter()
+        .find(|row| row.family == "resting")
+        .expect("a resting row");
+    assert!(!resting.note.starts_with("failed"), "{resting:?}");
+    let rate_error = resting
+        .errors
+        .collision_rate
+        .expect("a collision-rate error");
+    assert!(rate_error > 1.0, "collision rate error {rate_error}");
+    assert!(!r
+        .rows
+        .iter()
+        .any(|row| row.variant.starts_with("speed cutoff")));
 }
 
 #[test]
