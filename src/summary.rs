@@ -133,6 +133,11 @@ pub struct Summary {
     /// Pressure on the floor (after warm-up), scenes with gravity and a floor.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub floor_pressure: Option<FloorPressure>,
+    /// Time to rest: the first sample time from which every disk was at rest (riding the floor
+    /// or resting on disks at rest, resting contacts) at every sample to the end of the run;
+    /// absent if some disk still moved at the last sample.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_rest_since: Option<f64>,
     /// Height profiles (gravity scenes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,

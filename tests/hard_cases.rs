@@ -452,6 +452,20 @@ fn beds_at_rest_come_to_rest_and_cost_nothing() {
     }
 }
 
+/// The summary gives the time to rest: every disk of the bed at rest from t = 7 on (samples
+/// every unit), of the bed on a Γ = 0.5 floor from t = 11; the bouncing bed never rests.
+#[test]
+fn the_summary_gives_the_time_to_rest() {
+    for (file, since) in [
+        ("bed_at_rest_tc.json", Some(7.0)),
+        ("bed_riding_gamma_0.5.json", Some(11.0)),
+        ("bouncing_bed_gamma_1.5.json", None),
+    ] {
+        let sum = run(&load(file, &[]), RunOptions::default()).unwrap();
+        assert_eq!(sum.at_rest_since, since, "{file}");
+    }
+}
+
 /// The same bed on a sine floor with Γ = 0.5 comes to rest and rides the floor as one rigid
 /// body: by half the run every disk is at rest, and from then on there are no events; every
 /// disk keeps its height above the floor's surface, y − h(t), and moves with h'(t).

@@ -35,6 +35,9 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) stops: Stops,
     pub(super) averages: Averages,
     pub(super) last_frame_collisions: u64,
+    /// The first sample time from which every disk has been at rest at every sample (`None`
+    /// while some disk moves).
+    pub(super) at_rest_since: Option<f64>,
     /// The caller's stop flag, also looked at between stops (a run with dense samples or
     /// frames can spend its time there).
     pub(super) interrupt: Option<&'static AtomicBool>,
@@ -84,6 +87,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 profiles,
             },
             last_frame_collisions: 0,
+            at_rest_since: None,
             interrupt: opts.interrupt,
             checkpoint: opts.checkpoint.clone(),
             recording_id,
@@ -127,6 +131,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.averages = d.averages;
         self.initial = d.initial;
         self.last_frame_collisions = d.last_frame_collisions;
+        self.at_rest_since = d.at_rest_since;
         self.wall_before = d.wall_seconds;
         self.recordings = ck.recordings;
         Ok(())
@@ -155,6 +160,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 averages: self.averages.clone(),
                 initial: self.initial,
                 last_frame_collisions: self.last_frame_collisions,
+                at_rest_since: self.at_rest_since,
                 wall_seconds: self.wall_before + self.clock.elapsed().as_secs_f64(),
                 time: self.sim.time(),
             },
@@ -228,6 +234,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
+        self.at_rest_since = match self.sim.at_rest() == self.sim.disks().len() {
+            true => self.at_rest_since.or(Some(self.snap.time)),
+            false => None,
+        };
         if self.averages.window.is_some() {
             let o = Observables::of(&self.snap, self.sim.disks(), self.g);
             self.averages.add(&self.snap, self.sim.disks(), &o);
@@ -395,6 +405,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 }
                 _ => None,
             },
+            at_rest_since: self.at_rest_since,
             profiles: avg.profiles.as_ref().map(|p| p.table()),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),

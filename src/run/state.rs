@@ -12,6 +12,9 @@ pub struct DriverState {
     pub(super) averages: Averages,
     pub(super) initial: Observables,
     pub(super) last_frame_collisions: u64,
+    /// The sample time since which every disk has been at rest, if it still is.
+    #[serde(default)]
+    pub(super) at_rest_since: Option<f64>,
     /// Wall seconds spent by the run so far (all its parts).
     pub(super) wall_seconds: f64,
     /// The engine's time at the checkpoint.

@@ -91,6 +91,11 @@ pub trait Integrator {
     fn setup(&self) -> Setup;
     /// Errors and steps of an approximate scheme (`None` for the exact engine).
     fn approximation(&self) -> Option<SchemeStats>;
+    /// Number of disks at rest now (riding the floor or resting on disks at rest, resting
+    /// contacts); the approximate schemes have no rest and report 0.
+    fn at_rest(&self) -> usize {
+        0
+    }
     /// The engine's complete state between events, for a checkpoint (`None`: this scheme has
     /// none; only the exact engine can be checkpointed).
     fn saved_state(&self) -> Option<EngineState> {
@@ -132,6 +137,9 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn max_overlap(&self) -> f64 {
         Simulation::max_overlap(self)
+    }
+    fn at_rest(&self) -> usize {
+        self.riders()
     }
     fn check_state(&self, snap: &Snapshot) -> Result<()> {
         self.check_no_overlap(snap)
