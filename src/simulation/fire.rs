@@ -190,6 +190,9 @@ impl<F: Flight> Simulation<F> {
             if self.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {
                 self.stop_sliding(i);
             }
+            if self.resting_contacts {
+                self.settle_cluster(i);
+            }
             let m = &self.disks.motion[i];
             let vx = m.vx.abs();
             self.dutc.ride(now, vx + lift_speed, g);

@@ -98,6 +98,9 @@ pub struct Simulation<F: Flight> {
     resting_contacts: bool,
     /// Scratch stack of the release cascade.
     releasing: Vec<u32>,
+    /// Scratch of the settling of clusters: the candidates, and who is one.
+    cluster: Vec<u32>,
+    in_cluster: Vec<bool>,
 }
 
 impl<F: Flight> Simulation<F> {

@@ -107,6 +107,9 @@ impl<F: Flight> Simulation<F> {
         }
         // `s` did not change: only its own event (this one, if it was its) needs renewing.
         self.predict(s);
+        if self.is_riding(k) {
+            self.settle_cluster(k);
+        }
         Ok(true)
     }
 
@@ -162,6 +165,26 @@ impl<F: Flight> Simulation<F> {
     /// sleep speed of `v` count as supports too (they can come to rest with `k`).
     fn stable_supports(&self, k: usize, hit: usize, slow: Option<(f64, f64)>) -> Option<[u32; 2]> {
         let now = self.now;
+        self.stable_place(k, Some(hit), |c| {
+            if self.is_riding(c) {
+                return true;
+            }
+            let Some((vx, vy)) = slow else { return false };
+            let (_, _, vxc, vyc) = self.state_at(c, now);
+            (vxc - vx).hypot(vyc - vy) <= self.sleep_speed(c)
+        })
+    }
+
+    /// Two supports of disk `k` (at now) whose contact normals bracket the vertical, among the
+    /// disks touching it that `can_support` accepts (and `hit`, always), and the side walls; or
+    /// one straight below it (only `hit`, if given; any accepted disk otherwise).
+    fn stable_place(
+        &self,
+        k: usize,
+        hit: Option<usize>,
+        can_support: impl Fn(usize) -> bool,
+    ) -> Option<[u32; 2]> {
+        let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
         let touch = TOUCH * ak;
@@ -173,23 +196,16 @@ impl<F: Flight> Simulation<F> {
             .of(k)
             .iter()
             .map(|&c| c as usize)
-            .filter(|&c| c != hit);
-        for c in std::iter::once(hit).chain(others) {
-            let (xc, yc, vxc, vyc) = self.state_at(c, now);
-            if c != hit && !self.is_riding(c) {
-                let Some((vx, vy)) = slow else { continue };
-                let speed = (vxc - vx).hypot(vyc - vy);
-                if speed > self.sleep_speed(c) {
-                    continue;
-                }
-            }
+            .filter(|&c| Some(c) != hit && can_support(c));
+        for c in hit.into_iter().chain(others) {
+            let (xc, yc, _, _) = self.state_at(c, now);
             let (dx, dy) = self.wrap(xk - xc, yk - yc);
             let dist = (dx * dx + dy * dy).sqrt();
             if dist - (ak + self.disks.radius[c]) > touch {
                 continue;
             }
             let (nx, ny) = (dx / dist, dy / dist);
-            if c == hit && nx.abs() <= VERTICAL && ny > 0.0 {
+            if hit.is_none_or(|h| h == c) && nx.abs() <= VERTICAL && ny > 0.0 {
                 return Some([c as u32, NO_DISK]);
             }
             if found < normals.len() {
@@ -339,6 +355,96 @@ impl<F: Flight> Simulation<F> {
         self.release_carried(i, None);
         self.release_carried(j, None);
         Ok(true)
+    }
+
+    /// Disk `seed` has just come to rest. The flying disks touching it, directly or through each
+    /// other, that move slower than the sleep speed relative to the floor (a jammed layer or an
+    /// arch, held only as a whole) come to rest together: those of them that are in a stable
+    /// place among the disks at rest that do not slide, the side walls, the floor and each other —
+    /// dropping, until none is left, any that is not. Each would land where it is, gently, within
+    /// [`TOUCH`] radii; without this such a cluster rattles on its supports for ever.
+    pub(super) fn settle_cluster(&mut self, seed: usize) {
+        let n = self.disks.len();
+        let now = self.now;
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let mut member = std::mem::take(&mut self.in_cluster);
+        member.resize(n, false);
+        let mut cluster = std::mem::take(&mut self.cluster);
+        // Gather: breadth first from the seed, through slow flying disks that touch.
+        let mut from = seed;
+        let mut next = 0;
+        loop {
+            let (xs, ys, _, _) = self.state_at(from, now);
+            for idx in 0..self.lists.of(from).len() {
+                let c = self.lists.of(from)[idx] as usize;
+                if member[c] || self.is_riding(c) {
+                    continue;
+                }
+                let (xc, yc, vxc, vyc) = self.state_at(c, now);
+                let ac = self.disks.radius[c];
+                let (dx, dy) = self.wrap(xc - xs, yc - ys);
+                let gap = (dx * dx + dy * dy).sqrt() - ac - self.disks.radius[from];
+                if gap <= TOUCH * ac && vxc.hypot(vyc - hd) <= self.sleep_speed(c) {
+                    member[c] = true;
+                    cluster.push(c as u32);
+                }
+            }
+            let Some(&c) = cluster.get(next) else { break };
+            from = c as usize;
+            next += 1;
+        }
+        // Prune: drop the members that no place holds, until every remaining one is held.
+        let place = |sim: &Self, c: usize, member: &[bool]| -> Option<[u32; 2]> {
+            let (_, yc, _, _) = sim.state_at(c, now);
+            let ac = sim.disks.radius[c];
+            if sim.squeezed(c, 0.0, hd) || sim.near_lid(c) {
+                return None;
+            }
+            if yc - h - ac <= TOUCH * ac {
+                return Some([NO_DISK; 2]); // on the floor
+            }
+            sim.stable_place(c, None, |s| {
+                member[s] || (sim.is_riding(s) && sim.disks.motion[s].vx == 0.0)
+            })
+        };
+        loop {
+            let mut dropped = false;
+            for &c in &cluster {
+                let c = c as usize;
+                if member[c] && place(self, c, &member).is_none() {
+                    member[c] = false;
+                    dropped = true;
+                }
+            }
+            if !dropped {
+                break;
+            }
+        }
+        // Rest: every place first (they refer to each other), then every disk.
+        let mut places = Vec::new();
+        for &c in &cluster {
+            if member[c as usize] {
+                let p = place(self, c as usize, &member).expect("held after pruning");
+                places.push((c as usize, p));
+            }
+        }
+        let mut refused = Vec::new();
+        for &(c, p) in &places {
+            self.bring(c, now);
+            if !self.come_to_rest(c, h, p, (0.0, hd)) {
+                refused.push(c);
+            }
+        }
+        // A disk that could not be carried (its supports are full) lets go of what rests on it.
+        for c in refused {
+            self.release_carried(c, None);
+        }
+        for &c in &cluster {
+            member[c as usize] = false;
+        }
+        cluster.clear();
+        self.cluster = cluster;
+        self.in_cluster = member;
     }
 
     /// Riding disk `i` is about to change velocity: if it rests on disks, it leaves them.

@@ -112,6 +112,8 @@ impl<F: Flight> Simulation<F> {
             riders: Riders::default(),
             resting_contacts: scene.resting_contacts,
             releasing: Vec::new(),
+            cluster: Vec::new(),
+            in_cluster: Vec::new(),
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n);
