@@ -271,9 +271,9 @@ hard_cases! {
     // Rest on the floor.
     column_tc: "column_tc.json", 3e5;
     rest_static_floor: "rest_static_floor.json", 100.0; // [3.5]
-    bed_at_rest_tc: "bed_at_rest_tc.json", 2e4; // [3.6e3: at rest from t = 10]
-    bed_at_rest_speed_cutoff: "bed_at_rest_speed_cutoff.json", 4e4; // [7.7e3: from t = 9]
-    bed_riding_gamma_05: "bed_riding_gamma_0.5.json", 2e4; // [4.3e3: from t = 11]
+    bed_at_rest_tc: "bed_at_rest_tc.json", 2e4; // [3.2e3: at rest from t = 10]
+    bed_at_rest_speed_cutoff: "bed_at_rest_speed_cutoff.json", 4e4; // [7.2e3: from t = 9]
+    bed_riding_gamma_05: "bed_riding_gamma_0.5.json", 2e4; // [3.6e3: from t = 11]
     bouncing_bed_gamma_15: "bouncing_bed_gamma_1.5.json", 2e4; // [2.4e3]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]

@@ -31,6 +31,10 @@ use crate::locals::{SideBounds, Top};
 /// A contact normal within this of the vertical (|n_x| ≤ `VERTICAL`) carries a disk alone.
 pub const VERTICAL: f64 = 1e-9;
 
+/// A slot whose two contact normals sum to less than this (they are within ~6° of opposite)
+/// stops a disk moving deeper into it (see `stop_in_slot`).
+pub const WEDGE: f64 = 0.1;
+
 /// A support touches a disk when their gap is at most `TOUCH` radii of the resting disk; a
 /// resting disk leaves its supports when a gap grows beyond twice that.
 pub const TOUCH: f64 = 10.0 * PAIR_REST_HEIGHT;
@@ -48,8 +52,11 @@ impl<F: Flight> Simulation<F> {
         let u = dvx * nx + dvy * ny;
         let slide = (dvy * nx - dvx * ny).abs();
         let gentle = self.sleep_speed(k);
-        if gentle == 0.0 || -e * u > gentle || slide > gentle {
+        if gentle == 0.0 {
             return Ok(false);
+        }
+        if -e * u > gentle || slide > gentle {
+            return self.stop_in_slot(k, s, (nx, ny), dist);
         }
         let floor = self.floor.as_ref().expect("riders need a floor");
         let now = self.now;
@@ -110,6 +117,83 @@ impl<F: Flight> Simulation<F> {
         if self.is_riding(k) {
             self.settle_cluster(k);
         }
+        Ok(true)
+    }
+
+    /// Flying disk `k` hits disk `s` at rest (contact normal `n` from `s` to `k`) while it touches,
+    /// on the other side, a disk at rest or a side wall whose normal is nearly opposite (the two
+    /// sum to less than [`WEDGE`]): a slot between supports that do not give, and k moves deeper
+    /// into it. Between rigid walls it would collide ~π/|n_s + n_c| times at once and stop (for
+    /// e < 1; with a cure it would rattle in zero gaps for ever): it stops at once — it comes to
+    /// rest if the place holds it, else it is left still to fall out of the slot. Returns
+    /// whether it stopped (the collision is then done).
+    fn stop_in_slot(
+        &mut self,
+        k: usize,
+        s: usize,
+        (nx, ny): (f64, f64),
+        dist: f64,
+    ) -> Result<bool> {
+        let now = self.now;
+        let (xk, yk, vxk, vyk) = self.state_at(k, now);
+        let ak = self.disks.radius[k];
+        let touch = TOUCH * ak;
+        let vs = self.disks.motion[s].vx;
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let (vx, vy) = (vxk - vs, vyk - hd);
+        let into = |(cx, cy): (f64, f64)| {
+            let (bx, by) = (nx + cx, ny + cy);
+            bx.hypot(by) < WEDGE && vx * bx + vy * by < 0.0
+        };
+        let mut slot = false;
+        if let SideBounds::Walls { width, .. } = self.sides {
+            slot |= xk - ak <= touch && into((1.0, 0.0));
+            slot |= width - xk - ak <= touch && into((-1.0, 0.0));
+        }
+        for idx in 0..self.lists.of(k).len() {
+            let c = self.lists.of(k)[idx] as usize;
+            if slot {
+                break;
+            }
+            if c == s || !self.is_riding(c) || self.disks.motion[c].vx != vs {
+                continue;
+            }
+            let (xc, yc, _, _) = self.state_at(c, now);
+            let (dx, dy) = self.wrap(xk - xc, yk - yc);
+            let d = (dx * dx + dy * dy).sqrt();
+            slot = d - ak - self.disks.radius[c] <= touch && into((dx / d, dy / d));
+        }
+        if !slot {
+            return Ok(false);
+        }
+        self.check_contact(k, s, dist)?;
+        self.counts.pair += 1;
+        let held = if yk - h - ak <= touch {
+            Some([NO_DISK; 2])
+        } else {
+            self.stable_supports(k, s, None)
+        };
+        if let Some(supports) = held {
+            if !self.squeezed(k, vs, hd)
+                && !self.near_lid(k)
+                && self.come_to_rest(k, h, supports, (vs, hd))
+            {
+                self.predict(s);
+                self.settle_cluster(k);
+                return Ok(true);
+            }
+        }
+        // Still, relative to the supports, as a flying disk.
+        let mass = self.disks.mass[k];
+        let relative = 0.5 * mass * (vx * vx + vy * vy);
+        self.flow.dissipated += relative;
+        self.flow.injected += 0.5 * mass * (vs * vs + hd * hd - vxk * vxk - vyk * vyk) + relative;
+        self.flow.floor_impulse += mass * (hd - vyk);
+        let m = &mut self.disks.motion[k];
+        m.vx = vs;
+        m.vy = hd;
+        self.moved(k);
+        self.predict(s);
         Ok(true)
     }
 
