@@ -274,6 +274,7 @@ hard_cases! {
     bed_at_rest_tc: "bed_at_rest_tc.json", 2e4; // [3.2e3: at rest from t = 10]
     bed_at_rest_speed_cutoff: "bed_at_rest_speed_cutoff.json", 4e4; // [7.2e3: from t = 9]
     bed_riding_gamma_05: "bed_riding_gamma_0.5.json", 2e4; // [3.6e3: from t = 11]
+    bed_at_rest_60: "bed_at_rest_60.json", 2e5; // [3.0e4: from t = 13]
     bouncing_bed_gamma_15: "bouncing_bed_gamma_1.5.json", 2e4; // [2.4e3]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
@@ -402,12 +403,17 @@ fn column_without_a_cure_rests_on_contacts_or_stops_at_the_event_limit() {
 
 /// A bed poured on a static floor (24 disks, six layers, e = 0.5, between walls) comes to rest
 /// with either cure (resting contacts: disks at rest stop sliding, slow disks touching the
-/// floor beside a disk at rest rest on the floor, arches come to rest together): by half the
-/// run every disk is at rest, and from then on the run costs no events at all — every disk
-/// stays where it is, at zero speed.
+/// floor beside a disk at rest rest on the floor, arches and jammed clusters come to rest
+/// together), and so does a ten-layer bed of 60 (TC): by half the run every disk is at rest,
+/// and from then on the run costs no events at all — every disk stays where it is, at zero
+/// speed.
 #[test]
 fn beds_at_rest_come_to_rest_and_cost_nothing() {
-    for file in ["bed_at_rest_tc.json", "bed_at_rest_speed_cutoff.json"] {
+    for file in [
+        "bed_at_rest_tc.json",
+        "bed_at_rest_speed_cutoff.json",
+        "bed_at_rest_60.json",
+    ] {
         let s = load(file, &[]);
         let n = s.particles.count.unwrap();
         let mut sim = common::ballistic(&json_of(&s));
