@@ -5,13 +5,15 @@
 //! rebound ([`PAIR_REST_HEIGHT`]), about 500 times per unit time, and a bed at rest costs
 //! millions of events per unit time. The model is the pair analogue of the rest on the floor:
 //!
-//! - **Coming to rest.** A flying disk `k` hits a riding disk `s` that is pressed onto it
-//!   (`g + h'' > 0`, `k` above `s`). If its normal rebound `e·|u|` and its sliding speed along the
-//!   contact are both below the smallest rebound `√(2·press·PAIR_REST_HEIGHT·a)`, and its weight is
-//!   carried — by `s` straight below it (contact normal vertical to [`VERTICAL`]), or by supports
-//!   on both sides of the vertical (disks at rest or side walls touching it to within
-//!   [`TOUCH`] radii) — then `k` takes `s`'s velocity and rides: `y = h(t) + lift`, moving
-//!   horizontally with `s`. Its relative kinetic energy is booked as dissipated and the change
+//! - **Coming to rest.** A flying disk `k` hits a riding disk `s`. If its normal rebound `e·|u|`
+//!   and its sliding speed along the contact are both below the sleep speed
+//!   `v_s = √(2·(g + h'')·PAIR_REST_HEIGHT·a)` (the smallest rebound on a rider), and its weight
+//!   is carried — by `s` straight below it (contact normal vertical to [`VERTICAL`]), by two
+//!   supports whose contact normals bracket the vertical (disks at rest or side walls touching it
+//!   to within [`TOUCH`] radii), or by the floor it touches — then `k` takes `s`'s velocity and
+//!   rides: `y = h(t) + lift`, moving horizontally with `s`. A slow flying support comes to rest
+//!   with it (an arch), and so do the slow flying disks around it that only hold as a whole
+//!   (`settle_cluster`). Its relative kinetic energy is booked as dissipated and the change
 //!   of its absolute kinetic energy beyond that as work of the floor (the floor carries the
 //!   stack). A disk balanced on one disk is an unstable equilibrium; freezing it when the
 //!   normal is vertical to 10⁻⁹ suppresses a fall that would take ~ln(10⁹)·√(d/g) to develop.
@@ -20,6 +22,10 @@
 //!   (an `unmount` event). Whatever rests on a disk that leaves is released at the same moment,
 //!   recursively, with its current velocity: it then falls onto whatever is below and, if that
 //!   is at rest and the place is stable, comes to rest again at once.
+//! - **Static friction below v_s.** Disks at rest slower than `v_s` stop sliding (landing on the
+//!   floor, reaching a wall); two touching disks at rest slide on together instead of colliding
+//!   (`rest_together`); a flyer driven into a slot between supports at rest stops there
+//!   (`stop_in_slot`). Without these a bed of frictionless disks never stops sliding and ringing.
 
 use super::riders::{LEFT_WALL, NO_DISK, RIGHT_WALL};
 use super::Simulation;
@@ -40,9 +46,10 @@ pub const WEDGE: f64 = 0.1;
 pub const TOUCH: f64 = 10.0 * PAIR_REST_HEIGHT;
 
 impl<F: Flight> Simulation<F> {
-    /// Flying disk `k` lands on riding disk `s` (both brought to now) with restitution `e`,
-    /// pressed together so that the smallest rebound is `min_rebound > 0`. Comes to rest on
-    /// `s` (and returns `true`) if the landing is gentle and the place is stable.
+    /// Flying disk `k` meets riding disk `s` (both brought to now) with restitution `e`. Comes to
+    /// rest (and returns `true`) if the meeting is gentle — rebound and sliding speed below the
+    /// sleep speed — and the place is stable (or on the floor beside `s`); stops in a slot (see
+    /// [`stop_in_slot`](Self::stop_in_slot)) if it is not gentle. `false`: collide as usual.
     pub(super) fn try_rest_on(&mut self, k: usize, s: usize, e: f64) -> Result<bool> {
         let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
         let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
