@@ -500,6 +500,54 @@ fn a_thrown_disk_wakes_a_column_at_rest_as_the_exact_engine_does() {
     assert!(on.max_overlap() < TOLERANCE && off.max_overlap() < TOLERANCE);
 }
 
+/// Two disks at rest on the floor sliding one after the other, the one behind 5·10⁻⁴ faster
+/// (below the sleep speed, 10⁻³ for a = 0.5, g = 1): when it catches up they do not collide —
+/// that would throw both off the floor — but slide on together at their common velocity, both
+/// still at rest on the floor: momentum kept exactly, the relative kinetic energy dissipated,
+/// the energy budget closed, and no more events between them.
+#[test]
+fn disks_at_rest_that_touch_slowly_slide_on_together() {
+    let json = r#"{"name": "two sliding disks", "seed": 1,
+        "domain": {"width": 100.0, "x_boundary": "walls", "y_boundary": "open"},
+        "gravity": 1.0, "floor": {"restitution": 0.5},
+        "particles": {"count": 2, "radius": 0.5, "placement": {
+            "positions": [[10.0, 0.5], [12.0, 0.5]],
+            "velocities": [[0.0105, 0.0], [0.01, 0.0]]}},
+        "collisions": {"restitution": 0.5},
+        "run": {"duration": 3000.0}, "engine": {"check_invariants": true}}"#;
+    let mut sim = common::ballistic(json);
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.riders(), 2, "both rest on the floor, sliding");
+    let p0: f64 = sim.snapshot(1.0).vx.iter().sum();
+    // The gap of 1 closes at 5·10⁻⁴ per unit time: by t = 2001.
+    sim.advance_to(2500.0).unwrap();
+    let snap = sim.snapshot(2500.0);
+    assert_eq!(sim.riders(), 2, "a disk left the floor");
+    assert_eq!(snap.vx[0], snap.vx[1], "they do not slide together");
+    assert!(
+        (snap.vx[0] - 0.01025).abs() < 1e-15,
+        "common velocity {}",
+        snap.vx[0]
+    );
+    assert!((snap.vx.iter().sum::<f64>() - p0).abs() < 1e-15);
+    assert!(
+        (snap.x[1] - snap.x[0] - 1.0).abs() < 1e-9,
+        "they are not in contact"
+    );
+    let events = sim.counts().popped();
+    sim.advance_to(2900.0).unwrap();
+    assert_eq!(
+        sim.counts().popped(),
+        events,
+        "disks sliding together still collide"
+    );
+    let flow = sim.energy_flow();
+    // ½ μ Δv² with μ = m/2: the relative kinetic energy, lost.
+    let m = sim.disks().mass[0];
+    assert!((flow.dissipated - 0.25 * m * 0.0005f64.powi(2)).abs() < 1e-15 * m);
+    assert!(sim.max_overlap() < TOLERANCE);
+}
+
 /// The summary gives the time to rest (samples every unit): the bed at rest and the bed on a
 /// Γ = 0.5 floor rest from a sample in the first half of the run on (measured: t = 10 and 11),
 /// the bouncing bed never rests.
