@@ -234,9 +234,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
-        self.at_rest_since = match self.sim.at_rest() == self.sim.disks().len() {
-            true => self.at_rest_since.or(Some(self.snap.time)),
-            false => None,
+        self.at_rest_since = if self.sim.disks_at_rest() == self.sim.disks().len() {
+            self.at_rest_since.or(Some(self.snap.time))
+        } else {
+            None
         };
         if self.averages.window.is_some() {
             let o = Observables::of(&self.snap, self.sim.disks(), self.g);

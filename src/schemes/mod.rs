@@ -93,7 +93,7 @@ pub trait Integrator {
     fn approximation(&self) -> Option<SchemeStats>;
     /// Number of disks at rest now (riding the floor or resting on disks at rest, resting
     /// contacts); the approximate schemes have no rest and report 0.
-    fn at_rest(&self) -> usize {
+    fn disks_at_rest(&self) -> usize {
         0
     }
     /// The engine's complete state between events, for a checkpoint (`None`: this scheme has
@@ -138,7 +138,7 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn max_overlap(&self) -> f64 {
         Simulation::max_overlap(self)
     }
-    fn at_rest(&self) -> usize {
+    fn disks_at_rest(&self) -> usize {
         self.riders()
     }
     fn check_state(&self, snap: &Snapshot) -> Result<()> {

@@ -31,14 +31,7 @@ impl<F: Flight> Simulation<F> {
         match who {
             partner::LEFT | partner::RIGHT => {
                 self.bring(i, now);
-                if self.resting_contacts
-                    && self.is_riding(i)
-                    && self.disks.motion[i].vx.abs() < self.sleep_speed(i)
-                {
-                    self.stop_sliding(i);
-                    self.counts.wall += 1;
-                    self.moved(i);
-                    self.release_carried(i, None);
+                if self.stop_at_wall(i) {
                     return Ok(());
                 }
                 self.unsettle(i);

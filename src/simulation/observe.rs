@@ -124,11 +124,6 @@ impl<F: Flight> Simulation<F> {
         self.riders.count()
     }
 
-    /// `true` when disk `i` is at rest now: riding the floor, or resting on disks at rest.
-    pub fn at_rest(&self, i: usize) -> bool {
-        self.riders.is_riding(i)
-    }
-
     /// Number of disks resting on other disks now (part of [`riders`](Self::riders)).
     pub fn stacked(&self) -> usize {
         self.riders.stacked()

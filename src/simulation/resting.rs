@@ -69,8 +69,7 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let (h, hd) = floor.ride(now);
         let rest_v = (ms.vx, hd);
-        let ak = self.disks.radius[k];
-        let supports = if mk.y - h - ak <= TOUCH * ak {
+        let supports = if self.touches_floor(k, h) {
             [NO_DISK; 2] // beside s, on the floor
         } else {
             match self.stable_supports(k, s, Some(rest_v)) {
@@ -83,9 +82,7 @@ impl<F: Flight> Simulation<F> {
         for (slot, &c) in supports.iter().enumerate() {
             if c < RIGHT_WALL && !self.is_riding(c as usize) {
                 let c = c as usize;
-                let (_, yc, _, _) = self.state_at(c, now);
-                let ac = self.disks.radius[c];
-                let supports_c = if yc - h - ac <= TOUCH * ac {
+                let supports_c = if self.touches_floor(c, h) {
                     Some([NO_DISK; 2]) // on the floor
                 } else {
                     self.stable_supports(c, k, None)
@@ -152,30 +149,30 @@ impl<F: Flight> Simulation<F> {
             let (bx, by) = (nx + cx, ny + cy);
             bx.hypot(by) < WEDGE && vx * bx + vy * by < 0.0
         };
-        let mut slot = false;
-        if let SideBounds::Walls { width, .. } = self.sides {
-            slot |= xk - ak <= touch && into((1.0, 0.0));
-            slot |= width - xk - ak <= touch && into((-1.0, 0.0));
-        }
-        for idx in 0..self.lists.of(k).len() {
-            let c = self.lists.of(k)[idx] as usize;
-            if slot {
-                break;
+        let wall = match self.sides {
+            SideBounds::Walls { width, .. } => {
+                (xk - ak <= touch && into((1.0, 0.0)))
+                    || (width - xk - ak <= touch && into((-1.0, 0.0)))
             }
-            if c == s || !self.is_riding(c) || self.disks.motion[c].vx != vs {
-                continue;
-            }
-            let (xc, yc, _, _) = self.state_at(c, now);
-            let (dx, dy) = self.wrap(xk - xc, yk - yc);
-            let d = (dx * dx + dy * dy).sqrt();
-            slot = d - ak - self.disks.radius[c] <= touch && into((dx / d, dy / d));
-        }
+            _ => false,
+        };
+        let slot = wall
+            || self.lists.of(k).iter().any(|&c| {
+                let c = c as usize;
+                if c == s || !self.is_riding(c) || self.disks.motion[c].vx != vs {
+                    return false;
+                }
+                let (xc, yc, _, _) = self.state_at(c, now);
+                let (dx, dy) = self.wrap(xk - xc, yk - yc);
+                let d = (dx * dx + dy * dy).sqrt();
+                d - ak - self.disks.radius[c] <= touch && into((dx / d, dy / d))
+            });
         if !slot {
             return Ok(false);
         }
         self.check_contact(k, s, dist)?;
         self.counts.pair += 1;
-        let held = if yk - h - ak <= touch {
+        let held = if self.touches_floor(k, h) {
             Some([NO_DISK; 2])
         } else {
             self.stable_supports(k, s, None)
@@ -191,17 +188,17 @@ impl<F: Flight> Simulation<F> {
             }
         }
         // Still, relative to the supports, as a flying disk.
-        let mass = self.disks.mass[k];
-        let relative = 0.5 * mass * (vx * vx + vy * vy);
-        self.flow.dissipated += relative;
-        self.flow.injected += 0.5 * mass * (vs * vs + hd * hd - vxk * vxk - vyk * vyk) + relative;
-        self.flow.floor_impulse += mass * (hd - vyk);
-        let m = &mut self.disks.motion[k];
-        m.vx = vs;
-        m.vy = hd;
+        self.take_velocity(k, (vs, hd));
         self.moved(k);
         self.predict(s);
         Ok(true)
+    }
+
+    /// Whether disk `k` (at now) touches the floor's surface `h`, to within [`TOUCH`] radii.
+    fn touches_floor(&self, k: usize, h: f64) -> bool {
+        let (_, y, _, _) = self.state_at(k, self.now);
+        let a = self.disks.radius[k];
+        y - h - a <= TOUCH * a
     }
 
     /// Whether disk `k` at rest could be pushed into the lid by the floor's motion.
@@ -228,22 +225,28 @@ impl<F: Flight> Simulation<F> {
         } else if !self.riders.mount_on_disks(k, mk.y - h, supports) {
             return false;
         }
-        let mass = self.disks.mass[k];
-        let relative = 0.5 * mass * ((mk.vx - vx).powi(2) + (mk.vy - hd).powi(2));
-        self.flow.dissipated += relative;
-        self.flow.injected +=
-            0.5 * mass * (vx * vx + hd * hd - mk.vx * mk.vx - mk.vy * mk.vy) + relative;
-        // The disks at rest below it are held by the floor, which takes the landing.
-        self.flow.floor_impulse += mass * (hd - mk.vy);
-        let m = &mut self.disks.motion[k];
-        m.vx = vx;
-        m.vy = hd;
+        self.take_velocity(k, (vx, hd));
         self.counts.rest += 1;
         let floor = self.floor.as_ref().expect("riders need a floor");
         self.dutc
             .ride(self.now, vx.abs() + floor.max_speed(), self.flight.g());
         self.moved(k);
         true
+    }
+
+    /// Disk `k` (brought to now) takes the velocity `(vx, h'(now))` of the disks at rest it
+    /// meets: its kinetic energy relative to them is booked as dissipated and the rest of the
+    /// change as work of the floor, which holds them and takes the momentum.
+    fn take_velocity(&mut self, k: usize, (vx, hd): (f64, f64)) {
+        let mass = self.disks.mass[k];
+        let m = &mut self.disks.motion[k];
+        let relative = 0.5 * mass * ((m.vx - vx).powi(2) + (m.vy - hd).powi(2));
+        self.flow.dissipated += relative;
+        self.flow.injected +=
+            0.5 * mass * (vx * vx + hd * hd - m.vx * m.vx - m.vy * m.vy) + relative;
+        self.flow.floor_impulse += mass * (hd - m.vy);
+        m.vx = vx;
+        m.vy = hd;
     }
 
     /// What carries flying disk `k` (at now) if it rests on riding disk `hit`: `hit` alone if it
@@ -414,6 +417,23 @@ impl<F: Flight> Simulation<F> {
         m.vx = 0.0;
     }
 
+    /// Disk `i` (brought to now) reaches a side wall: if it is at rest and slower than the sleep
+    /// speed it stops there, and what rested on it (sliding with it) is released. Returns whether
+    /// it stopped (the wall collision is then done).
+    pub(super) fn stop_at_wall(&mut self, i: usize) -> bool {
+        if !(self.resting_contacts
+            && self.is_riding(i)
+            && self.disks.motion[i].vx.abs() < self.sleep_speed(i))
+        {
+            return false;
+        }
+        self.stop_sliding(i);
+        self.counts.wall += 1;
+        self.moved(i);
+        self.release_carried(i, None);
+        true
+    }
+
     /// Riding disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`) touch while
     /// approaching slower than the sleep speed: instead of a collision that would throw both
     /// off their supports, they stay at rest and slide on together with their common horizontal
@@ -486,39 +506,39 @@ impl<F: Flight> Simulation<F> {
         }
         // Prune: drop the members that no place holds, until every remaining one is held.
         let place = |sim: &Self, c: usize, member: &[bool]| -> Option<[u32; 2]> {
-            let (_, yc, _, _) = sim.state_at(c, now);
-            let ac = sim.disks.radius[c];
             if sim.squeezed(c, 0.0, hd) || sim.near_lid(c) {
                 return None;
             }
-            if yc - h - ac <= TOUCH * ac {
-                return Some([NO_DISK; 2]); // on the floor
+            if sim.touches_floor(c, h) {
+                return Some([NO_DISK; 2]);
             }
             sim.stable_place(c, None, |s| {
                 member[s] || (sim.is_riding(s) && sim.disks.motion[s].vx == 0.0)
             })
         };
+        // The places of the last pass, the one that dropped nothing, hold together.
+        let mut places = Vec::new();
         loop {
+            places.clear();
             let mut dropped = false;
             for &c in &cluster {
                 let c = c as usize;
-                if member[c] && place(self, c, &member).is_none() {
-                    member[c] = false;
-                    dropped = true;
+                if !member[c] {
+                    continue;
+                }
+                match place(self, c, &member) {
+                    Some(p) => places.push((c, p)),
+                    None => {
+                        member[c] = false;
+                        dropped = true;
+                    }
                 }
             }
             if !dropped {
                 break;
             }
         }
-        // Rest: every place first (they refer to each other), then every disk.
-        let mut places = Vec::new();
-        for &c in &cluster {
-            if member[c as usize] {
-                let p = place(self, c as usize, &member).expect("held after pruning");
-                places.push((c as usize, p));
-            }
-        }
+        // Rest: every place is known first (they refer to each other), then every disk rests.
         let mut refused = Vec::new();
         for &(c, p) in &places {
             self.bring(c, now);
