@@ -11,6 +11,7 @@ use vibrobed::dynamics::Flight;
 mod reference;
 
 use reference::Reference;
+use vibrobed::scenario::RemapChoice;
 use vibrobed::simulation::Collision;
 use vibrobed::simulation::{Scene, Simulation};
 
@@ -44,6 +45,30 @@ fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize
         let got = engine_log.len().max(1) as f64;
         dt = (dt * target_per_window as f64 / got).clamp(1e-4, 10.0);
         assert!(windows < 10_000, "the comparison makes no progress");
+    }
+    let c = sim.counts();
+    if scene.remap == RemapChoice::Local {
+        // The local re-mapping was exercised: many disks left their shells.
+        assert!(c.shell > n as u64, "only {} shell exits", c.shell);
+    } else {
+        assert_eq!(c.shell, 0);
+    }
+}
+
+/// Compares the engine with each re-mapping (Isobe's global one, and the local one) against
+/// the reference, on the scene `json` (which has no `engine` section).
+fn both_remaps(json: &str, events: usize, gravity: bool) {
+    let local = format!(
+        "{}, \"engine\": {{\"remap\": \"local\"}}}}",
+        json.trim_end().strip_suffix('}').expect("a JSON object")
+    );
+    for json in [json, local.as_str()] {
+        let (scene, _) = common::scene(json);
+        if gravity {
+            compare(common::ballistic(json), &scene, events);
+        } else {
+            compare(common::straight(json), &scene, events);
+        }
     }
 }
 
@@ -82,8 +107,7 @@ fn periodic_gas_at_low_density() {
         "domain": {"width": 12, "x_boundary": "periodic", "y_boundary": "periodic", "height": 12},
         "particles": {"count": 40, "radius": 0.5},
         "run": {"duration": 1}}"#;
-    let (scene, _) = common::scene(json);
-    compare(common::straight(json), &scene, 3000);
+    both_remaps(json, 3000, false);
 }
 
 #[test]
@@ -92,8 +116,7 @@ fn periodic_gas_at_high_density() {
         "domain": {"width": 8, "x_boundary": "periodic", "y_boundary": "periodic"},
         "particles": {"count": 56, "radius": 0.5, "packing_fraction": 0.7},
         "run": {"duration": 1}}"#;
-    let (scene, _) = common::scene(json);
-    compare(common::straight(json), &scene, 5000);
+    both_remaps(json, 5000, false);
 }
 
 #[test]
@@ -103,8 +126,7 @@ fn box_with_walls_and_lid() {
         "floor": {"restitution": 1.0},
         "particles": {"count": 30, "radius": 0.5},
         "run": {"duration": 1}}"#;
-    let (scene, _) = common::scene(json);
-    compare(common::straight(json), &scene, 3000);
+    both_remaps(json, 3000, false);
 }
 
 #[test]
@@ -114,8 +136,7 @@ fn inelastic_polydisperse_mixture() {
         "particles": {"radius": {"species": [{"count": 20, "radius": 0.5}, {"count": 10, "radius": 0.8, "mass": 3.0}, {"count": 4, "radius": 1.2}]}},
         "collisions": {"restitution": 0.95},
         "run": {"duration": 1}}"#;
-    let (scene, _) = common::scene(json);
-    compare(common::straight(json), &scene, 3000);
+    both_remaps(json, 3000, false);
 }
 
 #[test]
@@ -126,6 +147,5 @@ fn bed_under_gravity_on_a_static_floor() {
         "floor": {"restitution": 1.0},
         "particles": {"count": 30, "radius": 0.5, "temperature": 2.0},
         "run": {"duration": 1}}"#;
-    let (scene, _) = common::scene(json);
-    compare(common::ballistic(json), &scene, 3000);
+    both_remaps(json, 3000, true);
 }

@@ -51,7 +51,26 @@ impl GridGeometry {
         top: Option<f64>,
         y_periodic: bool,
     ) -> GridGeometry {
-        let target = CELL_PER_RADIUS * a_min;
+        Self::with_cell(
+            CELL_PER_RADIUS * a_min,
+            width,
+            x_periodic,
+            bottom,
+            top,
+            y_periodic,
+        )
+    }
+
+    /// As [`new`](Self::new), with cells of side at most `target` (the local re-mapping needs
+    /// smaller cells: see `simulation::shells`).
+    pub fn with_cell(
+        target: f64,
+        width: f64,
+        x_periodic: bool,
+        bottom: f64,
+        top: Option<f64>,
+        y_periodic: bool,
+    ) -> GridGeometry {
         let nx = (width / target).ceil().max(1.0) as u32;
         let lx = if x_periodic {
             width / nx as f64
@@ -168,6 +187,11 @@ pub trait CellMap {
     ) -> Result<()>;
     /// The disk in cell `(ix, iy)`, if any.
     fn disk_at(&self, ix: u32, iy: u32) -> Option<u32>;
+    /// Puts disk `i` in the empty cell `cell`; `Ok(false)` if the storage has no room
+    /// left there (the caller re-maps), an error if the cell holds another disk.
+    fn insert(&mut self, geometry: &GridGeometry, cell: (u32, u32), i: u32) -> Result<bool>;
+    /// Takes disk `i` out of cell `cell` (nothing if it is not there).
+    fn remove(&mut self, geometry: &GridGeometry, cell: (u32, u32), i: u32);
     /// Calls `found` with every disk in the cells at `offsets` around `(ix, iy)`.
     #[inline]
     fn gather(
@@ -217,6 +241,30 @@ impl DenseCells {
     #[inline(always)]
     fn index(&self, ix: u32, iy: u32) -> usize {
         (iy + self.pad) as usize * self.stride + (ix + self.pad) as usize
+    }
+
+    /// Writes one cell's slot and its images in the halo where periodic.
+    fn write(&mut self, geometry: &GridGeometry, ix: u32, iy: u32, value: u32) {
+        let (p, nx) = (self.pad as i64, geometry.nx as i64);
+        let ny = geometry.ny.unwrap_or(1) as i64;
+        let images = |i: i64, n: i64, periodic: bool| {
+            let mut v = [i + p, i + p, i + p];
+            if periodic && i < p {
+                v[1] = i + p + n;
+            }
+            if periodic && i >= n - p {
+                v[2] = i + p - n;
+            }
+            v
+        };
+        let xs = images(ix as i64, nx, geometry.x_periodic);
+        let ys = images(iy as i64, ny, geometry.y_periodic);
+        for y in ys {
+            for x in xs {
+                let k = y as usize * self.stride + x as usize;
+                self.slots[k] = value;
+            }
+        }
     }
 }
 
@@ -274,6 +322,22 @@ impl CellMap for DenseCells {
         (s != 0).then(|| s - 1)
     }
 
+    fn insert(&mut self, geometry: &GridGeometry, (ix, iy): (u32, u32), i: u32) -> Result<bool> {
+        if let Some(j) = self.disk_at(ix, iy) {
+            if j != i {
+                return Err(shared_cell(j, i));
+            }
+        }
+        self.write(geometry, ix, iy, i + 1);
+        Ok(true)
+    }
+
+    fn remove(&mut self, geometry: &GridGeometry, (ix, iy): (u32, u32), i: u32) {
+        if self.disk_at(ix, iy) == Some(i) {
+            self.write(geometry, ix, iy, 0);
+        }
+    }
+
     #[inline]
     fn gather(
         &self,
@@ -311,8 +375,12 @@ pub struct SparseCells {
     bx: Vec<u32>,
     /// Cell y index of each entry of A.
     by: Vec<u32>,
-    /// Where bucket k starts in A.
+    /// Where bucket k starts in A (and, at M, the end of A): bucket k may hold up to
+    /// `C(k+1) − C(k)` entries.
     c: Vec<u32>,
+    /// Room left in each bucket at a mapping, for disks that move in between (the local
+    /// re-mapping): a bucket gets twice its entries plus two.
+    slack: bool,
     /// How many entries bucket k holds.
     d: Vec<u32>,
 }
@@ -326,7 +394,15 @@ impl SparseCells {
 
     /// Number of buckets (M).
     pub fn buckets(&self) -> usize {
-        self.c.len()
+        self.d.len()
+    }
+
+    /// A map whose buckets keep room for disks moving in between mappings.
+    pub fn with_slack() -> SparseCells {
+        SparseCells {
+            slack: true,
+            ..SparseCells::default()
+        }
     }
 }
 
@@ -343,7 +419,7 @@ impl CellMap for SparseCells {
         self.d.clear();
         self.d.resize(m, 0);
         self.c.clear();
-        self.c.resize(m, 0);
+        self.c.resize(m + 1, 0);
         for i in 0..n {
             let (ix, iy) = cell(i);
             let k = self.bucket(ix, iy);
@@ -352,11 +428,17 @@ impl CellMap for SparseCells {
         let mut start = 0u32;
         for k in 0..m {
             self.c[k] = start;
-            start += self.d[k];
+            start += if self.slack {
+                2 * self.d[k] + 2
+            } else {
+                self.d[k]
+            };
         }
-        self.a.resize(n, 0);
-        self.bx.resize(n, 0);
-        self.by.resize(n, 0);
+        self.c[m] = start;
+        let total = start as usize;
+        self.a.resize(total, 0);
+        self.bx.resize(total, 0);
+        self.by.resize(total, 0);
         // Counting sort: D doubles as the fill cursor, then is restored.
         self.d.fill(0);
         for i in 0..n {
@@ -386,6 +468,39 @@ impl CellMap for SparseCells {
         (start..end)
             .find(|&e| self.bx[e] == ix && self.by[e] == iy)
             .map(|e| self.a[e])
+    }
+
+    fn insert(&mut self, _: &GridGeometry, (ix, iy): (u32, u32), i: u32) -> Result<bool> {
+        if let Some(j) = self.disk_at(ix, iy) {
+            if j != i {
+                return Err(shared_cell(j, i));
+            }
+            return Ok(true);
+        }
+        let k = self.bucket(ix, iy);
+        if self.c[k] + self.d[k] == self.c[k + 1] {
+            return Ok(false);
+        }
+        let at = (self.c[k] + self.d[k]) as usize;
+        self.d[k] += 1;
+        self.a[at] = i;
+        self.bx[at] = ix;
+        self.by[at] = iy;
+        Ok(true)
+    }
+
+    fn remove(&mut self, _: &GridGeometry, (ix, iy): (u32, u32), i: u32) {
+        let k = self.bucket(ix, iy);
+        let start = self.c[k] as usize;
+        let last = start + self.d[k] as usize - 1;
+        if let Some(e) =
+            (start..=last).find(|&e| self.a[e] == i && self.bx[e] == ix && self.by[e] == iy)
+        {
+            self.a[e] = self.a[last];
+            self.bx[e] = self.bx[last];
+            self.by[e] = self.by[last];
+            self.d[k] -= 1;
+        }
     }
 
     fn bytes(&self) -> usize {

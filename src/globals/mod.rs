@@ -24,11 +24,49 @@ pub enum Cells {
 impl Cells {
     /// The storage for `geometry` and `mask`: dense when the height is bounded (unless
     /// `hashed` is asked for), Isobe's compressed array otherwise.
-    pub fn for_geometry(geometry: &GridGeometry, mask: &Mask, hashed: bool) -> Cells {
+    pub fn for_geometry(geometry: &GridGeometry, mask: &Mask, hashed: bool, slack: bool) -> Cells {
         if geometry.ny.is_some() && !hashed {
             Cells::Dense(DenseCells::with_pad(mask.half_width as u32))
+        } else if slack {
+            Cells::Sparse(SparseCells::with_slack())
         } else {
             Cells::Sparse(SparseCells::default())
+        }
+    }
+
+    /// Moves disk `i` from cell `from` to cell `to`; `Ok(false)` if `to`'s storage is full
+    /// (then `i` is in no cell: the caller re-maps).
+    pub fn relocate(
+        &mut self,
+        geometry: &GridGeometry,
+        from: (u32, u32),
+        to: (u32, u32),
+        i: u32,
+    ) -> Result<bool> {
+        match self {
+            Cells::Dense(d) => {
+                d.remove(geometry, from, i);
+                d.insert(geometry, to, i)
+            }
+            Cells::Sparse(s) => {
+                s.remove(geometry, from, i);
+                s.insert(geometry, to, i)
+            }
+        }
+    }
+
+    /// Calls `found` with every disk in the cells at `offsets` around `cell`.
+    #[inline]
+    pub fn gather(
+        &self,
+        geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        cell: (u32, u32),
+        found: impl FnMut(u32),
+    ) {
+        match self {
+            Cells::Dense(d) => d.gather(geometry, offsets, cell, found),
+            Cells::Sparse(s) => s.gather(geometry, offsets, cell, found),
         }
     }
 

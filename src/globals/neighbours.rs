@@ -14,6 +14,11 @@ pub struct NeighbourLists {
     /// are the partners j of disk i found from the half mask.
     half_start: Vec<u32>,
     half: Vec<u32>,
+    /// Room per disk once the lists are [`fixed`](Self::fix) (0: compressed rows): disk i's
+    /// neighbours are then `slots[i·room .. i·room + len[i]]`, and single lists can change.
+    room: usize,
+    slots: Vec<u32>,
+    len: Vec<u32>,
 }
 
 impl NeighbourLists {
@@ -30,6 +35,7 @@ impl NeighbourLists {
         map: &M,
         near: impl Fn(usize, usize) -> bool,
     ) {
+        self.room = 0;
         self.half.clear();
         self.half_start.clear();
         self.half_start.push(0);
@@ -75,12 +81,82 @@ impl NeighbourLists {
     /// The neighbours of disk `i`.
     #[inline(always)]
     pub fn of(&self, i: usize) -> &[u32] {
-        &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize]
+        if self.room != 0 {
+            let s = i * self.room;
+            &self.slots[s..s + self.len[i] as usize]
+        } else {
+            &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize]
+        }
+    }
+
+    /// After a [`build`](Self::build): copies the lists into `room` slots per disk (more if a
+    /// disk has more neighbours), so that one disk's list can be rebuilt on its own with
+    /// [`unlink`](Self::unlink) and [`link`](Self::link). The half lists stay as built.
+    pub fn fix(&mut self, n: usize, room: usize) {
+        let most = (0..n)
+            .map(|i| (self.start[i + 2] - self.start[i + 1]) as usize)
+            .max()
+            .unwrap_or(0);
+        self.room = room.max(most).max(1);
+        self.slots.clear();
+        self.slots.resize(n * self.room, 0);
+        self.len.clear();
+        self.len.resize(n, 0);
+        for i in 0..n {
+            let row = &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize];
+            self.slots[i * self.room..i * self.room + row.len()].copy_from_slice(row);
+            self.len[i] = row.len() as u32;
+        }
+        self.list = Vec::new();
+        self.start = Vec::new();
+    }
+
+    /// Takes disk `i` out of its neighbours' lists and empties its own (fixed lists only).
+    pub fn unlink(&mut self, i: usize) {
+        let room = self.room;
+        for k in 0..self.len[i] as usize {
+            let j = self.slots[i * room + k] as usize;
+            let row = j * room;
+            let last = row + self.len[j] as usize - 1;
+            if let Some(e) = (row..=last).find(|&e| self.slots[e] == i as u32) {
+                self.slots[e] = self.slots[last];
+                self.len[j] -= 1;
+            }
+        }
+        self.len[i] = 0;
+    }
+
+    /// Files the pair (i, j) in both lists (fixed lists only), making room if a list is full.
+    pub fn link(&mut self, i: usize, j: usize) {
+        if self.len[i] as usize == self.room || self.len[j] as usize == self.room {
+            self.widen();
+        }
+        for (a, b) in [(i, j), (j, i)] {
+            self.slots[a * self.room + self.len[a] as usize] = b as u32;
+            self.len[a] += 1;
+        }
+    }
+
+    /// Doubles the room of every list.
+    fn widen(&mut self) {
+        let (old, room) = (self.room, 2 * self.room);
+        let n = self.len.len();
+        let mut slots = vec![0; n * room];
+        for i in 0..n {
+            let l = self.len[i] as usize;
+            slots[i * room..i * room + l].copy_from_slice(&self.slots[i * old..i * old + l]);
+        }
+        self.slots = slots;
+        self.room = room;
     }
 
     /// Total entries (twice the number of listed pairs).
     pub fn entries(&self) -> usize {
-        self.list.len()
+        if self.room != 0 {
+            self.len.iter().map(|&l| l as usize).sum()
+        } else {
+            self.list.len()
+        }
     }
 
     /// Bytes held.
@@ -88,6 +164,8 @@ impl NeighbourLists {
         4 * (self.start.capacity()
             + self.list.capacity()
             + self.half_start.capacity()
-            + self.half.capacity())
+            + self.half.capacity()
+            + self.slots.capacity()
+            + self.len.capacity())
     }
 }

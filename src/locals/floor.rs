@@ -235,6 +235,15 @@ impl Floor {
         self.amplitude * self.omega
     }
 
+    /// How far a disk riding the floor can move up or down with it, at most (0 in the
+    /// fixed-position model), and its largest vertical speed doing so.
+    pub fn ride_bounds(&self) -> (f64, f64) {
+        match self.model {
+            FloorModel::Exact if !self.is_static() => (2.0 * self.amplitude, self.max_speed()),
+            _ => (0.0, 0.0),
+        }
+    }
+
     /// Bound on |h''| over a piece of the motion (the sine's Aω²; 0 on linear pieces).
     pub fn max_acceleration(&self) -> f64 {
         match (self.model, self.waveform) {
@@ -326,14 +335,11 @@ impl Floor {
                     return None;
                 }
                 let crit = (g / peak).asin(); // sin θ = 1/Γ, θ in (0, π/2)
-                let dth = if th < crit {
-                    crit - th
-                } else if th < PI - crit {
-                    0.0
+                let t = if (crit..PI - crit).contains(&th) {
+                    now
                 } else {
-                    TAU + crit - th
+                    self.next_phase(now, crit)
                 };
-                let t = now + dth / w;
                 let launch = match self.model {
                     FloorModel::Exact => self.velocity(t),
                     FloorModel::FixedPosition => self.velocity(t).max(0.0),
@@ -344,26 +350,43 @@ impl Floor {
                 // Measured from the trough at −π/2: rising on [0, π), falling on [π, 2π).
                 let p = (th + FRAC_PI_2).rem_euclid(TAU);
                 let up = slope(2.0 / PI);
+                let (peak, trough) = (FRAC_PI_2, 3.0 * FRAC_PI_2);
                 if p < PI {
-                    Some((now + (PI - p) / w, RideEnd::TakeOff { launch: up }))
+                    Some((self.next_phase(now, peak), RideEnd::TakeOff { launch: up }))
                 } else if self.model == FloorModel::Exact {
                     Some((
-                        now + (TAU - p) / w,
+                        self.next_phase(now, trough),
                         RideEnd::Kick {
                             before: -up,
                             after: up,
                         },
                     ))
                 } else {
-                    Some((now + (TAU - p + PI) / w, RideEnd::TakeOff { launch: up }))
+                    // The trough passes without a kick: the next peak.
+                    let t = self.next_phase(self.next_phase(now, trough), peak);
+                    Some((t, RideEnd::TakeOff { launch: up }))
                 }
             }
             Waveform::Sawtooth => Some((
-                now + (TAU - th) / w,
+                self.next_phase(now, 0.0),
                 RideEnd::TakeOff {
                     launch: slope(1.0 / PI),
                 },
             )),
+        }
+    }
+
+    /// First local time after `now` at which the phase is `target` (mod 2π), computed from the
+    /// phase origin alone, so that every disk gets the same time for the same crossing
+    /// whenever it is predicted (riders thrown off together stay together).
+    fn next_phase(&self, now: f64, target: f64) -> f64 {
+        let w = self.omega;
+        let k = ((self.phase(now) - target) / TAU).floor() + 1.0;
+        let t = (target + TAU * k - self.phase0) / w;
+        if t > now {
+            t
+        } else {
+            (target + TAU * (k + 1.0) - self.phase0) / w
         }
     }
 

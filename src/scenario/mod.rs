@@ -382,6 +382,10 @@ pub struct Engine {
     /// `hashed` (Isobe's compressed array, also for closed domains).
     #[serde(default)]
     pub grid: GridChoice,
+    /// When neighbour lists are rebuilt: `global` (Isobe 1999 as published: every list at the
+    /// DUTC deadline) or `local` (each disk's own list when it leaves its shell).
+    #[serde(default)]
+    pub remap: RemapChoice,
     /// Switch on the invariant checks (no overlap, no event in the past, energy balance).
     #[serde(default)]
     pub check_invariants: bool,
@@ -411,6 +415,7 @@ impl Default for Engine {
             mask: MaskChoice::Auto,
             skin: None,
             grid: GridChoice::Auto,
+            remap: RemapChoice::default(),
             check_invariants: false,
             dt: None,
             verlet_skin: None,
@@ -445,6 +450,19 @@ pub enum GridChoice {
     Dense,
     /// Isobe's compressed virtual array with bucketed hashing.
     Hashed,
+}
+
+/// When neighbour lists are rebuilt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RemapChoice {
+    /// Isobe 1999 as published: the grid is re-mapped and every list rebuilt at the DUTC
+    /// deadline, set by the fastest disk.
+    #[default]
+    Global,
+    /// Each disk keeps a shell around the place its list was built at and rebuilds its own list
+    /// when it leaves it (a per-disk displacement budget, on Isobe's grid and masks).
+    Local,
 }
 
 /// Which Isobe mask to search for neighbours.

@@ -25,6 +25,9 @@ pub struct EventCounts {
     pub unmount: u64,
     /// Grid re-mappings (DUTC).
     pub rebuild: u64,
+    /// Disks that left their shell and rebuilt their own list (local re-mapping).
+    #[serde(default)]
+    pub shell: u64,
 }
 
 impl EventCounts {
@@ -33,9 +36,9 @@ impl EventCounts {
         self.pair + self.wall + self.lid + self.floor
     }
 
-    /// Every event popped from the queue (collisions, stale events, rechecks).
+    /// Every event popped from the queue (collisions, stale events, rechecks, shell exits).
     pub fn popped(&self) -> u64 {
-        self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount
+        self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount + self.shell
     }
 }
 

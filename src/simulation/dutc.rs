@@ -35,6 +35,10 @@ pub struct Dutc {
     iso_used: f64,
     /// Local time by which the grid must be re-mapped.
     pub deadline: f64,
+    /// The lists are kept complete another way (the local re-mapping): speeds do not move the
+    /// deadline, which is only when the clock is next re-based.
+    #[serde(default)]
+    frozen: bool,
 }
 
 impl Dutc {
@@ -51,6 +55,7 @@ impl Dutc {
             iso_speed: 0.0,
             iso_used: 0.0,
             deadline: f64::INFINITY,
+            frozen: false,
         };
         d.deadline = d.horizon();
         d
@@ -115,6 +120,15 @@ impl Dutc {
         }
     }
 
+    /// A deadline that speeds do not move (the local re-mapping keeps the lists complete; the
+    /// grid is re-mapped at `deadline` only to re-base the clock).
+    pub fn frozen(deadline: f64) -> Dutc {
+        let mut d = Dutc::new(0.0, 0.0, 0.0);
+        d.deadline = deadline;
+        d.frozen = true;
+        d
+    }
+
     /// Largest speed the deadline assumes (its constant part).
     pub fn vmax(&self) -> f64 {
         self.vmax
@@ -135,6 +149,9 @@ impl Dutc {
     /// new maximum.
     #[inline]
     pub fn observe(&mut self, now: f64, speed_sq: f64) {
+        if self.frozen {
+            return;
+        }
         let bound = self.vmax + self.accel * now;
         if speed_sq > bound * bound {
             let v = speed_sq.sqrt() - self.accel * now;
@@ -144,6 +161,9 @@ impl Dutc {
 
     /// A disk starts riding the floor with falling-frame speed at most `speed + g·t` from now on.
     pub fn ride(&mut self, now: f64, speed: f64, g: f64) {
+        if self.frozen {
+            return;
+        }
         if self.accel < g || speed > self.vmax {
             self.rebound(now, self.vmax.max(speed), self.accel.max(g));
         }

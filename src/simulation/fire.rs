@@ -20,7 +20,11 @@ impl<F: Flight> Simulation<F> {
                 partner::RIGHT => Some(Partner::Right),
                 partner::LID => Some(Partner::Lid),
                 partner::FLOOR => Some(Partner::Floor),
-                partner::RECHECK | partner::RIDE_END | partner::UNMOUNT | partner::NONE => None,
+                partner::RECHECK
+                | partner::SHELL
+                | partner::RIDE_END
+                | partner::UNMOUNT
+                | partner::NONE => None,
                 j if self.disks.counter[j as usize] == self.ev_counter[i] => Some(Partner::Disk(j)),
                 _ => None,
             };
@@ -109,6 +113,7 @@ impl<F: Flight> Simulation<F> {
                 self.counts.recheck += 1;
                 self.predict(i);
             }
+            partner::SHELL => self.leave_shell(i)?,
             partner::NONE => unreachable!("a disk without an event is never the minimum"),
             j => {
                 let j = j as usize;

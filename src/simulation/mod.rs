@@ -10,6 +10,8 @@
 //! - `predict`: each disk's earliest event, filed in the tree;
 //! - `fire`: carrying out the event that is due (collision rules, bookkeeping);
 //! - `remap` and [`dutc`]: re-mapping the grid when the DUTC deadline comes;
+//! - [`shells`]: the local re-mapping (each disk rebuilds its own list when it leaves its
+//!   shell);
 //! - `motion`: where a disk is at a time (lazy flight, riding the floor);
 //! - [`riders`] and `resting`: disks at rest on the floor or on disks at rest;
 //! - `clock`, `counts`, `log`, `observe`: the clock, what is counted, the collision log, and
@@ -28,6 +30,7 @@ mod resting;
 pub mod riders;
 pub mod scene;
 mod setup;
+pub mod shells;
 mod state;
 
 pub use counts::{EnergyFlow, EventCounts};
@@ -84,6 +87,10 @@ pub struct Simulation<F: Flight> {
     base: Epoch,
     now: f64,
     dutc: Dutc,
+    /// The local re-mapping's anchors (`engine.remap = "local"`); `None` for Isobe's global one.
+    shells: Option<shells::Shells>,
+    /// Room per neighbour list under the local re-mapping.
+    list_room: usize,
     counts: EventCounts,
     flow: EnergyFlow,
     virial: f64,

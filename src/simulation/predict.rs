@@ -18,8 +18,10 @@ pub(super) mod partner {
     pub const RIDE_END: u32 = u32::MAX - 5;
     /// A disk resting on disks loses a support (they slide apart).
     pub const UNMOUNT: u32 = u32::MAX - 6;
+    /// The disk leaves its shell (local re-mapping).
+    pub const SHELL: u32 = u32::MAX - 7;
     /// Lowest code of an event that involves no partner disk.
-    pub const RECHECK: u32 = u32::MAX - 7;
+    pub const RECHECK: u32 = u32::MAX - 8;
 }
 
 impl<F: Flight> Simulation<F> {
@@ -174,6 +176,13 @@ impl<F: Flight> Simulation<F> {
             if dt < best {
                 t = now + dt;
                 who = partner::LID;
+            }
+        }
+        if self.shells.is_some() {
+            let exit = self.shell_exit(i);
+            if exit < t {
+                t = exit;
+                who = partner::SHELL;
             }
         }
         if recheck < t {

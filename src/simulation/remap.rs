@@ -1,13 +1,12 @@
 //! Re-mapping (Isobe's DUTC): at the deadline every disk is brought to the present, the clock
 //! is re-based, the grid and neighbour lists are rebuilt and every event re-predicted.
 
-use super::clock::into_period;
 use super::dutc::Dutc;
 use super::motion::wrap;
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::error::Result;
-use crate::locals::{SideBounds, Top};
+use crate::locals::Top;
 
 impl<F: Flight> Simulation<F> {
     /// Brings every disk to the present, re-bases the clock to it, re-maps the grid, rebuilds
@@ -18,16 +17,7 @@ impl<F: Flight> Simulation<F> {
         for i in 0..n {
             self.bring(i, now);
             self.disks.motion[i].t = 0.0;
-        }
-        if let SideBounds::Periodic { width } = self.sides {
-            for m in &mut self.disks.motion {
-                m.x = into_period(m.x, width);
-            }
-        }
-        if let Top::Periodic { height } = self.top {
-            for m in &mut self.disks.motion {
-                m.y = into_period(m.y, height);
-            }
+            self.wrap_position(i);
         }
         self.base.advance(now);
         self.now = 0.0;
@@ -80,6 +70,13 @@ impl<F: Flight> Simulation<F> {
             Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
             None => Dutc::new(margin, v1, accel),
         };
+        if let Some(room) = self.shells.as_ref().map(|_| self.list_room) {
+            // Local re-mapping: the lists change one at a time from here; the grid is next
+            // re-mapped only to re-base the clock, long after the published deadline.
+            self.lists.fix(n, room);
+            self.anchor_all();
+            self.dutc = Dutc::frozen(64.0 * self.dutc.deadline);
+        }
         self.predict_all();
         self.counts.rebuild += 1;
         Ok(())

@@ -8,7 +8,8 @@ use crate::locals::{SideBounds, Top};
 use crate::placement::{self, Region};
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
-    GridChoice, MaskChoice, Placement, PlacementKind, Radius, Scenario, XBoundary, YBoundary,
+    GridChoice, MaskChoice, Placement, PlacementKind, Radius, RemapChoice, Scenario, XBoundary,
+    YBoundary,
 };
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -41,6 +42,8 @@ pub struct Scene {
     pub mask: MaskChoice,
     /// Grid storage choice.
     pub grid: GridChoice,
+    /// When neighbour lists are rebuilt.
+    pub remap: RemapChoice,
     /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
     pub packing: f64,
     /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
@@ -167,6 +170,7 @@ impl Scene {
             resting_contacts: s.collisions.resting_contacts,
             mask: s.engine.mask,
             grid: s.engine.grid,
+            remap: s.engine.remap,
             packing: match height {
                 Some(h) => n as f64 * mean_disk_area(s) / (width * h),
                 None => s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING),

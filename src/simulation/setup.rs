@@ -6,14 +6,16 @@ use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
 use super::predict::partner;
 use super::riders::Riders;
+use super::shells;
 use super::{Collision, Scene, Simulation, OVERLAP_TOLERANCE};
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
+use crate::globals::grid::CELL_PER_RADIUS;
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::locals::{SideBounds, Top};
 use crate::restitution::{CollisionLaw, Restitution};
-use crate::scenario::GridChoice;
+use crate::scenario::{GridChoice, RemapChoice};
 use crate::scheduler::CompleteBinaryTree;
 use std::sync::atomic::AtomicBool;
 
@@ -52,29 +54,49 @@ impl<F: Flight> Simulation<F> {
             Top::Lid { height, .. } => (Some(height), false),
             Top::Periodic { height } => (Some(height), true),
         };
-        let geometry = GridGeometry::new(
-            a_min,
-            scene.sides.width(),
-            matches!(scene.sides, SideBounds::Periodic { .. }),
-            bottom,
-            top_y,
-            y_periodic,
-        );
-        let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max, scene.packing).ok_or_else(|| {
-            Error::input(
-                "engine.mask",
-                format!(
-                    "the mask does not reach beyond contact of the largest disks (radius {a_max}, cells of {:.4})",
-                    geometry.cell()
-                ),
+        let local = scene.remap == RemapChoice::Local;
+        let grid = |cell: f64| {
+            GridGeometry::with_cell(
+                cell,
+                scene.sides.width(),
+                matches!(scene.sides, SideBounds::Periodic { .. }),
+                bottom,
+                top_y,
+                y_periodic,
             )
-        })?;
+        };
+        let (geometry, mask) = if local {
+            let (mask, cell, _) = shells::local_grid(scene.mask, a_min, a_max, scene.packing)
+                .ok_or_else(|| {
+                    Error::input(
+                        "engine.mask",
+                        format!(
+                            "with engine.remap = \"local\" this mask leaves no shell around disks of radius {a_max} (take a larger one, or auto)"
+                        ),
+                    )
+                })?;
+            (grid(cell), mask)
+        } else {
+            let geometry = grid(CELL_PER_RADIUS * a_min);
+            let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max, scene.packing).ok_or_else(|| {
+                Error::input(
+                    "engine.mask",
+                    format!(
+                        "the mask does not reach beyond contact of the largest disks (radius {a_max}, cells of {:.4})",
+                        geometry.cell()
+                    ),
+                )
+            })?;
+            (geometry, mask)
+        };
         geometry.check_mask_fits(mask.half_width)?;
         let mask_margin = mask.reach() * geometry.cell() - 2.0 * a_max;
         let mask_margin = match scene.skin {
             Some(skin) => (skin * a_min).min(mask_margin),
             None => mask_margin,
         };
+        let shells = local.then(|| shells::Shells::new(n, 0.5 * mask_margin));
+        let list_room = shells::list_room(a_min, a_max, 0.5 * mask_margin, mask.offsets.len());
         let mut sim = Simulation {
             flight,
             disks,
@@ -82,7 +104,12 @@ impl<F: Flight> Simulation<F> {
             ev_partner: vec![partner::NONE; n],
             ev_counter: vec![0; n],
             tree: CompleteBinaryTree::default(),
-            cells: Cells::for_geometry(&geometry, &mask, hashed_grid(scene.grid, &geometry, n)?),
+            cells: Cells::for_geometry(
+                &geometry,
+                &mask,
+                hashed_grid(scene.grid, &geometry, n)?,
+                local,
+            ),
             geometry,
             mask,
             lists: NeighbourLists::default(),
@@ -101,6 +128,8 @@ impl<F: Flight> Simulation<F> {
             base: Epoch::default(),
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
+            shells,
+            list_room,
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
             virial: 0.0,

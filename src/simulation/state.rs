@@ -10,6 +10,7 @@ use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
 use super::riders::Riders;
+use super::shells::Shells;
 use super::Simulation;
 use crate::disks::Disks;
 use crate::dynamics::Flight;
@@ -34,6 +35,8 @@ pub struct EngineState {
     base: Epoch,
     now: f64,
     dutc: Dutc,
+    #[serde(default)]
+    shells: Option<Shells>,
     counts: EventCounts,
     flow: EnergyFlow,
     virial: f64,
@@ -69,6 +72,7 @@ impl<F: Flight> Simulation<F> {
             base: self.base,
             now: self.now,
             dutc: self.dutc,
+            shells: self.shells.clone(),
             counts: self.counts,
             flow: self.flow,
             virial: self.virial,
@@ -110,6 +114,9 @@ impl<F: Flight> Simulation<F> {
         if std::mem::discriminant(&state.cells) != std::mem::discriminant(&self.cells) {
             return Err(mismatch("grid kind"));
         }
+        if state.shells.as_ref().map(|s| s.len()) != self.shells.as_ref().map(|s| s.len()) {
+            return Err(mismatch("re-mapping"));
+        }
         if state.riders.len() != self.riders.len() {
             return Err(mismatch("riders"));
         }
@@ -127,6 +134,7 @@ impl<F: Flight> Simulation<F> {
         self.base = state.base;
         self.now = state.now;
         self.dutc = state.dutc;
+        self.shells = state.shells;
         self.counts = state.counts;
         self.flow = state.flow;
         self.virial = state.virial;
