@@ -207,6 +207,31 @@ fn a_resumed_gas_is_the_uninterrupted_gas() {
     );
 }
 
+/// The local re-mapping keeps anchors and lists that change one disk at a time: they go into
+/// the checkpoint too (a gas, and a bed with riders).
+#[test]
+fn a_resumed_run_with_local_remapping_is_the_uninterrupted_run() {
+    resumed_equals_uninterrupted(
+        "local-gas",
+        "gas_periodic_phi03.json",
+        &[
+            "particles.count=400",
+            "domain.width=20",
+            "engine.remap=local",
+            "run.warmup=1",
+        ],
+        2.3,
+        5.0,
+    );
+    resumed_equals_uninterrupted(
+        "local-bed",
+        "vibrated_bed.json",
+        &["engine.remap=local", "run.warmup=2"],
+        4.7,
+        9.0,
+    );
+}
+
 #[test]
 fn a_resumed_vibrated_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("bed", "vibrated_bed.json", &["run.warmup=2"], 4.7, 9.0);

@@ -243,6 +243,28 @@ impl DenseCells {
         (iy + self.pad) as usize * self.stride + (ix + self.pad) as usize
     }
 
+    /// Calls `found` with every disk in the mask `rows` around `(ix, iy)`, reading each row
+    /// as one run of slots (the halo makes every row contiguous).
+    #[inline]
+    pub fn gather_rows(
+        &self,
+        rows: &[(i32, i32, i32)],
+        (ix, iy): (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        let base = self.index(ix, iy) as isize;
+        let stride = self.stride as isize;
+        for &(dy, lo, hi) in rows {
+            let start = (base + dy as isize * stride + lo as isize) as usize;
+            let end = (base + dy as isize * stride + hi as isize) as usize;
+            for &s in &self.slots[start..=end] {
+                if s != 0 {
+                    found(s - 1);
+                }
+            }
+        }
+    }
+
     /// Writes one cell's slot and its images in the halo where periodic.
     fn write(&mut self, geometry: &GridGeometry, ix: u32, iy: u32, value: u32) {
         let (p, nx) = (self.pad as i64, geometry.nx as i64);

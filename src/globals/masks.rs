@@ -23,6 +23,9 @@ pub struct Mask {
     pub reach_sq: u32,
     /// Largest |dx| or |dy| in the mask.
     pub half_width: i32,
+    /// The mask row by row, centre cell included: `(dy, dx_first, dx_last)` (a circle's rows
+    /// are contiguous), for scans that read whole rows of a dense grid.
+    pub rows: Vec<(i32, i32, i32)>,
 }
 
 /// Isobe's Table 1: name, squared minimum distance to the outside, number of cells.
@@ -71,12 +74,20 @@ impl Mask {
             .copied()
             .filter(|&(dx, dy)| dy > 0 || (dy == 0 && dx > 0))
             .collect();
+        let rows = (-half..=half)
+            .filter_map(|dy| {
+                let row = (-half..=half).filter(|&dx| dx * dx + dy * dy <= circle);
+                let (lo, hi) = row.fold((i32::MAX, i32::MIN), |(l, h), dx| (l.min(dx), h.max(dx)));
+                (lo <= hi).then_some((dy, lo, hi))
+            })
+            .collect();
         Mask {
             name,
             offsets,
             half: half_offsets,
             reach_sq,
             half_width: half,
+            rows,
         }
     }
 

@@ -55,18 +55,23 @@ impl Cells {
         }
     }
 
-    /// Calls `found` with every disk in the cells at `offsets` around `cell`.
+    /// Calls `found` with every disk in `mask` around `cell`, and with the disk in `cell`.
     #[inline]
     pub fn gather(
         &self,
         geometry: &GridGeometry,
-        offsets: &[(i32, i32)],
+        mask: &Mask,
         cell: (u32, u32),
-        found: impl FnMut(u32),
+        mut found: impl FnMut(u32),
     ) {
         match self {
-            Cells::Dense(d) => d.gather(geometry, offsets, cell, found),
-            Cells::Sparse(s) => s.gather(geometry, offsets, cell, found),
+            Cells::Dense(d) => d.gather_rows(&mask.rows, cell, found),
+            Cells::Sparse(s) => {
+                if let Some(j) = s.disk_at(cell.0, cell.1) {
+                    found(j);
+                }
+                s.gather(geometry, &mask.offsets, cell, found)
+            }
         }
     }
 

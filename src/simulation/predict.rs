@@ -3,7 +3,7 @@
 
 use super::Simulation;
 use crate::dynamics::Flight;
-use crate::interactions::{contact_time, rider_contact, RiderContact};
+use crate::interactions::{contact_time_within, rider_contact, RiderContact};
 use crate::locals::floor::{FloorEvent, RideEnd};
 use crate::locals::Side;
 use crate::scheduler::CompleteBinaryTree;
@@ -79,13 +79,14 @@ impl<F: Flight> Simulation<F> {
                 let (xj, yj, vxj, vyj) = self.state_at(j, now);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
                 let speed = speed_i + vxj.abs() + vyj.abs();
-                contact_time(
+                contact_time_within(
                     dx,
                     dy,
                     vxi - vxj,
                     vyi - vyj,
                     ai + self.disks.radius[j],
                     speed,
+                    best,
                 )
             } else {
                 let mut limit = (now + best).min(self.dutc.deadline);
@@ -216,7 +217,10 @@ impl<F: Flight> Simulation<F> {
             let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
             let s = self.disks.radius[i] + self.disks.radius[j];
             let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
-            if let Some(dt) = contact_time(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed) {
+            let horizon = best[i].max(best[j]);
+            if let Some(dt) =
+                contact_time_within(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed, horizon)
+            {
                 if dt < best[i] {
                     best[i] = dt;
                     who[i] = j as u32;

@@ -126,6 +126,11 @@ impl Shells {
     pub fn len(&self) -> usize {
         self.anchor.len()
     }
+
+    /// `true` without disks.
+    pub fn is_empty(&self) -> bool {
+        self.anchor.is_empty()
+    }
 }
 
 /// First time τ ≥ 0 at which `|d + v τ| = rho`, for `|d| < rho` (∞ if `v = 0`).
@@ -228,8 +233,11 @@ impl<F: Flight> Simulation<F> {
         };
         let mut found = std::mem::take(&mut sh.found);
         found.clear();
-        self.cells
-            .gather(&self.geometry, &self.mask.offsets, cell, |j| found.push(j));
+        self.cells.gather(&self.geometry, &self.mask, cell, |j| {
+            if j as usize != i {
+                found.push(j)
+            }
+        });
         self.lists.unlink(i);
         let sh = self.shells.as_ref().expect("local re-mapping");
         let [xi, yi] = sh.anchor[i];
