@@ -28,7 +28,8 @@
 //! Environment: `VIBROBED_BENCH_BED=0` skips the vibrated bed; `VIBROBED_BENCH_REPS` sets R
 //! (default 5); `VIBROBED_BENCH_GRID=hashed` puts the gas on Isobe's compressed array instead of
 //! the dense grid; `VIBROBED_BENCH_MASK` forces the neighbour mask (`min`, `r3` … `r10`; default
-//! `auto`), to compare masks.
+//! `auto`), to compare masks; `VIBROBED_BENCH_REMAP=local` runs every point with the local
+//! re-mapping instead of Isobe's global one.
 
 use criterion::{Criterion, SamplingMode, Throughput};
 use std::hint::black_box;
@@ -124,6 +125,11 @@ fn mask_choice() -> String {
     std::env::var("VIBROBED_BENCH_MASK").unwrap_or_else(|_| "auto".to_string())
 }
 
+/// `engine.remap` of every scene: `VIBROBED_BENCH_REMAP` (`global` or `local`), default `global`.
+fn remap_choice() -> String {
+    std::env::var("VIBROBED_BENCH_REMAP").unwrap_or_else(|_| "global".to_string())
+}
+
 /// `engine.grid` of the gas scenes: `VIBROBED_BENCH_GRID` (`dense` or `hashed`), default `auto`
 /// (dense for the closed box). The vibrated bed has an open top and is always hashed.
 fn grid_choice() -> String {
@@ -138,7 +144,7 @@ fn gas_scenario(n: usize, phi: f64) -> Scenario {
         "domain": { "width": width, "x_boundary": "periodic", "y_boundary": "periodic" },
         "particles": { "count": n, "radius": RADIUS, "packing_fraction": phi, "temperature": 1.0 },
         "run": { "duration": 1.0 },
-        "engine": { "mask": mask_choice(), "grid": grid_choice() }
+        "engine": { "mask": mask_choice(), "grid": grid_choice(), "remap": remap_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("gas scenario")
 }
@@ -153,7 +159,7 @@ fn bed_scenario(n: usize) -> Scenario {
         "particles": { "count": n, "radius": RADIUS, "temperature": 0.5 },
         "collisions": { "restitution": 0.9 },
         "run": { "duration": 1.0 },
-        "engine": { "mask": mask_choice() }
+        "engine": { "mask": mask_choice(), "remap": remap_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("bed scenario")
 }
