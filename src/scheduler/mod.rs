@@ -1,6 +1,80 @@
 //! The scheduler's sorter: each disk keeps only its own earliest event (Isobe's Local Minima
-//! Algorithm) and a complete binary tree over the disks yields the global minimum.
+//! Algorithm) and a queue over the disks yields the global minimum: a complete binary tree
+//! (Isobe 1999) or a calendar of linked lists with a small heap (Paul 2007), chosen by
+//! `engine.queue`. Both yield the same disk at every step, so the choice changes only speed.
 
+pub mod calendar;
 pub mod cbt;
 
+pub use calendar::CalendarQueue;
 pub use cbt::CompleteBinaryTree;
+
+use serde::{Deserialize, Serialize};
+
+/// The event queue over per-disk event times `times[0..n]` (`times.len() == n + 1`,
+/// `times[n] = ∞`): either sorter behind one interface. Every method is one match.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum EventQueue {
+    /// Tournament tree: O(log N) per change, 8 bytes per disk.
+    Tree(CompleteBinaryTree),
+    /// Calendar queue: O(1) per change on average, about 18 bytes per disk.
+    Calendar(CalendarQueue),
+}
+
+impl Default for EventQueue {
+    fn default() -> Self {
+        EventQueue::Tree(CompleteBinaryTree::default())
+    }
+}
+
+impl EventQueue {
+    /// Files every disk anew from `times`, keeping the kind of queue. O(n).
+    pub fn rebuild(&mut self, times: &[f64]) {
+        match self {
+            EventQueue::Tree(t) => *t = CompleteBinaryTree::build(times),
+            EventQueue::Calendar(c) => c.rebuild(times),
+        }
+    }
+
+    /// The disk with the earliest event (ties: the tree's order). O(1).
+    #[inline(always)]
+    pub fn min(&self) -> usize {
+        match self {
+            EventQueue::Tree(t) => t.min(),
+            EventQueue::Calendar(c) => c.min(),
+        }
+    }
+
+    /// Disk `i`'s event time changed.
+    #[inline(always)]
+    pub fn update(&mut self, times: &[f64], i: usize) {
+        match self {
+            EventQueue::Tree(t) => t.update(times, i),
+            EventQueue::Calendar(c) => c.update(times, i),
+        }
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        match self {
+            EventQueue::Tree(t) => t.bytes(),
+            EventQueue::Calendar(c) => c.bytes(),
+        }
+    }
+
+    /// `true` when the queue is shaped for `n` disks (checkpoints are checked before use).
+    pub fn fits(&self, n: usize) -> bool {
+        match self {
+            EventQueue::Tree(t) => t.fits(n),
+            EventQueue::Calendar(c) => c.fits(n),
+        }
+    }
+
+    /// `tree` or `calendar`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            EventQueue::Tree(_) => "tree",
+            EventQueue::Calendar(_) => "calendar",
+        }
+    }
+}

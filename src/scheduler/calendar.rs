@@ -1,0 +1,711 @@
+//! Calendar queue over per-disk event times (Paul 2007, J. Comput. Phys. 221, 615).
+//!
+//! Time ahead of the present is cut into buckets of width Δt. A disk whose event falls in a
+//! future bucket sits, unsorted, in that bucket's linked list; a disk whose event falls beyond
+//! the calendar's span sits in an overflow list; a disk whose event falls in the current bucket
+//! (or earlier) sits in a small binary heap, which alone is kept in order. When the heap runs dry
+//! the next non-empty bucket is poured into it; when the last bucket is done the calendar wraps:
+//! Δt and the span are tuned again from the overflow's times and the overflow is spread over
+//! the new buckets.
+//!
+//! Each disk holds at most one entry (its earliest event), so a change of a disk's event is an
+//! unlink and a link: O(1) for the lists, O(log h) for the heap of the current bucket's h
+//! events. With Δt tuned so that a bucket holds O(1) events, every operation costs O(1) on
+//! average, against O(log N) for the [complete binary tree](super::CompleteBinaryTree).
+//!
+//! The order is exactly the tree's: earliest time first and, among equal times, the disk the
+//! tree would yield (the leftmost leaf of its heap-shaped layout), so that the engine pops the
+//! same events in the same order, bit for bit, whichever queue it uses.
+
+use serde::{Deserialize, Serialize};
+
+/// End of a list.
+const NIL: u32 = u32::MAX;
+/// Largest number of buckets and of disks.
+const MAX_BUCKETS: usize = 1 << 30;
+/// Times looked at to tune Δt (every k-th of the events being filed).
+const SAMPLE: usize = 512;
+/// Mean number of events per bucket over the earlier half of the filed events (measured: 2 to 8
+/// are equally good; the heap of the current bucket stays small).
+const EVENTS_PER_BUCKET: f64 = 4.0;
+/// Span of the calendar, in medians of the filed events' times from the earliest: 4 keeps about
+/// 94 % of exponentially spread times out of the overflow with half as many buckets as events
+/// (measured: 2 to 8 are equally good, 1 wraps too often).
+const SPAN_MEDIANS: f64 = 4.0;
+
+/// Where an event belongs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    /// No event (+∞ or NaN).
+    Nowhere,
+    /// The current bucket or earlier: the heap.
+    Heap,
+    /// A future bucket.
+    Bucket(usize),
+    /// Beyond the calendar's span.
+    Overflow,
+}
+
+/// One disk's entry: the time it is filed at and its list links (in the heap, `prev` is its
+/// position there). Where it is filed follows from its time (see [`CalendarQueue::place`]):
+/// the calendar's parameters change only when everything concerned is filed anew.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+struct Node {
+    t: f64,
+    next: u32,
+    prev: u32,
+}
+
+/// One event of the current bucket: its time, the disk's place in the tree's order, the disk.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+struct Entry {
+    t: f64,
+    rank: u32,
+    disk: u32,
+}
+
+impl Entry {
+    /// Earlier time first; equal times in the tree's order.
+    #[inline(always)]
+    fn before(&self, other: &Entry) -> bool {
+        self.t < other.t || (self.t == other.t && self.rank < other.rank)
+    }
+}
+
+/// A calendar of unsorted linked lists plus a small heap for the current bucket, over
+/// `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`, as for the tree; the calendar keeps
+/// its own copy of each filed time). Times must not be −∞; +∞ (or NaN) means no event.
+///
+/// Memory: 16 bytes per disk (filed time and list links) plus 4 per bucket (one bucket per two
+/// finite events) and 16 per event of the current bucket: about 18 bytes per disk, against 8
+/// for the tree.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct CalendarQueue {
+    /// The tree's order: disk i is the ((i − shift) mod n)-th leaf from the left.
+    shift: u32,
+    /// Start of bucket 0.
+    origin: f64,
+    /// 1/Δt.
+    inv_width: f64,
+    /// The current bucket: events of buckets ≤ `cur` are in the heap.
+    cur: u32,
+    /// First disk of each bucket's list (`NIL` if empty).
+    head: Vec<u32>,
+    /// First disk of the overflow list, and its length.
+    over_head: u32,
+    over_len: u32,
+    /// Per disk.
+    node: Vec<Node>,
+    /// Min-heap of the events of buckets ≤ `cur`.
+    heap: Vec<Entry>,
+    /// Sampled times for tuning (kept to avoid allocating at each wrap).
+    #[serde(skip)]
+    sample: Vec<f64>,
+}
+
+impl CalendarQueue {
+    /// `true` when the queue is shaped for `n` disks and every link is in range (a
+    /// checkpoint's queue is checked before it is used).
+    pub fn fits(&self, n: usize) -> bool {
+        let nb = self.head.len();
+        let disk_ok = |d: u32| d == NIL || (d as usize) < n;
+        self.node.len() == n
+            && n < MAX_BUCKETS
+            && (self.shift as usize) < n.max(1)
+            && (1..=MAX_BUCKETS).contains(&nb)
+            && (self.cur as usize) < nb
+            && self.inv_width.is_finite()
+            && self.inv_width > 0.0
+            && self.origin.is_finite()
+            && disk_ok(self.over_head)
+            && self.head.iter().all(|&d| disk_ok(d))
+            && self.heap.iter().all(|e| (e.disk as usize) < n)
+            && self
+                .node
+                .iter()
+                .enumerate()
+                .all(|(i, e)| match self.place(e.t) {
+                    Place::Nowhere => true,
+                    Place::Heap => self
+                        .heap
+                        .get(e.prev as usize)
+                        .is_some_and(|h| h.disk as usize == i),
+                    _ => disk_ok(e.next) && disk_ok(e.prev),
+                })
+    }
+
+    /// Builds the queue over `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`): tunes Δt
+    /// from the times and files every disk, O(n).
+    pub fn build(times: &[f64]) -> CalendarQueue {
+        let mut queue = CalendarQueue::default();
+        queue.rebuild(times);
+        queue
+    }
+
+    /// [`build`](Self::build) in place, reusing the arrays (no allocation once they are large
+    /// enough).
+    pub fn rebuild(&mut self, times: &[f64]) {
+        let n = times.len() - 1;
+        assert!(n < MAX_BUCKETS, "too many disks for the calendar");
+        // The tree's leaves sit at n..2n in heap order; those of the deepest level (positions
+        // from 2^D, the largest power of two below 2n) come first from the left, so the tree's
+        // order of leaves starts at disk 2^D − n and wraps round.
+        self.shift = if n == 0 {
+            0
+        } else {
+            let deepest = 1usize << (usize::BITS - 1 - (2 * n - 1).leading_zeros());
+            (deepest - n) as u32
+        };
+        self.heap.clear();
+        self.over_head = NIL;
+        self.over_len = 0;
+
+        let mut t_min = f64::INFINITY;
+        let mut count = 0usize;
+        for &t in &times[..n] {
+            if t < f64::INFINITY {
+                t_min = t_min.min(t);
+                count += 1;
+            }
+        }
+        self.sample.clear();
+        let stride = (n / SAMPLE).max(1);
+        self.sample.extend(
+            times[..n]
+                .iter()
+                .step_by(stride)
+                .filter(|t| **t < f64::INFINITY),
+        );
+        self.tune(t_min, count);
+        self.node.clear();
+        self.node.resize(
+            n,
+            Node {
+                t: f64::INFINITY,
+                next: NIL,
+                prev: NIL,
+            },
+        );
+        for (i, &t) in times[..n].iter().enumerate() {
+            self.file(i as u32, t);
+        }
+        self.refill();
+    }
+
+    /// Sets origin, Δt and the number of buckets for `count` events from `t_min` on, whose
+    /// sampled times are in `self.sample`: a bucket holds about [`EVENTS_PER_BUCKET`] events
+    /// over the earlier half of them (Δt from the sample's median), and the buckets span
+    /// [`SPAN_MEDIANS`] medians.
+    fn tune(&mut self, t_min: f64, count: usize) {
+        let mut width = 0.0;
+        if count > 0 && !self.sample.is_empty() {
+            let mid = self.sample.len() / 2;
+            let (_, median, _) = self
+                .sample
+                .select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
+            let spread = *median - t_min;
+            width = EVENTS_PER_BUCKET * 2.0 * spread / count as f64;
+        }
+        let inv_width = 1.0 / width;
+        self.inv_width = if inv_width.is_finite() && inv_width > 0.0 {
+            inv_width
+        } else {
+            1.0
+        };
+        self.origin = if t_min.is_finite() { t_min } else { 0.0 };
+        self.cur = 0;
+        let buckets = (count as f64 * SPAN_MEDIANS / (2.0 * EVENTS_PER_BUCKET)).ceil() as usize;
+        let buckets = buckets.clamp(1, MAX_BUCKETS);
+        self.head.clear();
+        self.head.resize(buckets, NIL);
+    }
+
+    /// Where an event at `t` belongs now.
+    #[inline(always)]
+    fn place(&self, t: f64) -> Place {
+        if t.is_nan() || t == f64::INFINITY {
+            return Place::Nowhere;
+        }
+        // Monotone in t (rounding is monotone), so earlier events never sit in later buckets.
+        let x = (t - self.origin) * self.inv_width;
+        if x < (self.cur + 1) as f64 {
+            Place::Heap
+        } else if x < self.head.len() as f64 {
+            Place::Bucket(x as usize)
+        } else {
+            Place::Overflow
+        }
+    }
+
+    /// Files disk `i` (filed nowhere) at time `t`.
+    #[inline(always)]
+    fn file(&mut self, i: u32, t: f64) {
+        self.node[i as usize].t = t;
+        match self.place(t) {
+            Place::Nowhere => {}
+            Place::Heap => self.heap_push(i, t),
+            Place::Bucket(b) => {
+                let h = self.head[b];
+                self.head[b] = self.link(i, h);
+            }
+            Place::Overflow => {
+                self.over_len += 1;
+                let h = self.over_head;
+                self.over_head = self.link(i, h);
+            }
+        }
+    }
+
+    /// Puts disk `i` in front of the list starting at `first`; returns the new first.
+    #[inline(always)]
+    fn link(&mut self, i: u32, first: u32) -> u32 {
+        let node = &mut self.node[i as usize];
+        node.next = first;
+        node.prev = NIL;
+        if first != NIL {
+            self.node[first as usize].prev = i;
+        }
+        i
+    }
+
+    /// Takes disk `i` out of wherever it is filed (`at`).
+    #[inline(always)]
+    fn unfile(&mut self, i: u32, at: Place) {
+        let Node { next, prev, .. } = self.node[i as usize];
+        match at {
+            Place::Nowhere => {}
+            Place::Heap => self.heap_remove(prev as usize),
+            Place::Bucket(_) | Place::Overflow => {
+                if prev != NIL {
+                    self.node[prev as usize].next = next;
+                } else if let Place::Bucket(b) = at {
+                    self.head[b] = next;
+                } else {
+                    self.over_head = next;
+                }
+                if next != NIL {
+                    self.node[next as usize].prev = prev;
+                }
+                if at == Place::Overflow {
+                    self.over_len -= 1;
+                }
+            }
+        }
+    }
+
+    /// Keeps the heap non-empty while any event is filed: pours the next non-empty bucket into
+    /// it, wrapping the calendar when the buckets are done.
+    fn refill(&mut self) {
+        while self.heap.is_empty() {
+            if (self.cur as usize) + 1 < self.head.len() {
+                self.cur += 1;
+                let mut d = std::mem::replace(&mut self.head[self.cur as usize], NIL);
+                while d != NIL {
+                    let Node { t, next, .. } = self.node[d as usize];
+                    self.heap_push(d, t);
+                    d = next;
+                }
+            } else if self.over_len > 0 {
+                self.wrap();
+            } else {
+                return;
+            }
+        }
+    }
+
+    /// All buckets are done and the heap is empty: tune the calendar to the overflow's events
+    /// and spread them over it (the earliest lands in the heap).
+    fn wrap(&mut self) {
+        let count = self.over_len as usize;
+        let stride = (count / SAMPLE).max(1);
+        let mut t_min = f64::INFINITY;
+        self.sample.clear();
+        let mut d = self.over_head;
+        let mut k = 0;
+        while d != NIL {
+            let Node { t, next, .. } = self.node[d as usize];
+            t_min = t_min.min(t);
+            if k % stride == 0 {
+                self.sample.push(t);
+            }
+            k += 1;
+            d = next;
+        }
+        self.tune(t_min, count);
+        let mut d = std::mem::replace(&mut self.over_head, NIL);
+        self.over_len = 0;
+        while d != NIL {
+            let Node { t, next, .. } = self.node[d as usize];
+            self.file(d, t);
+            d = next;
+        }
+    }
+
+    /// The disk with the earliest event (ties as in the tree); with no finite event, the disk the
+    /// tree would yield among all-infinite times. O(1).
+    #[inline(always)]
+    pub fn min(&self) -> usize {
+        match self.heap.first() {
+            Some(e) => e.disk as usize,
+            None => self.shift as usize,
+        }
+    }
+
+    /// Disk `i`'s event time changed to `times[i]`: move its entry. O(1) on average, O(log h)
+    /// within the current bucket.
+    #[inline]
+    pub fn update(&mut self, times: &[f64], i: usize) {
+        let t = times[i];
+        let node = self.node[i];
+        let (from, to) = (self.place(node.t), self.place(t));
+        if from == Place::Heap && to == Place::Heap {
+            // Stays in the current bucket: change its key in place.
+            let k = node.prev as usize;
+            self.node[i].t = t;
+            self.heap[k].t = t;
+            if t < node.t {
+                self.sift_up(k);
+            } else {
+                self.sift_down(k);
+            }
+            return;
+        }
+        self.unfile(i as u32, from);
+        self.file(i as u32, t);
+        if self.heap.is_empty() {
+            self.refill();
+        }
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<Node>() * self.node.capacity()
+            + 4 * self.head.capacity()
+            + std::mem::size_of::<Entry>() * self.heap.capacity()
+            + 8 * self.sample.capacity()
+    }
+
+    // --- The heap of the current bucket ---
+
+    #[inline(always)]
+    fn rank(&self, i: u32) -> u32 {
+        if i >= self.shift {
+            i - self.shift
+        } else {
+            i + self.node.len() as u32 - self.shift
+        }
+    }
+
+    #[inline(always)]
+    fn heap_push(&mut self, i: u32, t: f64) {
+        let rank = self.rank(i);
+        self.heap.push(Entry { t, rank, disk: i });
+        self.sift_up(self.heap.len() - 1);
+    }
+
+    #[inline(always)]
+    fn heap_remove(&mut self, k: usize) {
+        let last = self.heap.pop().expect("a filed entry");
+        if k < self.heap.len() {
+            let before = last.before(&self.heap[k]);
+            self.heap[k] = last;
+            self.node[last.disk as usize].prev = k as u32;
+            if before {
+                self.sift_up(k);
+            } else {
+                self.sift_down(k);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn sift_up(&mut self, mut k: usize) {
+        let e = self.heap[k];
+        while k > 0 {
+            let parent = (k - 1) / 2;
+            let p = self.heap[parent];
+            if !e.before(&p) {
+                break;
+            }
+            self.heap[k] = p;
+            self.node[p.disk as usize].prev = k as u32;
+            k = parent;
+        }
+        self.heap[k] = e;
+        self.node[e.disk as usize].prev = k as u32;
+    }
+
+    #[inline(always)]
+    fn sift_down(&mut self, mut k: usize) {
+        let e = self.heap[k];
+        let len = self.heap.len();
+        loop {
+            let mut c = 2 * k + 1;
+            if c >= len {
+                break;
+            }
+            if c + 1 < len && self.heap[c + 1].before(&self.heap[c]) {
+                c += 1;
+            }
+            let child = self.heap[c];
+            if !child.before(&e) {
+                break;
+            }
+            self.heap[k] = child;
+            self.node[child.disk as usize].prev = k as u32;
+            k = c;
+        }
+        self.heap[k] = e;
+        self.node[e.disk as usize].prev = k as u32;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::CompleteBinaryTree;
+    use super::*;
+    use proptest::prelude::*;
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// The disk the tree must yield, found by brute force: earliest time, ties in leaf order.
+    fn expected(times: &[f64], tree: &CompleteBinaryTree) -> usize {
+        let n = times.len() - 1;
+        let t = times[tree.min()];
+        assert!(
+            times[..n].iter().all(|&s| s >= t),
+            "the tree missed the minimum"
+        );
+        tree.min()
+    }
+
+    /// A random time from `now`: mostly exponential, sometimes equal to now or to a grid value
+    /// (ties), far in the future, or +∞.
+    fn draw(rng: &mut Xoshiro256PlusPlus, now: f64, scale: f64) -> f64 {
+        match rng.random_range(0..20) {
+            0 => f64::INFINITY,
+            1 => now,
+            2 => now + 1e9 * scale * rng.random::<f64>(),
+            3 | 4 => (now / scale).ceil() * scale + (rng.random_range(0..4) as f64) * scale,
+            _ => now - scale * rng.random::<f64>().max(1e-300).ln(),
+        }
+    }
+
+    /// Drives the tree and the calendar with the same engine-like sequence: pop the earliest
+    /// disk and give it a new time, change some other disks' times (any time from now on),
+    /// sometimes re-base the clock and rebuild; both must yield the same disk at every step.
+    fn drive(seed: u64, n: usize, steps: usize) {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let scale = 10f64.powi(rng.random_range(-3..3));
+        let mut times: Vec<f64> = (0..n).map(|_| draw(&mut rng, 0.0, scale)).collect();
+        times.push(f64::INFINITY);
+        let mut tree = CompleteBinaryTree::build(&times);
+        let mut cal = CalendarQueue::build(&times);
+        let mut now = 0.0;
+        for step in 0..steps {
+            let i = expected(&times, &tree);
+            assert_eq!(cal.min(), i, "seed {seed} n {n} step {step}");
+            if rng.random_range(0..100 + 4 * n) == 0 {
+                // Re-mapping: the clock restarts at 0, every disk is predicted anew (rarely
+                // enough that the calendar also wraps between re-mappings).
+                for t in times[..n].iter_mut() {
+                    *t = draw(&mut rng, 0.0, scale);
+                }
+                now = 0.0;
+                tree = CompleteBinaryTree::build(&times);
+                cal.rebuild(&times);
+                assert!(cal.fits(n));
+                continue;
+            }
+            match rng.random_range(0..100) {
+                0..=9 if n > 0 => {
+                    let j = rng.random_range(0..n);
+                    times[j] = draw(&mut rng, now, scale);
+                    tree.update(&times, j);
+                    cal.update(&times, j);
+                }
+                _ => {
+                    if times[i] == f64::INFINITY {
+                        now = 0.0;
+                        for t in times[..n].iter_mut() {
+                            *t = draw(&mut rng, 0.0, scale);
+                        }
+                        tree = CompleteBinaryTree::build(&times);
+                        cal.rebuild(&times);
+                        continue;
+                    }
+                    now = times[i];
+                    times[i] = draw(&mut rng, now, scale);
+                    tree.update(&times, i);
+                    cal.update(&times, i);
+                    // A pair collision: the partner is re-predicted too.
+                    if n > 1 && rng.random_bool(0.7) {
+                        let j = rng.random_range(0..n);
+                        times[j] = draw(&mut rng, now, scale);
+                        tree.update(&times, j);
+                        cal.update(&times, j);
+                    }
+                }
+            }
+        }
+        assert!(cal.fits(n));
+    }
+
+    #[test]
+    fn yields_what_the_tree_yields() {
+        for (seed, n) in [
+            (1, 0),
+            (2, 1),
+            (3, 2),
+            (4, 3),
+            (5, 5),
+            (6, 7),
+            (7, 17),
+            (8, 100),
+            (9, 1000),
+            (10, 4096),
+            (11, 5000),
+        ] {
+            drive(seed, n, 20_000 + 20 * n);
+        }
+    }
+
+    #[test]
+    fn ties_in_the_trees_order_for_every_size() {
+        for n in 1..300 {
+            for value in [0.0, 1.5, f64::INFINITY] {
+                let mut times = vec![value; n + 1];
+                times[n] = f64::INFINITY;
+                let tree = CompleteBinaryTree::build(&times);
+                let cal = CalendarQueue::build(&times);
+                assert_eq!(cal.min(), tree.min(), "n {n} all at {value}");
+            }
+            // Two equal earliest times at every pair of places (small n) or a few (large n).
+            let pairs: Vec<(usize, usize)> = if n < 24 {
+                (0..n).flat_map(|a| (0..n).map(move |b| (a, b))).collect()
+            } else {
+                vec![(0, n - 1), (n / 3, n / 2), (n - 2, 1)]
+            };
+            for (a, b) in pairs {
+                let mut times: Vec<f64> = (0..n).map(|k| 2.0 + k as f64).collect();
+                times.push(f64::INFINITY);
+                times[a] = 1.0;
+                times[b] = 1.0;
+                let tree = CompleteBinaryTree::build(&times);
+                let mut cal = CalendarQueue::build(&times);
+                assert_eq!(cal.min(), tree.min(), "n {n} ties at {a}, {b}");
+                // The same after updates rather than a build.
+                let mut cal2 = CalendarQueue::build(&vec![f64::INFINITY; n + 1]);
+                for i in 0..n {
+                    cal2.update(&times, i);
+                }
+                assert_eq!(cal2.min(), tree.min());
+                cal.update(&times, a);
+                assert_eq!(cal.min(), tree.min());
+            }
+        }
+    }
+
+    #[test]
+    fn survives_a_checkpoint() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(99);
+        let n = 300;
+        let mut times: Vec<f64> = (0..n).map(|_| draw(&mut rng, 0.0, 1.0)).collect();
+        times.push(f64::INFINITY);
+        let mut cal = CalendarQueue::build(&times);
+        let mut tree = CompleteBinaryTree::build(&times);
+        for _ in 0..1000 {
+            let i = tree.min();
+            let t = times[i].min(1e6);
+            times[i] = draw(&mut rng, t, 1.0);
+            tree.update(&times, i);
+            cal.update(&times, i);
+        }
+        let bytes = postcard::to_allocvec(&cal).unwrap();
+        let mut back: CalendarQueue = postcard::from_bytes(&bytes).unwrap();
+        assert!(back.fits(n));
+        assert!(!back.fits(n + 1));
+        for _ in 0..5000 {
+            let i = tree.min();
+            assert_eq!(back.min(), i);
+            let t = times[i].min(1e6);
+            times[i] = draw(&mut rng, t, 1.0);
+            tree.update(&times, i);
+            back.update(&times, i);
+        }
+    }
+
+    #[test]
+    fn no_allocation_in_steady_state() {
+        // After a warm-up the arrays keep their size: the bytes held stop growing.
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        let n = 2000;
+        let mut times: Vec<f64> = (0..n).map(|_| draw(&mut rng, 0.0, 1.0)).collect();
+        times.push(f64::INFINITY);
+        let mut cal = CalendarQueue::build(&times);
+        let mut now = 0.0;
+        let mut step = |cal: &mut CalendarQueue, times: &mut Vec<f64>, now: &mut f64| {
+            let i = cal.min();
+            *now = times[i];
+            times[i] = *now - rng.random::<f64>().max(1e-300).ln();
+            cal.update(times, i);
+        };
+        for _ in 0..200_000 {
+            step(&mut cal, &mut times, &mut now);
+        }
+        let bytes = cal.bytes();
+        for _ in 0..200_000 {
+            step(&mut cal, &mut times, &mut now);
+        }
+        assert!(cal.bytes() <= bytes, "{} > {bytes}", cal.bytes());
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 512,
+            // As in tests/solver_properties.rs: no regression files, the same cases every run
+            // (PROPTEST_RNG_SEED explores others).
+            failure_persistence: None,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(
+                std::env::var("PROPTEST_RNG_SEED")
+                    .ok()
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(20261121),
+            ),
+            ..ProptestConfig::default()
+        })]
+        /// Arbitrary sequences of updates (times from a few values, so that ties abound, or
+        /// anywhere) keep the calendar's minimum the tree's.
+        #[test]
+        fn any_update_sequence(
+            n in 1usize..40,
+            init in proptest::collection::vec(0u8..8, 40),
+            ops in proptest::collection::vec((0usize..40, 0u8..10, 0.0f64..1e3), 0..300),
+        ) {
+            let value = |k: u8, x: f64| match k {
+                0 => f64::INFINITY,
+                1..=4 => k as f64,
+                5 => x,
+                6 => x * 1e9,
+                _ => x * 1e-6,
+            };
+            let mut times: Vec<f64> = init[..n].iter().map(|&k| value(k, 0.5)).collect();
+            times.push(f64::INFINITY);
+            let mut tree = CompleteBinaryTree::build(&times);
+            let mut cal = CalendarQueue::build(&times);
+            prop_assert_eq!(cal.min(), tree.min());
+            for (j, k, x) in ops {
+                let j = j % n;
+                times[j] = value(k, x);
+                tree.update(&times, j);
+                cal.update(&times, j);
+                prop_assert_eq!(cal.min(), tree.min());
+                if k == 9 {
+                    cal.rebuild(&times);
+                    prop_assert_eq!(cal.min(), tree.min());
+                }
+            }
+            prop_assert!(cal.fits(n));
+        }
+    }
+}
