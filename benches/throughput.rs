@@ -136,6 +136,12 @@ fn grid_choice() -> String {
     std::env::var("VIBROBED_BENCH_GRID").unwrap_or_else(|_| "auto".to_string())
 }
 
+/// `engine.queue` of every scene: `VIBROBED_BENCH_QUEUE` (`calendar` or `tree`), default
+/// `calendar` (the engine's default).
+fn queue_choice() -> String {
+    std::env::var("VIBROBED_BENCH_QUEUE").unwrap_or_else(|_| "calendar".to_string())
+}
+
 fn gas_scenario(n: usize, phi: f64) -> Scenario {
     let width = (n as f64 * std::f64::consts::PI * RADIUS * RADIUS / phi).sqrt();
     let json = serde_json::json!({
@@ -144,7 +150,7 @@ fn gas_scenario(n: usize, phi: f64) -> Scenario {
         "domain": { "width": width, "x_boundary": "periodic", "y_boundary": "periodic" },
         "particles": { "count": n, "radius": RADIUS, "packing_fraction": phi, "temperature": 1.0 },
         "run": { "duration": 1.0 },
-        "engine": { "mask": mask_choice(), "grid": grid_choice(), "remap": remap_choice() }
+        "engine": { "mask": mask_choice(), "grid": grid_choice(), "remap": remap_choice(), "queue": queue_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("gas scenario")
 }
@@ -159,7 +165,7 @@ fn bed_scenario(n: usize) -> Scenario {
         "particles": { "count": n, "radius": RADIUS, "temperature": 0.5 },
         "collisions": { "restitution": 0.9 },
         "run": { "duration": 1.0 },
-        "engine": { "mask": mask_choice(), "remap": remap_choice() }
+        "engine": { "mask": mask_choice(), "remap": remap_choice(), "queue": queue_choice() }
     });
     Scenario::from_json(&json.to_string()).expect("bed scenario")
 }

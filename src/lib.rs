@@ -7,7 +7,7 @@
 //! - [`restitution`]: the restitution law of every collision and the cures of inelastic collapse;
 //! - [`locals`]: what a single disk hits (walls, lid, floor);
 //! - [`globals`]: the grid, masks and neighbour lists;
-//! - [`scheduler`]: the event sorter (complete binary tree);
+//! - [`scheduler`]: the event sorter (complete binary tree or calendar queue);
 //! - [`simulation`]: the event loop, re-mapping (DUTC) and the scene set-up;
 //! - [`measure`], [`summary`], [`output`]: what is measured and written;
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and

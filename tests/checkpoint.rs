@@ -237,6 +237,18 @@ fn a_resumed_vibrated_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("bed", "vibrated_bed.json", &["run.warmup=2"], 4.7, 9.0);
 }
 
+/// The other event queue, Isobe's tree, goes into the checkpoint as well as the calendar.
+#[test]
+fn a_resumed_bed_on_the_tree_is_the_uninterrupted_bed() {
+    resumed_equals_uninterrupted(
+        "tree",
+        "vibrated_bed.json",
+        &["run.warmup=2", "engine.queue=tree"],
+        4.7,
+        9.0,
+    );
+}
+
 /// Disks at rest riding the floor (the speed cut-off puts them on riders): the riders, their
 /// floor phase and the engine's epoch go into the checkpoint too.
 #[test]

@@ -12,19 +12,14 @@ pub use cbt::CompleteBinaryTree;
 use serde::{Deserialize, Serialize};
 
 /// The event queue over per-disk event times `times[0..n]` (`times.len() == n + 1`,
-/// `times[n] = ∞`): either sorter behind one interface. Every method is one match.
+/// `times[n] = ∞`): either sorter behind one interface. Every method is one match. Both yield
+/// the same disk for the same times, so the choice changes speed and memory, never results.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum EventQueue {
     /// Tournament tree: O(log N) per change, 8 bytes per disk.
     Tree(CompleteBinaryTree),
     /// Calendar queue: O(1) per change on average, about 18 bytes per disk.
     Calendar(CalendarQueue),
-}
-
-impl Default for EventQueue {
-    fn default() -> Self {
-        EventQueue::Tree(CompleteBinaryTree::default())
-    }
 }
 
 impl EventQueue {

@@ -1,4 +1,5 @@
-//! The event-driven engine (Isobe 1999): per-disk local minima in a complete binary tree,
+//! The event-driven engine (Isobe 1999): per-disk local minima in an event queue (a complete
+//! binary tree or a calendar, `engine.queue`),
 //! neighbour lists from the EEPGM grid, re-mapping by DUTC, lazy per-disk time stamps.
 //!
 //! The engine runs on a local clock that restarts at 0 at every mapping (all disks are brought
@@ -7,7 +8,7 @@
 //!
 //! This file is the event loop; each step has a file of its own:
 //! - [`setup`](setup.rs): grid, mask, initial checks, the first mapping;
-//! - `predict`: each disk's earliest event, filed in the tree;
+//! - `predict`: each disk's earliest event, filed in the queue;
 //! - `fire`: carrying out the event that is due (collision rules, bookkeeping);
 //! - `remap` and [`dutc`]: re-mapping the grid when the DUTC deadline comes;
 //! - [`shells`]: the local re-mapping (each disk rebuilds its own list when it leaves its
@@ -46,7 +47,7 @@ use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::locals::floor::Floor;
 use crate::locals::{SideBounds, Top};
 use crate::restitution::CollisionLaw;
-use crate::scheduler::CompleteBinaryTree;
+use crate::scheduler::EventQueue;
 use clock::Epoch;
 use dutc::Dutc;
 use riders::Riders;
@@ -74,7 +75,7 @@ pub struct Simulation<F: Flight> {
     ev_time: Vec<f64>,
     ev_partner: Vec<u32>,
     ev_counter: Vec<u32>,
-    tree: CompleteBinaryTree,
+    queue: EventQueue,
     geometry: GridGeometry,
     mask: Mask,
     cells: Cells,
@@ -125,7 +126,7 @@ impl<F: Flight> Simulation<F> {
                 return Ok(Progress::Interrupted);
             }
             turns = turns.wrapping_add(1);
-            let i = self.tree.min();
+            let i = self.queue.min();
             let te = self.ev_time[i];
             let deadline = self.dutc.deadline;
             if deadline <= te && deadline < local_target {
@@ -160,7 +161,7 @@ impl<F: Flight> Simulation<F> {
     /// times: for benchmarks, which measure throughput rather than reach a time.
     pub fn step_events(&mut self, k: u64) -> Result<()> {
         for _ in 0..k {
-            let i = self.tree.min();
+            let i = self.queue.min();
             let te = self.ev_time[i];
             if self.dutc.deadline <= te {
                 self.now = self.dutc.deadline;

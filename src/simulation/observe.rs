@@ -92,12 +92,12 @@ impl<F: Flight> Simulation<F> {
         self.flight.g()
     }
 
-    /// Bytes held by the engine's arrays (disks, events, tree, grid, neighbour lists).
+    /// Bytes held by the engine's arrays (disks, events, queue, grid, neighbour lists).
     pub fn bytes(&self) -> usize {
         self.disks.bytes()
             + 8 * self.ev_time.capacity()
             + 4 * (self.ev_partner.capacity() + self.ev_counter.capacity())
-            + self.tree.bytes()
+            + self.queue.bytes()
             + self.cells.bytes()
             + self.lists.bytes()
             + self.restitution.bytes()

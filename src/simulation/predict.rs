@@ -1,12 +1,11 @@
 //! Prediction: each disk's earliest event (a listed neighbour, a wall, the lid, the floor, the
-//! end of a ride, a support sliding away), filed in the complete binary tree.
+//! end of a ride, a support sliding away), filed in the event queue.
 
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::interactions::{contact_time_within, rider_contact, RiderContact};
 use crate::locals::floor::{FloorEvent, RideEnd};
 use crate::locals::Side;
-use crate::scheduler::CompleteBinaryTree;
 
 /// Event partner codes beyond the disk numbers.
 pub(super) mod partner {
@@ -53,11 +52,11 @@ impl<F: Flight> Simulation<F> {
         )
     }
 
-    /// Finds disk `i`'s earliest event from now and files it in the tree.
+    /// Finds disk `i`'s earliest event from now and files it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
         let (best, who, recheck) = self.pair_event(i);
         self.file_event(i, best, who, recheck);
-        self.tree.update(&self.ev_time, i);
+        self.queue.update(&self.ev_time, i);
     }
 
     /// Earliest contact of disk `i` with a listed neighbour from now: (time from now, partner,
@@ -117,7 +116,7 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Completes disk `i`'s event from its earliest pair contact (`best` from now, with `who`)
-    /// with walls, lid, floor and ride ends, and stores it (the tree is not touched).
+    /// with walls, lid, floor and ride ends, and stores it (the queue is not touched).
     pub(super) fn file_event(&mut self, i: usize, mut best: f64, mut who: u32, mut recheck: f64) {
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
@@ -199,7 +198,7 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Predicts every disk's event after a mapping (all disks are at the present time): each
-    /// listed pair's contact time is computed once, for both disks; the tree is built at once.
+    /// listed pair's contact time is computed once, for both disks; the queue is built at once.
     pub(super) fn predict_all(&mut self) {
         let n = self.disks.len();
         let mut best = std::mem::take(&mut self.ev_time);
@@ -244,6 +243,6 @@ impl<F: Flight> Simulation<F> {
             };
             self.file_event(i, b, w, r);
         }
-        self.tree = CompleteBinaryTree::build(&self.ev_time);
+        self.queue.rebuild(&self.ev_time);
     }
 }

@@ -15,8 +15,8 @@ use crate::globals::grid::CELL_PER_RADIUS;
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::locals::{SideBounds, Top};
 use crate::restitution::{CollisionLaw, Restitution};
-use crate::scenario::{GridChoice, RemapChoice};
-use crate::scheduler::CompleteBinaryTree;
+use crate::scenario::{GridChoice, QueueChoice, RemapChoice};
+use crate::scheduler::{CalendarQueue, CompleteBinaryTree, EventQueue};
 use std::sync::atomic::AtomicBool;
 
 /// Most cells a dense grid may hold (4 bytes each).
@@ -103,7 +103,10 @@ impl<F: Flight> Simulation<F> {
             ev_time: vec![f64::INFINITY; n + 1],
             ev_partner: vec![partner::NONE; n],
             ev_counter: vec![0; n],
-            tree: CompleteBinaryTree::default(),
+            queue: match scene.queue {
+                QueueChoice::Tree => EventQueue::Tree(CompleteBinaryTree::default()),
+                QueueChoice::Calendar => EventQueue::Calendar(CalendarQueue::default()),
+            },
             cells: Cells::for_geometry(
                 &geometry,
                 &mask,

@@ -1,5 +1,5 @@
 //! The engine's complete mutable state, for checkpoints: everything an event boundary holds that
-//! the scene does not fix (disks, pending predictions, the event tree, the grid and neighbour
+//! the scene does not fix (disks, pending predictions, the event queue, the grid and neighbour
 //! lists, the clock, the floor's phase, the cures' memory, who rests on what, the counts).
 //!
 //! What the scene fixes (flight law, grid geometry, mask, boundaries, list margin, switches) is
@@ -17,7 +17,7 @@ use crate::dynamics::Flight;
 use crate::error::{Error, Result};
 use crate::globals::{Cells, NeighbourLists};
 use crate::restitution::CollisionLaw;
-use crate::scheduler::CompleteBinaryTree;
+use crate::scheduler::EventQueue;
 use serde::{Deserialize, Serialize};
 
 /// The event-driven engine's mutable state at an event boundary.
@@ -27,7 +27,7 @@ pub struct EngineState {
     ev_time: Vec<f64>,
     ev_partner: Vec<u32>,
     ev_counter: Vec<u32>,
-    tree: CompleteBinaryTree,
+    queue: EventQueue,
     cells: Cells,
     lists: NeighbourLists,
     restitution: CollisionLaw,
@@ -64,7 +64,7 @@ impl<F: Flight> Simulation<F> {
             ev_time: self.ev_time.clone(),
             ev_partner: self.ev_partner.clone(),
             ev_counter: self.ev_counter.clone(),
-            tree: self.tree.clone(),
+            queue: self.queue.clone(),
             cells: self.cells.clone(),
             lists: self.lists.clone(),
             restitution: self.restitution.clone(),
@@ -104,9 +104,12 @@ impl<F: Flight> Simulation<F> {
         if state.ev_time.len() != n + 1
             || state.ev_partner.len() != n
             || state.ev_counter.len() != n
-            || !state.tree.fits(n)
+            || !state.queue.fits(n)
         {
             return Err(mismatch("event tables"));
+        }
+        if state.queue.kind() != self.queue.kind() {
+            return Err(mismatch("event queue"));
         }
         if state.floor_phase.is_some() != self.floor.is_some() {
             return Err(mismatch("floor"));
@@ -124,7 +127,7 @@ impl<F: Flight> Simulation<F> {
         self.ev_time = state.ev_time;
         self.ev_partner = state.ev_partner;
         self.ev_counter = state.ev_counter;
-        self.tree = state.tree;
+        self.queue = state.queue;
         self.cells = state.cells;
         self.lists = state.lists;
         self.restitution = state.restitution;
