@@ -793,8 +793,11 @@ fn stack_leaves_a_fast_floor_together() {
         );
         let snap = sim.snapshot(t_off + 1e-6);
         let vy0 = snap.vy[0];
+        // Together to 10⁻⁹: a disk landing on the column within the floor's margin of the
+        // threshold (g + h'' < 10⁻⁹ (g + Aω²)) does not come to rest and keeps its own
+        // round-off-sized speed relative to the others.
         assert!(
-            snap.vy.iter().all(|&v| (v - vy0).abs() < 1e-12),
+            snap.vy.iter().all(|&v| (v - vy0).abs() < 1e-9),
             "{:?}",
             snap.vy
         );

@@ -19,6 +19,9 @@ pub struct NeighbourLists {
     room: usize,
     slots: Vec<u32>,
     len: Vec<u32>,
+    /// Scratch of [`replace`](Self::replace).
+    #[serde(skip)]
+    scratch: Vec<u32>,
 }
 
 impl NeighbourLists {
@@ -91,7 +94,7 @@ impl NeighbourLists {
 
     /// After a [`build`](Self::build): copies the lists into `room` slots per disk (more if a
     /// disk has more neighbours), so that one disk's list can be rebuilt on its own with
-    /// [`unlink`](Self::unlink) and [`link`](Self::link). The half lists stay as built.
+    /// [`replace`](Self::replace). The half lists stay as built.
     pub fn fix(&mut self, n: usize, room: usize) {
         let most = (0..n)
             .map(|i| (self.start[i + 2] - self.start[i + 1]) as usize)
@@ -111,30 +114,40 @@ impl NeighbourLists {
         self.start = Vec::new();
     }
 
-    /// Takes disk `i` out of its neighbours' lists and empties its own (fixed lists only).
-    pub fn unlink(&mut self, i: usize) {
-        let room = self.room;
-        for k in 0..self.len[i] as usize {
-            let j = self.slots[i * room + k] as usize;
-            let row = j * room;
-            let last = row + self.len[j] as usize - 1;
-            if let Some(e) = (row..=last).find(|&e| self.slots[e] == i as u32) {
-                self.slots[e] = self.slots[last];
-                self.len[j] -= 1;
-            }
-        }
-        self.len[i] = 0;
-    }
-
-    /// Files the pair (i, j) in both lists (fixed lists only), making room if a list is full.
-    pub fn link(&mut self, i: usize, j: usize) {
-        if self.len[i] as usize == self.room || self.len[j] as usize == self.room {
+    /// Makes `new` disk `i`'s list (fixed lists only), keeping the lists symmetric: `i` leaves
+    /// the lists of the disks no longer in it and joins those of the disks new to it; the
+    /// neighbours it keeps are not touched.
+    pub fn replace(&mut self, i: usize, new: &[u32]) {
+        let mut old = std::mem::take(&mut self.scratch);
+        old.clear();
+        old.extend_from_slice(self.of(i));
+        let arriving = |j: &u32| !old.contains(j);
+        while new.len() > self.room
+            || new
+                .iter()
+                .any(|&j| arriving(&j) && self.len[j as usize] as usize == self.room)
+        {
             self.widen();
         }
-        for (a, b) in [(i, j), (j, i)] {
-            self.slots[a * self.room + self.len[a] as usize] = b as u32;
-            self.len[a] += 1;
+        let room = self.room;
+        for &j in &old {
+            if !new.contains(&j) {
+                let row = j as usize * room;
+                let last = row + self.len[j as usize] as usize - 1;
+                if let Some(e) = (row..=last).find(|&e| self.slots[e] == i as u32) {
+                    self.slots[e] = self.slots[last];
+                    self.len[j as usize] -= 1;
+                }
+            }
         }
+        for &j in new.iter().filter(|j| arriving(j)) {
+            let j = j as usize;
+            self.slots[j * room + self.len[j] as usize] = i as u32;
+            self.len[j] += 1;
+        }
+        self.slots[i * room..i * room + new.len()].copy_from_slice(new);
+        self.len[i] = new.len() as u32;
+        self.scratch = old;
     }
 
     /// Doubles the room of every list.

@@ -335,11 +335,14 @@ impl Floor {
                     return None;
                 }
                 let crit = (g / peak).asin(); // sin θ = 1/Γ, θ in (0, π/2)
-                let t = if (crit..PI - crit).contains(&th) {
-                    now
+                let dth = if th < crit {
+                    crit - th
+                } else if th < PI - crit {
+                    0.0
                 } else {
-                    self.next_phase(now, crit)
+                    TAU + crit - th
                 };
+                let t = now + dth / w;
                 let launch = match self.model {
                     FloorModel::Exact => self.velocity(t),
                     FloorModel::FixedPosition => self.velocity(t).max(0.0),
@@ -350,43 +353,26 @@ impl Floor {
                 // Measured from the trough at −π/2: rising on [0, π), falling on [π, 2π).
                 let p = (th + FRAC_PI_2).rem_euclid(TAU);
                 let up = slope(2.0 / PI);
-                let (peak, trough) = (FRAC_PI_2, 3.0 * FRAC_PI_2);
                 if p < PI {
-                    Some((self.next_phase(now, peak), RideEnd::TakeOff { launch: up }))
+                    Some((now + (PI - p) / w, RideEnd::TakeOff { launch: up }))
                 } else if self.model == FloorModel::Exact {
                     Some((
-                        self.next_phase(now, trough),
+                        now + (TAU - p) / w,
                         RideEnd::Kick {
                             before: -up,
                             after: up,
                         },
                     ))
                 } else {
-                    // The trough passes without a kick: the next peak.
-                    let t = self.next_phase(self.next_phase(now, trough), peak);
-                    Some((t, RideEnd::TakeOff { launch: up }))
+                    Some((now + (TAU - p + PI) / w, RideEnd::TakeOff { launch: up }))
                 }
             }
             Waveform::Sawtooth => Some((
-                self.next_phase(now, 0.0),
+                now + (TAU - th) / w,
                 RideEnd::TakeOff {
                     launch: slope(1.0 / PI),
                 },
             )),
-        }
-    }
-
-    /// First local time after `now` at which the phase is `target` (mod 2π), computed from the
-    /// phase origin alone, so that every disk gets the same time for the same crossing
-    /// whenever it is predicted (riders thrown off together stay together).
-    fn next_phase(&self, now: f64, target: f64) -> f64 {
-        let w = self.omega;
-        let k = ((self.phase(now) - target) / TAU).floor() + 1.0;
-        let t = (target + TAU * k - self.phase0) / w;
-        if t > now {
-            t
-        } else {
-            (target + TAU * (k + 1.0) - self.phase0) / w
         }
     }
 

@@ -399,11 +399,15 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Below this horizontal speed a disk at rest stops sliding: the smallest rebound on a rider
-    /// (`√(2·(g + h'')·PAIR_REST_HEIGHT·a)`), at the present floor acceleration.
+    /// (`√(2·(g + h'')·PAIR_REST_HEIGHT·a)`), at the present floor acceleration; 0 (nothing
+    /// comes to rest) where the floor no longer presses, with the floor's own margin of 10⁻⁹
+    /// (a disk coming to rest on a rider a hair before the take-off would take off at once
+    /// and be caught again, at one instant, for ever).
     pub(super) fn sleep_speed(&self, i: usize) -> f64 {
         let floor = self.floor.as_ref().expect("riders need a floor");
-        let press = self.flight.g() + floor.ride_acceleration(self.now);
-        if press <= 0.0 {
+        let g = self.flight.g();
+        let press = g + floor.ride_acceleration(self.now);
+        if press <= 1e-9 * (g + floor.max_acceleration()) {
             return 0.0;
         }
         crate::locals::floor::Floor::pair_rest_speed(self.disks.radius[i], press)

@@ -238,19 +238,17 @@ impl<F: Flight> Simulation<F> {
                 found.push(j)
             }
         });
-        self.lists.unlink(i);
         let sh = self.shells.as_ref().expect("local re-mapping");
         let [xi, yi] = sh.anchor[i];
         let ai = self.disks.radius[i];
-        for &j in &found {
+        found.retain(|&j| {
             let j = j as usize;
             let [xj, yj] = sh.anchor[j];
             let (dx, dy) = wrap(self.sides, self.top, xi - xj, yi - yj);
             let reach = ai + self.disks.radius[j] + self.margin;
-            if dx * dx + dy * dy <= reach * reach {
-                self.lists.link(i, j);
-            }
-        }
+            dx * dx + dy * dy <= reach * reach
+        });
+        self.lists.replace(i, &found);
         self.shells.as_mut().expect("local re-mapping").found = found;
     }
 
