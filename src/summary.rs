@@ -87,6 +87,12 @@ pub struct EngineSummary {
     pub cell: f64,
     /// Grid storage: `dense` or `hashed` (open top).
     pub grid: String,
+    /// Event queue of the exact engine: `calendar` or `tree`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub queue: Option<&'static str>,
+    /// Re-mapping of the exact engine: `global` or `local`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub remap: Option<&'static str>,
     /// Bytes held by the engine per disk.
     pub bytes_per_disk: f64,
     /// Measurement samples averaged.

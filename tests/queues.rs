@@ -18,17 +18,19 @@ fn load(file: &str, sets: &[&str], queue: &str) -> Scenario {
     Scenario::load(&crate_path(&format!("scenarios/{file}")), &sets).expect("scenario loads")
 }
 
-/// The summary without what measures the process (wall time, rate, bytes held).
+/// The summary without what measures the process (wall time, rate, bytes held) and the name of
+/// the queue it ran with (checked here to be the one asked for).
 fn summary(s: &Scenario) -> Value {
     let summary = run(s, RunOptions::default()).expect("run");
     let mut v = serde_json::to_value(&summary).expect("summary serializes");
     let o = v.as_object_mut().expect("an object");
     o.remove("wall_seconds");
     o.remove("collisions_per_second");
-    o["engine"]
-        .as_object_mut()
-        .expect("engine")
-        .remove("bytes_per_disk");
+    let engine = o["engine"].as_object_mut().expect("engine");
+    engine.remove("bytes_per_disk");
+    let queue = engine.remove("queue").expect("the summary names the queue");
+    let asked = serde_json::to_value(s.engine.queue).expect("queue choice serializes");
+    assert_eq!(queue, asked, "the summary names the queue that ran");
     v
 }
 

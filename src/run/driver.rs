@@ -413,6 +413,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 mask: setup.mask,
                 cell: setup.cell,
                 grid: setup.grid,
+                queue: setup.queue,
+                remap: setup.remap,
                 bytes_per_disk: setup.bytes as f64 / n as f64,
                 samples: avg.samples,
             },

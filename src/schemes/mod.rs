@@ -35,6 +35,10 @@ pub struct Setup {
     pub cell: f64,
     /// Cell storage.
     pub grid: String,
+    /// The exact engine's event queue (`calendar` or `tree`); `None` for the approximate schemes.
+    pub queue: Option<&'static str>,
+    /// The exact engine's re-mapping (`global` or `local`); `None` for the approximate schemes.
+    pub remap: Option<&'static str>,
     /// Bytes held by the engine.
     pub bytes: usize,
 }
@@ -151,6 +155,8 @@ impl<F: Flight> Integrator for Simulation<F> {
             mask: self.mask().name.into(),
             cell: geometry.cell(),
             grid: self.grid_kind().into(),
+            queue: Some(self.queue_kind()),
+            remap: Some(self.remap_kind()),
             bytes: self.bytes(),
         }
     }

@@ -541,6 +541,8 @@ impl<F: Flight> Integrator for SpaceTime<F> {
             mask: format!("3×3 linked cells, D = {:.4}", self.sync_distance),
             cell: self.cells.cell(),
             grid: "linked-cells".into(),
+            queue: None,
+            remap: None,
             bytes: self.disks.bytes()
                 + self.cells.bytes()
                 + 4 * (self.start.capacity() + self.partners.capacity())

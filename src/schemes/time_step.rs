@@ -392,6 +392,8 @@ impl<F: Flight> Integrator for TimeStep<F> {
             mask: format!("verlet r={:.4}", self.verlet),
             cell: self.cells.cell(),
             grid: "cell-list".into(),
+            queue: None,
+            remap: None,
             bytes: self.disks.bytes()
                 + self.cells.bytes()
                 + 8 * self.pairs.capacity()

@@ -77,6 +77,20 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
+    /// `calendar` or `tree`: the event queue in use.
+    pub fn queue_kind(&self) -> &'static str {
+        self.queue.kind()
+    }
+
+    /// `global` (Isobe's DUTC re-mapping) or `local` (per-disk shells).
+    pub fn remap_kind(&self) -> &'static str {
+        if self.shells.is_some() {
+            "local"
+        } else {
+            "global"
+        }
+    }
+
     /// The grid geometry in use.
     pub fn geometry(&self) -> &GridGeometry {
         &self.geometry
