@@ -10,8 +10,8 @@
 //! diagonal is below `2 a_min − r` still hold at most one anchor each (EEPGM); the cells are
 //! therefore smaller than Isobe's, and a mask of reach `D` cells gives `2r = D·l_g − 2 a_max`.
 //!
-//! A re-anchoring moves one disk's velocity nowhere: the predictions of other disks stay valid,
-//! and a pair that enters the lists is found by the re-anchored disk's own prediction.
+//! A re-anchoring changes no velocity: the predictions of other disks stay valid, and a pair
+//! that enters the lists is found by the re-anchored disk's own prediction.
 //!
 //! The whole grid is still re-mapped now and then (after as many re-anchorings as there are
 //! disks times [`REMAP_EVERY`], or at 64 times the published DUTC deadline), only to re-base the
