@@ -192,6 +192,19 @@ pub trait CellMap {
     fn insert(&mut self, geometry: &GridGeometry, cell: (u32, u32), i: u32) -> Result<bool>;
     /// Takes disk `i` out of cell `cell` (nothing if it is not there).
     fn remove(&mut self, geometry: &GridGeometry, cell: (u32, u32), i: u32);
+    /// Calls `found` with every disk in the half of `mask` "after" `cell` (its `half`
+    /// offsets, in their order).
+    #[inline]
+    fn gather_half(
+        &self,
+        geometry: &GridGeometry,
+        mask: &super::Mask,
+        cell: (u32, u32),
+        found: impl FnMut(u32),
+    ) {
+        self.gather(geometry, &mask.half, cell, found)
+    }
+
     /// Calls `found` with every disk in the cells at `offsets` around `(ix, iy)`.
     #[inline]
     fn gather(
@@ -358,6 +371,17 @@ impl CellMap for DenseCells {
         if self.disk_at(ix, iy) == Some(i) {
             self.write(geometry, ix, iy, 0);
         }
+    }
+
+    #[inline]
+    fn gather_half(
+        &self,
+        _geometry: &GridGeometry,
+        mask: &super::Mask,
+        cell: (u32, u32),
+        found: impl FnMut(u32),
+    ) {
+        self.gather_rows(&mask.half_rows, cell, found)
     }
 
     #[inline]

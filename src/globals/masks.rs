@@ -26,6 +26,8 @@ pub struct Mask {
     /// The mask row by row, centre cell included: `(dy, dx_first, dx_last)` (a circle's rows
     /// are contiguous), for scans that read whole rows of a dense grid.
     pub rows: Vec<(i32, i32, i32)>,
+    /// [`half`](Self::half) row by row, in the same order.
+    pub half_rows: Vec<(i32, i32, i32)>,
 }
 
 /// Isobe's Table 1: name, squared minimum distance to the outside, number of cells.
@@ -74,11 +76,19 @@ impl Mask {
             .copied()
             .filter(|&(dx, dy)| dy > 0 || (dy == 0 && dx > 0))
             .collect();
-        let rows = (-half..=half)
+        let rows: Vec<(i32, i32, i32)> = (-half..=half)
             .filter_map(|dy| {
                 let row = (-half..=half).filter(|&dx| dx * dx + dy * dy <= circle);
                 let (lo, hi) = row.fold((i32::MAX, i32::MIN), |(l, h), dx| (l.min(dx), h.max(dx)));
                 (lo <= hi).then_some((dy, lo, hi))
+            })
+            .collect();
+        let half_rows = rows
+            .iter()
+            .filter_map(|&(dy, lo, hi)| match dy {
+                0 if hi > 0 => Some((0, 1, hi)),
+                d if d > 0 => Some((d, lo, hi)),
+                _ => None,
             })
             .collect();
         Mask {
@@ -88,6 +98,7 @@ impl Mask {
             reach_sq,
             half_width: half,
             rows,
+            half_rows,
         }
     }
 
@@ -139,6 +150,23 @@ impl Mask {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_list_the_mask_and_its_half_in_order() {
+        for k in 0..TABLE_1.len() {
+            let m = Mask::table(k);
+            let expand = |rows: &[(i32, i32, i32)]| -> Vec<(i32, i32)> {
+                rows.iter()
+                    .flat_map(|&(dy, lo, hi)| (lo..=hi).map(move |dx| (dx, dy)))
+                    .collect()
+            };
+            assert_eq!(expand(&m.half_rows), m.half, "{}", m.name);
+            let mut all = m.offsets.clone();
+            all.push((0, 0));
+            all.sort_by_key(|&(dx, dy)| (dy, dx));
+            assert_eq!(expand(&m.rows), all, "{}", m.name);
+        }
+    }
 
     #[test]
     fn reproduces_isobe_table_1() {

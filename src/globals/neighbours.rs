@@ -49,7 +49,7 @@ impl NeighbourLists {
         self.start.resize(n + 2, 0);
         for i in 0..n {
             let (half, start) = (&mut self.half, &mut self.start);
-            map.gather(geometry, &mask.half, cell(i), |j| {
+            map.gather_half(geometry, mask, cell(i), |j| {
                 if near(i, j as usize) {
                     half.push(j);
                     start[i + 1] += 1;
