@@ -14,24 +14,7 @@
 /// by round-off while approaching collides now (`Some(0)`), never in the past.
 #[inline(always)]
 pub fn contact_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, speed: f64) -> Option<f64> {
-    let b = dx * dvx + dy * dvy;
-    if b >= 0.0 {
-        return None;
-    }
-    let dv2 = dvx * dvx + dvy * dvy;
-    let c = dx * dx + dy * dy - s * s;
-    if c <= 1e-12 * s * s && b * b <= 1e-26 * s * s * dv2.max(speed * speed) {
-        // In contact, approaching only within the round-off of b (a pair that just collided
-        // with e = 0, or slides tangentially), or of the velocities (two disks of a column moving
-        // together): not a collision. Colliding would change the velocities by less than an ulp
-        // and repeat forever.
-        return None;
-    }
-    let disc = b * b - dv2 * c;
-    if disc < 0.0 {
-        return None;
-    }
-    Some((c / (-b + disc.sqrt())).max(0.0))
+    contact_time_within(dx, dy, dvx, dvy, s, speed, f64::INFINITY)
 }
 
 /// [`contact_time`], for a caller that only wants a contact earlier than `horizon` (time from
@@ -57,7 +40,19 @@ pub fn contact_time_within(
     if c > 0.0 && c >= -2.0 * b * horizon * (1.0 + 1e-12) {
         return None;
     }
-    contact_time(dx, dy, dvx, dvy, s, speed)
+    let dv2 = dvx * dvx + dvy * dvy;
+    if c <= 1e-12 * s * s && b * b <= 1e-26 * s * s * dv2.max(speed * speed) {
+        // In contact, approaching only within the round-off of b (a pair that just collided
+        // with e = 0, or slides tangentially), or of the velocities (two disks of a column moving
+        // together): not a collision. Colliding would change the velocities by less than an ulp
+        // and repeat forever.
+        return None;
+    }
+    let disc = b * b - dv2 * c;
+    if disc < 0.0 {
+        return None;
+    }
+    Some((c / (-b + disc.sqrt())).max(0.0))
 }
 
 /// Outcome of one pair collision.

@@ -133,6 +133,15 @@ impl Mask {
                     .map(Mask::table)
                     .find(|m| m.reach() * cell - 2.0 * a_max >= 0.5 * a_min);
             }
+            named => Mask::table_index(named).expect("a named mask"),
+        };
+        Some(Mask::table(index)).filter(fits)
+    }
+
+    /// The place in [`TABLE_1`] of a named mask (`None` for `Auto`).
+    pub fn table_index(choice: MaskChoice) -> Option<usize> {
+        Some(match choice {
+            MaskChoice::Auto => return None,
             MaskChoice::Min => 0,
             MaskChoice::R3 => 1,
             MaskChoice::R4 => 2,
@@ -142,8 +151,7 @@ impl Mask {
             MaskChoice::R8 => 6,
             MaskChoice::R9 => 7,
             MaskChoice::R10 => 8,
-        };
-        Some(Mask::table(index)).filter(fits)
+        })
     }
 }
 

@@ -90,8 +90,6 @@ pub struct Simulation<F: Flight> {
     dutc: Dutc,
     /// The local re-mapping's anchors (`engine.remap = "local"`); `None` for Isobe's global one.
     shells: Option<shells::Shells>,
-    /// Room per neighbour list under the local re-mapping.
-    list_room: usize,
     counts: EventCounts,
     flow: EnergyFlow,
     virial: f64,

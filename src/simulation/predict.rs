@@ -179,7 +179,7 @@ impl<F: Flight> Simulation<F> {
             }
         }
         if self.shells.is_some() {
-            let exit = self.shell_exit(i);
+            let exit = self.shell_exit(i, (xi, yi, vxi, vyi));
             if exit < t {
                 t = exit;
                 who = partner::SHELL;

@@ -70,7 +70,7 @@ impl<F: Flight> Simulation<F> {
             Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
             None => Dutc::new(margin, v1, accel),
         };
-        if let Some(room) = self.shells.as_ref().map(|_| self.list_room) {
+        if let Some(room) = self.shells.as_ref().map(|s| s.room) {
             // Local re-mapping: the lists change one at a time from here; the grid is next
             // re-mapped only to re-base the clock, long after the published deadline.
             self.lists.fix(n, room);

@@ -95,8 +95,10 @@ impl<F: Flight> Simulation<F> {
             Some(skin) => (skin * a_min).min(mask_margin),
             None => mask_margin,
         };
-        let shells = local.then(|| shells::Shells::new(n, 0.5 * mask_margin));
-        let list_room = shells::list_room(a_min, a_max, 0.5 * mask_margin, mask.offsets.len());
+        let shells = local.then(|| {
+            let r = 0.5 * mask_margin;
+            shells::Shells::new(n, r, shells::list_room(a_min, a_max, r, mask.offsets.len()))
+        });
         let mut sim = Simulation {
             flight,
             disks,
@@ -132,7 +134,6 @@ impl<F: Flight> Simulation<F> {
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
             shells,
-            list_room,
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
             virial: 0.0,

@@ -26,6 +26,7 @@ use super::motion::wrap;
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::error::Result;
+use crate::globals::masks::TABLE_1;
 use crate::globals::Mask;
 use crate::locals::{SideBounds, Top};
 use crate::scenario::MaskChoice;
@@ -44,6 +45,8 @@ const EXIT_SLACK: f64 = 1e-9;
 pub struct Shells {
     /// Shell radius r: how far a disk may move from its anchor.
     pub radius: f64,
+    /// Room per neighbour list to start with ([`list_room`]).
+    pub room: usize,
     /// Where each disk's list was built.
     anchor: Vec<[f64; 2]>,
     /// Re-anchorings since the last whole re-mapping.
@@ -73,29 +76,18 @@ pub fn local_grid(
         let l = cell_for(m.reach(), a_min, a_max);
         (l, 0.5 * (m.reach() * l - 2.0 * a_max))
     };
-    let index = match choice {
-        MaskChoice::Auto => {
-            let preferred = if phi < 0.2 {
-                3
-            } else if phi < 0.45 {
-                2
-            } else {
-                1
-            };
-            return (preferred..9).map(Mask::table).find_map(|m| {
-                let (l, r) = shell(&m);
-                (r >= 0.3 * a_min).then_some((m, l, r))
-            });
-        }
-        MaskChoice::Min => 0,
-        MaskChoice::R3 => 1,
-        MaskChoice::R4 => 2,
-        MaskChoice::R5 => 3,
-        MaskChoice::R6 => 4,
-        MaskChoice::R7 => 5,
-        MaskChoice::R8 => 6,
-        MaskChoice::R9 => 7,
-        MaskChoice::R10 => 8,
+    let Some(index) = Mask::table_index(choice) else {
+        let preferred = if phi < 0.2 {
+            3
+        } else if phi < 0.45 {
+            2
+        } else {
+            1
+        };
+        return (preferred..TABLE_1.len()).map(Mask::table).find_map(|m| {
+            let (l, r) = shell(&m);
+            (r >= 0.3 * a_min).then_some((m, l, r))
+        });
     };
     let m = Mask::table(index);
     let (l, r) = shell(&m);
@@ -112,10 +104,12 @@ pub fn list_room(a_min: f64, a_max: f64, r: f64, mask_cells: usize) -> usize {
 }
 
 impl Shells {
-    /// Shells of radius `r` for `n` disks (anchored at the first mapping).
-    pub fn new(n: usize, r: f64) -> Shells {
+    /// Shells of radius `r` for `n` disks (anchored at the first mapping), with lists of
+    /// `room` entries to start with.
+    pub fn new(n: usize, r: f64, room: usize) -> Shells {
         Shells {
             radius: r,
+            room,
             anchor: vec![[0.0; 2]; n],
             since_map: 0,
             found: Vec::new(),
@@ -147,14 +141,13 @@ fn leave_circle(dx: f64, dy: f64, vx: f64, vy: f64, rho: f64) -> f64 {
 }
 
 impl<F: Flight> Simulation<F> {
-    /// Local time by which disk `i` (as it moves now) could leave its shell; `now` if it is at
-    /// the edge already.
-    pub(super) fn shell_exit(&self, i: usize) -> f64 {
+    /// Local time by which disk `i`, now at `(x, y)` moving at `(vx, vy)`, could leave its
+    /// shell; `now` if it is at the edge already.
+    pub(super) fn shell_exit(&self, i: usize, (x, y, vx, vy): (f64, f64, f64, f64)) -> f64 {
         let Some(sh) = &self.shells else {
             return f64::INFINITY;
         };
         let now = self.now;
-        let (x, y, vx, vy) = self.state_at(i, now);
         let [ax, ay] = sh.anchor[i];
         let (dx, dy) = self.wrap(x - ax, y - ay);
         let rho = sh.radius * (1.0 - EXIT_SLACK);
@@ -231,25 +224,22 @@ impl<F: Flight> Simulation<F> {
         let Some(sh) = self.shells.as_mut() else {
             return;
         };
-        let mut found = std::mem::take(&mut sh.found);
+        let (anchor, found) = (&sh.anchor, &mut sh.found);
         found.clear();
         self.cells.gather(&self.geometry, &self.mask, cell, |j| {
             if j as usize != i {
                 found.push(j)
             }
         });
-        let sh = self.shells.as_ref().expect("local re-mapping");
-        let [xi, yi] = sh.anchor[i];
+        let [xi, yi] = anchor[i];
         let ai = self.disks.radius[i];
         found.retain(|&j| {
-            let j = j as usize;
-            let [xj, yj] = sh.anchor[j];
+            let [xj, yj] = anchor[j as usize];
             let (dx, dy) = wrap(self.sides, self.top, xi - xj, yi - yj);
-            let reach = ai + self.disks.radius[j] + self.margin;
+            let reach = ai + self.disks.radius[j as usize] + self.margin;
             dx * dx + dy * dy <= reach * reach
         });
-        self.lists.replace(i, &found);
-        self.shells.as_mut().expect("local re-mapping").found = found;
+        self.lists.replace(i, found);
     }
 
     /// At a whole re-mapping: every disk is anchored where it is.
