@@ -18,8 +18,14 @@ pub const NO_DISK: u32 = u32::MAX;
 pub const LEFT_WALL: u32 = u32::MAX - 1;
 /// A support code: the right side wall.
 pub const RIGHT_WALL: u32 = u32::MAX - 2;
-/// How many resting disks one disk can carry (a disk in a triangular packing carries two).
-pub const CARRIED: usize = 4;
+/// How many disks of radius `a_min` can touch a disk of radius `a_max` at once (each pair of
+/// them apart by at least `2 a_min`): the most disks one disk can carry, however they rest on it.
+/// Six for equal disks, seven for radii 0.4–0.6.
+pub fn carried_room(a_min: f64, a_max: f64) -> usize {
+    let half_angle = (a_min / (a_min + a_max)).asin();
+    // (A hair of slack: six equal disks fit exactly, and π/(π/6) rounds below 6.)
+    (std::f64::consts::PI / half_angle + 1e-9).floor() as usize
+}
 
 /// Who rides the floor and what rests on what; empty for scenes without a floor.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -27,7 +33,10 @@ pub struct Riders {
     riding: Vec<bool>,
     lift: Vec<f64>,
     support: Vec<[u32; 2]>,
-    carries: Vec<[u32; CARRIED]>,
+    /// Slots per disk in `carries`.
+    room: usize,
+    /// The disks each disk carries, `room` slots per disk.
+    carries: Vec<u32>,
 }
 
 impl Riders {
@@ -41,14 +50,21 @@ impl Riders {
         self.riding.is_empty()
     }
 
-    /// Room for `n` disks, none riding.
-    pub fn new(n: usize) -> Riders {
+    /// Room for `n` disks, none riding, each able to carry `room` disks (see [`carried_room`]).
+    pub fn new(n: usize, room: usize) -> Riders {
         Riders {
             riding: vec![false; n],
             lift: vec![0.0; n],
             support: vec![[NO_DISK; 2]; n],
-            carries: vec![[NO_DISK; CARRIED]; n],
+            room,
+            carries: vec![NO_DISK; n * room],
         }
+    }
+
+    /// The carried slots of disk `s`.
+    #[inline]
+    fn slots(&self, s: usize) -> &[u32] {
+        &self.carries[s * self.room..(s + 1) * self.room]
     }
 
     /// `true` when disk `i` rides (on the floor or on riding disks).
@@ -83,13 +99,13 @@ impl Riders {
     }
 
     /// Disk `k` starts resting on `supports` (disks or walls), `lift` above the floor's surface.
-    /// Refused (returns `false`, nothing changes) when a supporting disk already carries
-    /// [`CARRIED`] disks.
+    /// Refused (returns `false`, nothing changes) when a supporting disk's slots are full (which
+    /// the geometry forbids when the room comes from [`carried_room`]).
     pub fn mount_on_disks(&mut self, k: usize, lift: f64, supports: [u32; 2]) -> bool {
         let disks = || supports.into_iter().filter(|&s| s < RIGHT_WALL);
         for s in disks() {
             self.purge(s as usize);
-            if !self.carries[s as usize].contains(&NO_DISK) {
+            if !self.slots(s as usize).contains(&NO_DISK) {
                 return false;
             }
         }
@@ -97,7 +113,8 @@ impl Riders {
         self.lift[k] = lift;
         self.support[k] = supports;
         for s in disks() {
-            let slots = &mut self.carries[s as usize];
+            let s = s as usize;
+            let slots = &mut self.carries[s * self.room..(s + 1) * self.room];
             if !slots.contains(&(k as u32)) {
                 let free = slots
                     .iter()
@@ -111,10 +128,10 @@ impl Riders {
 
     /// Drops the carried entries of `s` that are no longer valid.
     fn purge(&mut self, s: usize) {
-        for slot in 0..CARRIED {
-            let c = self.carries[s][slot];
+        for slot in s * self.room..(s + 1) * self.room {
+            let c = self.carries[slot];
             if c != NO_DISK && !self.rests_on(c as usize, s) {
-                self.carries[s][slot] = NO_DISK;
+                self.carries[slot] = NO_DISK;
             }
         }
     }
@@ -131,25 +148,24 @@ impl Riders {
         self.riding[i] = false;
     }
 
-    /// The disks resting on `s` now (clears its carried list).
-    pub fn take_carried(&mut self, s: usize) -> [u32; CARRIED] {
-        let mut out = std::mem::replace(&mut self.carries[s], [NO_DISK; CARRIED]);
-        for c in &mut out {
-            if *c != NO_DISK && !self.rests_on(*c as usize, s) {
-                *c = NO_DISK;
+    /// Appends the disks resting on `s` now to `out` (clears its carried list).
+    pub fn take_carried(&mut self, s: usize, out: &mut Vec<u32>) {
+        for slot in s * self.room..(s + 1) * self.room {
+            let c = std::mem::replace(&mut self.carries[slot], NO_DISK);
+            if c != NO_DISK && self.rests_on(c as usize, s) {
+                out.push(c);
             }
         }
-        out
     }
 
     /// `true` when disk `s` carries any resting disk (without clearing anything).
     #[inline]
     pub fn carries_any(&self, s: usize) -> bool {
-        self.carries.get(s).is_some_and(|slots| {
-            slots
+        s < self.riding.len()
+            && self
+                .slots(s)
                 .iter()
                 .any(|&c| c != NO_DISK && self.rests_on(c as usize, s))
-        })
     }
 
     /// Number of riding disks.
@@ -179,7 +195,7 @@ impl Riders {
         self.riding.capacity()
             + 8 * self.lift.capacity()
             + 8 * self.support.capacity()
-            + 4 * CARRIED * self.carries.capacity()
+            + 4 * self.carries.capacity()
     }
 }
 
@@ -189,7 +205,7 @@ mod tests {
 
     #[test]
     fn carried_lists_follow_the_supports() {
-        let mut r = Riders::new(4);
+        let mut r = Riders::new(4, 4);
         r.mount_on_floor(0, 0.5);
         assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK]));
         assert!(r.carries_any(0));
@@ -198,21 +214,27 @@ mod tests {
         assert!(!r.carries_any(0));
         r.mount_on_floor(2, 0.5);
         assert!(r.mount_on_disks(1, 1.4, [2, LEFT_WALL]));
-        assert_eq!(r.take_carried(0), [NO_DISK; CARRIED]);
-        assert_eq!(r.take_carried(2)[0], 1);
+        let mut out = Vec::new();
+        r.take_carried(0, &mut out);
+        assert!(out.is_empty());
+        r.take_carried(2, &mut out);
+        assert_eq!(out, [1]);
         assert!(!r.carries_any(2));
     }
 
     #[test]
     fn a_full_carrier_refuses() {
-        let mut r = Riders::new(6);
+        let room = carried_room(0.5, 0.5);
+        assert_eq!(room, 6);
+        assert_eq!(carried_room(0.4, 0.6), 7);
+        let mut r = Riders::new(room + 2, room);
         r.mount_on_floor(0, 0.5);
-        for k in 1..=CARRIED {
+        for k in 1..=room {
             assert!(r.mount_on_disks(k, 1.5, [0, NO_DISK]));
         }
-        assert!(!r.mount_on_disks(5, 1.5, [0, NO_DISK]));
-        assert!(!r.is_riding(5));
-        assert_eq!(r.count(), 1 + CARRIED);
-        assert_eq!(r.stacked(), CARRIED);
+        assert!(!r.mount_on_disks(room + 1, 1.5, [0, NO_DISK]));
+        assert!(!r.is_riding(room + 1));
+        assert_eq!(r.count(), 1 + room);
+        assert_eq!(r.stacked(), room);
     }
 }

@@ -5,7 +5,7 @@ use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
 use super::predict::partner;
-use super::riders::Riders;
+use super::riders::{self, Riders};
 use super::shells;
 use super::{Collision, Scene, Simulation, OVERLAP_TOLERANCE};
 use crate::disks::Disks;
@@ -144,12 +144,14 @@ impl<F: Flight> Simulation<F> {
             log: None,
             riders: Riders::default(),
             resting_contacts: scene.resting_contacts,
+            wake_speed: scene.wake_speed.unwrap_or(0.0),
             releasing: Vec::new(),
+            carried: Vec::new(),
             cluster: Vec::new(),
             in_cluster: Vec::new(),
         };
         if sim.floor.is_some() {
-            sim.riders = Riders::new(n);
+            sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));
         }
         sim.check_initial_state()?;
         sim.remap().map_err(|e| match e {
