@@ -385,29 +385,24 @@ impl<F: Flight> Simulation<F> {
     /// a flying disk beside or below would push k off its supports at once, k would come to rest
     /// again, and so on in zero time.
     fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
-        let now = self.now;
-        let (xk, yk, _, _) = self.state_at(k, now);
-        let ak = self.disks.radius[k];
-        let touch = TOUCH * ak;
-        if let SideBounds::Walls { width, .. } = self.sides {
-            if (vx < 0.0 && xk - ak <= touch) || (vx > 0.0 && width - xk - ak <= touch) {
-                return true;
-            }
-        }
-        self.lists.of(k).iter().any(|&c| {
-            let c = c as usize;
-            let (xc, yc, vxc, vyc) = self.state_at(c, now);
-            let (dx, dy) = self.wrap(xk - xc, yk - yc);
-            let dist = (dx * dx + dy * dy).sqrt();
-            (dy >= 0.0 || self.is_riding(c))
-                && dist - (ak + self.disks.radius[c]) <= touch
-                && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
-        })
+        self.moves_into(k, (vx, vy), |sim, c, dy| dy >= 0.0 || sim.is_riding(c))
     }
 
     /// Whether disk `k` (at now), moving with velocity `(vx, vy)`, moves into a side wall or a
     /// disk other than `s` that it touches (within [`TOUCH`] radii).
     fn wedged(&self, k: usize, s: usize, vx: f64, vy: f64) -> bool {
+        self.moves_into(k, (vx, vy), |_, c, _| c != s)
+    }
+
+    /// Whether disk `k` (at now), moving with velocity `v`, moves into a side wall or a disk `c`
+    /// that it touches (within [`TOUCH`] radii) and that `counts(self, c, dy)` admits, `dy` being
+    /// the height of k's centre above c's.
+    fn moves_into(
+        &self,
+        k: usize,
+        (vx, vy): (f64, f64),
+        counts: impl Fn(&Self, usize, f64) -> bool,
+    ) -> bool {
         let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
@@ -419,13 +414,12 @@ impl<F: Flight> Simulation<F> {
         }
         self.lists.of(k).iter().any(|&c| {
             let c = c as usize;
-            if c == s {
-                return false;
-            }
             let (xc, yc, vxc, vyc) = self.state_at(c, now);
             let (dx, dy) = self.wrap(xk - xc, yk - yc);
             let dist = (dx * dx + dy * dy).sqrt();
-            dist - (ak + self.disks.radius[c]) <= touch && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
+            counts(self, c, dy)
+                && dist - (ak + self.disks.radius[c]) <= touch
+                && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
         })
     }
 
