@@ -14,6 +14,9 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn fire(&mut self, i: usize) -> Result<()> {
         let now = self.now;
         let who = self.ev_partner[i];
+        if self.stop_zeno(i) {
+            return Ok(());
+        }
         if let Some(log) = self.log.as_mut() {
             let p = match who {
                 partner::LEFT => Some(Partner::Left),
@@ -300,6 +303,22 @@ impl<F: Flight> Simulation<F> {
             if rode {
                 self.release_carried(k, None);
             }
+        }
+        // Two slow flying disks meeting among disks at rest, their collision made elastic by a
+        // cure, on a floor that never pulls away from a bed at rest: the jammed cluster they
+        // belong to may hold as a whole.
+        if rode == [false, false]
+            && e == 1.0
+            && self.restitution.law.e < 1.0
+            && self.resting_contacts
+            && self
+                .floor
+                .as_ref()
+                .is_some_and(|f| f.max_acceleration() < self.flight.g())
+            && self.slow(i)
+            && self.slow(j)
+        {
+            self.settle_cluster(i);
         }
         Ok(())
     }

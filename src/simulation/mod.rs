@@ -110,6 +110,9 @@ pub struct Simulation<F: Flight> {
     /// Scratch of the settling of clusters: the candidates, and who is one.
     cluster: Vec<u32>,
     in_cluster: Vec<bool>,
+    /// Per disk: the instant of its last event and how many it had at that instant (scenes
+    /// with a floor and resting contacts; see `stop_zeno`).
+    same_instant: Vec<(f64, u32)>,
 }
 
 impl<F: Flight> Simulation<F> {

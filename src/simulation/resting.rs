@@ -13,7 +13,7 @@
 //!   to within [`TOUCH`] radii), or by the floor it touches — then `k` takes `s`'s velocity and
 //!   rides: `y = h(t) + lift`, moving horizontally with `s`. A slow flying support comes to rest
 //!   with it (an arch), and so do the slow flying disks around it that only hold as a whole
-//!   (`settle_cluster`). Its relative kinetic energy is booked as dissipated and the change
+//!   (`settle_cluster`; also tried when two slow flying disks collide). Its relative kinetic energy is booked as dissipated and the change
 //!   of its absolute kinetic energy beyond that as work of the floor (the floor carries the
 //!   stack). A disk balanced on one disk is an unstable equilibrium; freezing it when the
 //!   normal is vertical to 10⁻⁹ suppresses a fall that would take ~ln(10⁹)·√(d/g) to develop.
@@ -45,6 +45,9 @@ pub const VERTICAL: f64 = 1e-9;
 /// A slot whose two contact normals sum to less than this (they are within ~6° of opposite)
 /// stops a disk moving deeper into it (see `stop_in_slot`).
 pub const WEDGE: f64 = 0.1;
+
+/// More events than this for one flying disk at one instant stop it (see `stop_zeno`).
+pub const ZENO: u32 = 64;
 
 /// A support touches a disk when their gap is at most `TOUCH` radii of the resting disk; a
 /// resting disk leaves its supports when a gap grows beyond twice that.
@@ -477,6 +480,49 @@ impl<F: Flight> Simulation<F> {
         crate::locals::floor::Floor::pair_rest_speed(self.disks.radius[i], press)
     }
 
+    /// A flying disk whose events keep happening at one instant — more than [`ZENO`] after the
+    /// first —
+    /// is caught in a closed wedge of neighbours and walls that do not give, where a cure makes
+    /// the collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
+    /// rest among them). It stops: it takes the floor's velocity (kinetic energy relative to the
+    /// floor booked as dissipated, the rest as floor work), and flies on from there. Returns
+    /// whether it did (the event is then dropped; its partner's prediction is renewed as stale).
+    pub(super) fn stop_zeno(&mut self, i: usize) -> bool {
+        let now = self.now;
+        if self.same_instant.is_empty() || self.is_riding(i) {
+            return false;
+        }
+        let seen = &mut self.same_instant[i];
+        if seen.0 != now {
+            *seen = (now, 0);
+            return false;
+        }
+        seen.1 += 1;
+        if seen.1 <= ZENO {
+            return false;
+        }
+        seen.1 = 0;
+        self.bring(i, now);
+        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        self.take_velocity(i, (0.0, hd));
+        self.moved(i);
+        true
+    }
+
+    /// Whether flying disk `i` (brought to now) moves slower than the sleep speed relative to
+    /// the floor.
+    pub(super) fn slow(&self, i: usize) -> bool {
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let m = self.disks.motion[i];
+        // Most collisions are far faster: rejected without the floor's phase.
+        let most = 2.0 * (self.flight.g() + floor.max_acceleration()) * PAIR_REST_HEIGHT;
+        if m.vx * m.vx > most * self.disks.radius[i] {
+            return false;
+        }
+        let (_, hd) = floor.ride(self.now);
+        m.vx.hypot(m.vy - hd) <= self.sleep_speed(i)
+    }
+
     /// Riding disk `i` (brought to now) stops sliding: its horizontal kinetic energy is lost
     /// (static friction with what carries it).
     pub(super) fn stop_sliding(&mut self, i: usize) {
@@ -536,7 +582,8 @@ impl<F: Flight> Simulation<F> {
         Ok(true)
     }
 
-    /// Disk `seed` has just come to rest. The flying disks touching it, directly or through each
+    /// Disk `seed` has just come to rest, or is a slow flying disk that has just met another.
+    /// The flying disks touching it (and `seed` itself, if it flies), directly or through each
     /// other, that move slower than the sleep speed relative to the floor (a jammed layer or an
     /// arch, held only as a whole) come to rest together: those of them that are in a stable
     /// place among the disks at rest that do not slide, the side walls, the floor and each other —
@@ -549,6 +596,10 @@ impl<F: Flight> Simulation<F> {
         let mut member = std::mem::take(&mut self.in_cluster);
         member.resize(n, false);
         let mut cluster = std::mem::take(&mut self.cluster);
+        if !self.is_riding(seed) {
+            member[seed] = true;
+            cluster.push(seed as u32);
+        }
         // Gather: breadth first from the seed, through slow flying disks that touch.
         let mut from = seed;
         let mut next = 0;

@@ -149,9 +149,13 @@ impl<F: Flight> Simulation<F> {
             carried: Vec::new(),
             cluster: Vec::new(),
             in_cluster: Vec::new(),
+            same_instant: Vec::new(),
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));
+            if sim.resting_contacts {
+                sim.same_instant = vec![(f64::NAN, 0); n];
+            }
         }
         sim.check_initial_state()?;
         sim.remap().map_err(|e| match e {

@@ -42,6 +42,7 @@ pub struct EngineState {
     virial: f64,
     max_overlap: f64,
     riders: Riders,
+    same_instant: Vec<(f64, u32)>,
 }
 
 impl EngineState {
@@ -78,6 +79,7 @@ impl<F: Flight> Simulation<F> {
             virial: self.virial,
             max_overlap: self.max_overlap,
             riders: self.riders.clone(),
+            same_instant: self.same_instant.clone(),
         }
     }
 
@@ -123,6 +125,9 @@ impl<F: Flight> Simulation<F> {
         if state.riders.len() != self.riders.len() {
             return Err(mismatch("riders"));
         }
+        if state.same_instant.len() != self.same_instant.len() {
+            return Err(mismatch("riders"));
+        }
         self.disks = state.disks;
         self.ev_time = state.ev_time;
         self.ev_partner = state.ev_partner;
@@ -143,6 +148,7 @@ impl<F: Flight> Simulation<F> {
         self.virial = state.virial;
         self.max_overlap = state.max_overlap;
         self.riders = state.riders;
+        self.same_instant = state.same_instant;
         Ok(())
     }
 }
