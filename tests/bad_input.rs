@@ -602,13 +602,3 @@ fn output_as_a_list_is_refused_naming_it() {
         &["output"],
     );
 }
-
-#[test]
-fn a_negative_wake_speed_is_refused() {
-    check_refuses(
-        "wake",
-        "vibrated_bed.json",
-        &["collisions.wake_speed=-0.1"],
-        &["collisions.wake_speed"],
-    );
-}

@@ -530,67 +530,6 @@ fn a_thrown_disk_wakes_a_column_at_rest_as_the_exact_engine_does() {
     assert!(on.max_overlap() < TOLERANCE && off.max_overlap() < TOLERANCE);
 }
 
-/// A disk dropped from 2·10⁻⁴ onto the shoulder of a column at rest taps it at a normal speed
-/// of ≈ 0.018, below a wake speed of 0.035: the column stays at rest, exactly in place, and the
-/// disk rebounds off it, dissipating, and falls beside it. Without a wake speed (the default)
-/// the same tap wakes the column.
-#[test]
-fn a_light_tap_does_not_wake_a_column_at_rest() {
-    let scene = |wake: &str| {
-        format!(
-            r#"{{"name": "column tapped on its shoulder", "seed": 1,
-            "domain": {{"width": 3.3, "x_boundary": "walls", "y_boundary": "open"}},
-            "gravity": 1.0, "floor": {{"restitution": 0.5}},
-            "particles": {{"count": 4, "radius": 0.5, "placement": {{
-                "positions": [[0.6, 0.5], [0.6, 1.5], [0.6, 2.5], [1.0, {y}]],
-                "velocities": [[0, 0], [0, 0], [0, 0], [0, 0]]}}}},
-            "collisions": {{"restitution": 0.5 {wake}}},
-            "run": {{"duration": 1.0}}, "engine": {{"check_invariants": true}}}}"#,
-            y = 2.5 + (1.0f64 - 0.16).sqrt() + 2e-4
-        )
-    };
-    let mut tapped = common::ballistic(&scene(r#", "wake_speed": 0.035"#));
-    tapped.advance_to(1e-3).unwrap();
-    assert_eq!(
-        tapped.riders(),
-        3,
-        "the column is not at rest before the tap"
-    );
-    let before = tapped.snapshot(1e-3);
-    // The tap happens at t = √(2·2·10⁻⁴) = 0.02; the disk then slides off and falls.
-    tapped.advance_to(0.5).unwrap();
-    assert!(
-        tapped.counts().pair >= 1,
-        "the disk did not reach the column"
-    );
-    let after = tapped.snapshot(0.5);
-    for i in 0..3 {
-        assert_eq!(
-            (after.x[i], after.y[i], after.vx[i], after.vy[i]),
-            (before.x[i], before.y[i], 0.0, 0.0),
-            "column disk {i} moved"
-        );
-    }
-    assert!(
-        after.y[3] < before.y[3],
-        "the tapping disk did not fall beside the column"
-    );
-    // Nothing else has happened yet (the disk reaches the floor at t ≈ 2.4).
-    assert!(
-        tapped.energy_flow().dissipated > 0.0,
-        "the tap dissipated nothing"
-    );
-    assert!(tapped.max_overlap() < TOLERANCE);
-
-    let mut woken = common::ballistic(&scene(""));
-    woken.advance_to(0.5).unwrap();
-    let moved = woken.snapshot(0.5);
-    assert!(
-        (0..3).any(|i| (moved.x[i], moved.y[i]) != (before.x[i], before.y[i])),
-        "without a wake speed the tap woke nothing"
-    );
-}
-
 /// Two disks at rest on the floor sliding one after the other, the one behind 5·10⁻⁴ faster
 /// (below the sleep speed, 10⁻³ for a = 0.5, g = 1): when it catches up they do not collide —
 /// that would throw both off the floor — but slide on together at their common velocity, both

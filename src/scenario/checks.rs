@@ -164,14 +164,6 @@ pub fn validate(s: &Scenario) -> Result<()> {
     if let Some(v) = s.collisions.speed_cutoff {
         positive("collisions.speed_cutoff", v)?;
     }
-    if let Some(v) = s.collisions.wake_speed {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(Error::input(
-                "collisions.wake_speed",
-                format!("must be a finite speed ≥ 0 (got {v})"),
-            ));
-        }
-    }
     positive("run.duration", s.run.duration)?;
     if !(s.run.warmup.is_finite() && s.run.warmup >= 0.0 && s.run.warmup < s.run.duration) {
         return Err(Error::input(

@@ -268,11 +268,6 @@ pub struct Collisions {
     /// bouncing with that smallest rebound. Only matters with a floor and gravity.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub resting_contacts: bool,
-    /// With resting contacts: a disk at rest hit slower than this (normal approach speed) does
-    /// not wake — the bed holds and the hitting disk rebounds off it with the restitution e, as
-    /// off the floor. Absent or 0: every hit wakes.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wake_speed: Option<f64>,
 }
 
 fn yes() -> bool {
@@ -290,7 +285,6 @@ impl Default for Collisions {
             tc: None,
             speed_cutoff: None,
             resting_contacts: true,
-            wake_speed: None,
         }
     }
 }

@@ -247,9 +247,6 @@ impl<F: Flight> Simulation<F> {
             if self.try_rest_on(k, s, e)? {
                 return Ok(());
             }
-            if self.bounce_off_rest(k, s, min_rebound)? {
-                return Ok(());
-            }
         }
         // Riders leave the floor's grip for the collision; if it pushes a disk riding the floor
         // into it, the floor answers at once (sequential impulses).

@@ -102,8 +102,6 @@ pub struct Simulation<F: Flight> {
     riders: Riders,
     /// Disks resting on disks that rest move with the floor (`collisions.resting_contacts`).
     resting_contacts: bool,
-    /// Hits on disks at rest slower than this do not wake them (0: every hit wakes).
-    wake_speed: f64,
     /// Scratch of the release cascade: the stack, and the disks one support carried.
     releasing: Vec<u32>,
     carried: Vec<u32>,

@@ -13,16 +13,12 @@
 //!   to within [`TOUCH`] radii), or by the floor it touches — then `k` takes `s`'s velocity and
 //!   rides: `y = h(t) + lift`, moving horizontally with `s`. A slow flying support comes to rest
 //!   with it (an arch), and so do the slow flying disks around it that only hold as a whole
-//!   (`settle_cluster`; also tried when two slow flying disks collide). Its relative kinetic energy is booked as dissipated and the change
+//!   (`settle_cluster`; also tried when two slow flying disks collide elastically under a
+//!   cure). Its relative kinetic energy is booked as dissipated and the change
 //!   of its absolute kinetic energy beyond that as work of the floor (the floor carries the
 //!   stack). A disk balanced on one disk is an unstable equilibrium; freezing it when the
 //!   normal is vertical to 10⁻⁹ suppresses a fall that would take ~ln(10⁹)·√(d/g) to develop.
-//! - **Light taps** (opt-in). A flying disk hitting a disk at rest slower than the wake speed
-//!   (`collisions.wake_speed`, 0 unless the scenario sets it) rebounds off the bed as off a rigid
-//!   body moving with the floor (`bounce_off_rest`): the bed stays at rest. Without this a disk
-//!   rattling in a pocket of a settled pile (elastically, with TC) knocks its neighbours off their
-//!   supports again and again, and a deep pile never settles.
-//! - **Leaving rest.** A resting disk leaves when it is hit faster, hits a side wall, is thrown off or
+//! - **Leaving rest.** A resting disk leaves when it is hit, hits a side wall, is thrown off or
 //!   kicked by the floor (as riders do), or when its supports slide apart by [`TOUCH`] radii
 //!   (an `unmount` event). Whatever rests on a disk that leaves is released at the same moment,
 //!   recursively, with its current velocity: it then falls onto whatever is below and, if that
@@ -129,47 +125,6 @@ impl<F: Flight> Simulation<F> {
         if self.is_riding(k) {
             self.settle_cluster(k);
         }
-        Ok(true)
-    }
-
-    /// Flying disk `k` taps disk `s` at rest slower than the wake speed: the bed holds, and `k`
-    /// rebounds off `s` as off a rigid body moving with it, with the restitution `e` (no cure: the
-    /// bed is a boundary, not a partner in a dense cluster), or at least `min_rebound`. Its
-    /// relative kinetic energy lost is booked as dissipated, the rest of its change as work of
-    /// the floor, which takes the impulse through the bed. Returns whether it did; `false` (a
-    /// real collision, which wakes `s`) for a faster hit, or if the rebound would drive `k` into
-    /// a wall or another disk it touches (a rigid wedge would catch it in a Zeno sequence).
-    pub(super) fn bounce_off_rest(&mut self, k: usize, s: usize, min_rebound: f64) -> Result<bool> {
-        if self.wake_speed == 0.0 {
-            return Ok(false);
-        }
-        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
-        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
-        let dist = (dx * dx + dy * dy).sqrt();
-        let (nx, ny) = (dx / dist, dy / dist);
-        let u = (-((mk.vx - ms.vx) * nx + (mk.vy - ms.vy) * ny)).max(0.0);
-        if u >= self.wake_speed {
-            return Ok(false);
-        }
-        let rebound = (self.restitution.law.e * u).max(min_rebound);
-        let (vx, vy) = (mk.vx + (u + rebound) * nx, mk.vy + (u + rebound) * ny);
-        if self.wedged(k, s, vx, vy) {
-            return Ok(false);
-        }
-        self.check_contact(k, s, dist)?;
-        let mass = self.disks.mass[k];
-        let lost = 0.5 * mass * (u * u - rebound * rebound);
-        let gained = 0.5 * mass * (vx * vx + vy * vy - mk.vx * mk.vx - mk.vy * mk.vy);
-        self.flow.dissipated += lost;
-        self.flow.injected += gained + lost;
-        self.flow.floor_impulse += mass * (vy - mk.vy);
-        self.virial += dist * mass * (u + rebound);
-        self.counts.pair += 1;
-        let m = &mut self.disks.motion[k];
-        (m.vx, m.vy) = (vx, vy);
-        self.moved(k);
-        // `s` did not change: only its own event (this one, if it was its) needs renewing.
-        self.predict(s);
         Ok(true)
     }
 
@@ -388,24 +343,6 @@ impl<F: Flight> Simulation<F> {
     /// a flying disk beside or below would push k off its supports at once, k would come to rest
     /// again, and so on in zero time.
     fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
-        self.moves_into(k, (vx, vy), |sim, c, dy| dy >= 0.0 || sim.is_riding(c))
-    }
-
-    /// Whether disk `k` (at now), moving with velocity `(vx, vy)`, moves into a side wall or a
-    /// disk other than `s` that it touches (within [`TOUCH`] radii).
-    fn wedged(&self, k: usize, s: usize, vx: f64, vy: f64) -> bool {
-        self.moves_into(k, (vx, vy), |_, c, _| c != s)
-    }
-
-    /// Whether disk `k` (at now), moving with velocity `v`, moves into a side wall or a disk `c`
-    /// that it touches (within [`TOUCH`] radii) and that `counts(self, c, dy)` admits, `dy` being
-    /// the height of k's centre above c's.
-    fn moves_into(
-        &self,
-        k: usize,
-        (vx, vy): (f64, f64),
-        counts: impl Fn(&Self, usize, f64) -> bool,
-    ) -> bool {
         let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
@@ -420,7 +357,7 @@ impl<F: Flight> Simulation<F> {
             let (xc, yc, vxc, vyc) = self.state_at(c, now);
             let (dx, dy) = self.wrap(xk - xc, yk - yc);
             let dist = (dx * dx + dy * dy).sqrt();
-            counts(self, c, dy)
+            (dy >= 0.0 || self.is_riding(c))
                 && dist - (ak + self.disks.radius[c]) <= touch
                 && dx * (vx - vxc) + dy * (vy - vyc) < 0.0
         })
@@ -481,8 +418,7 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// A flying disk whose events keep happening at one instant — more than [`ZENO`] after the
-    /// first —
-    /// is caught in a closed wedge of neighbours and walls that do not give, where a cure makes
+    /// first — is caught in a closed wedge of neighbours and walls that do not give, where a cure makes
     /// the collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
     /// rest among them). It stops: it takes the floor's velocity (kinetic energy relative to the
     /// floor booked as dissipated, the rest as floor work), and flies on from there. Returns

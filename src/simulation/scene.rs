@@ -38,8 +38,6 @@ pub struct Scene {
     pub speed_cutoff: Option<f64>,
     /// Disks landing gently on disks at rest come to rest on them.
     pub resting_contacts: bool,
-    /// Hits on disks at rest slower than this do not wake them (`None`: every hit wakes).
-    pub wake_speed: Option<f64>,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
     /// Grid storage choice.
@@ -172,7 +170,6 @@ impl Scene {
             tc: s.collisions.tc,
             speed_cutoff: s.collisions.speed_cutoff,
             resting_contacts: s.collisions.resting_contacts,
-            wake_speed: s.collisions.wake_speed,
             mask: s.engine.mask,
             grid: s.engine.grid,
             remap: s.engine.remap,

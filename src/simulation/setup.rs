@@ -144,7 +144,6 @@ impl<F: Flight> Simulation<F> {
             log: None,
             riders: Riders::default(),
             resting_contacts: scene.resting_contacts,
-            wake_speed: scene.wake_speed.unwrap_or(0.0),
             releasing: Vec::new(),
             carried: Vec::new(),
             cluster: Vec::new(),
