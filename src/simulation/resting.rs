@@ -32,7 +32,7 @@ use super::riders::{LEFT_WALL, NO_DISK, RIGHT_WALL};
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::error::Result;
-use crate::locals::floor::PAIR_REST_HEIGHT;
+use crate::locals::floor::{Floor, PAIR_REST_HEIGHT};
 use crate::locals::{SideBounds, Top};
 
 /// A contact normal within this of the vertical (|n_x| ≤ `VERTICAL`) carries a disk alone.
@@ -414,7 +414,7 @@ impl<F: Flight> Simulation<F> {
         if press <= 1e-9 * (g + floor.max_acceleration()) {
             return 0.0;
         }
-        crate::locals::floor::Floor::pair_rest_speed(self.disks.radius[i], press)
+        Floor::pair_rest_speed(self.disks.radius[i], press)
     }
 
     /// A flying disk whose events keep happening at one instant — more than [`ZENO`] after the
@@ -450,9 +450,10 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn slow(&self, i: usize) -> bool {
         let floor = self.floor.as_ref().expect("riders need a floor");
         let m = self.disks.motion[i];
-        // Most collisions are far faster: rejected without the floor's phase.
-        let most = 2.0 * (self.flight.g() + floor.max_acceleration()) * PAIR_REST_HEIGHT;
-        if m.vx * m.vx > most * self.disks.radius[i] {
+        // Most collisions are far faster: rejected against the largest sleep speed the floor
+        // allows, without the floor's phase.
+        let a = self.disks.radius[i];
+        if m.vx.abs() > Floor::pair_rest_speed(a, self.flight.g() + floor.max_acceleration()) {
             return false;
         }
         let (_, hd) = floor.ride(self.now);

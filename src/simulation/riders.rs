@@ -61,10 +61,16 @@ impl Riders {
         }
     }
 
+    /// Where the carried slots of disk `s` lie in `carries`.
+    #[inline]
+    fn span(&self, s: usize) -> std::ops::Range<usize> {
+        s * self.room..(s + 1) * self.room
+    }
+
     /// The carried slots of disk `s`.
     #[inline]
     fn slots(&self, s: usize) -> &[u32] {
-        &self.carries[s * self.room..(s + 1) * self.room]
+        &self.carries[self.span(s)]
     }
 
     /// `true` when disk `i` rides (on the floor or on riding disks).
@@ -114,7 +120,8 @@ impl Riders {
         self.support[k] = supports;
         for s in disks() {
             let s = s as usize;
-            let slots = &mut self.carries[s * self.room..(s + 1) * self.room];
+            let span = self.span(s);
+            let slots = &mut self.carries[span];
             if !slots.contains(&(k as u32)) {
                 let free = slots
                     .iter()
@@ -128,7 +135,7 @@ impl Riders {
 
     /// Drops the carried entries of `s` that are no longer valid.
     fn purge(&mut self, s: usize) {
-        for slot in s * self.room..(s + 1) * self.room {
+        for slot in self.span(s) {
             let c = self.carries[slot];
             if c != NO_DISK && !self.rests_on(c as usize, s) {
                 self.carries[slot] = NO_DISK;
@@ -150,7 +157,7 @@ impl Riders {
 
     /// Appends the disks resting on `s` now to `out` (clears its carried list).
     pub fn take_carried(&mut self, s: usize, out: &mut Vec<u32>) {
-        for slot in s * self.room..(s + 1) * self.room {
+        for slot in self.span(s) {
             let c = std::mem::replace(&mut self.carries[slot], NO_DISK);
             if c != NO_DISK && self.rests_on(c as usize, s) {
                 out.push(c);
