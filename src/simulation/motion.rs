@@ -36,12 +36,21 @@ impl<F: Flight> Simulation<F> {
     /// State of disk `i` at local time `t`: on its parabola (or line), or carried by the floor.
     #[inline(always)]
     pub(super) fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
-        let m = &self.disks.motion[i];
         if self.is_riding(i) {
-            let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(t);
-            return (m.x + m.vx * (t - m.t), h + self.riders.lift(i), m.vx, hd);
+            return self.riding_state_at(i, t);
         }
+        let m = &self.disks.motion[i];
         self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    }
+
+    /// [`state_at`](Self::state_at) of a riding disk. Kept out of line: inlined, the floor's
+    /// phase (a sine and two remainders) is hoisted out of the pair loops and computed for every
+    /// prediction, in scenes where no disk rides or without a floor at all.
+    #[inline(never)]
+    fn riding_state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
+        let m = &self.disks.motion[i];
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(t);
+        (m.x + m.vx * (t - m.t), h + self.riders.lift(i), m.vx, hd)
     }
 
     /// Brings disk `i` to local time `t` (its stored state then belongs to `t`). The work the
