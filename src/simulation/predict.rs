@@ -63,6 +63,10 @@ impl<F: Flight> Simulation<F> {
     /// time of a needed re-check).
     #[inline]
     pub(super) fn pair_event(&self, i: usize) -> (f64, u32, f64) {
+        if !self.riders.any() {
+            let (best, who) = self.pair_event_in_flight(i);
+            return (best, who, f64::INFINITY);
+        }
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
         let speed_i = vxi.abs() + vyi.abs();
@@ -113,6 +117,43 @@ impl<F: Flight> Simulation<F> {
             }
         }
         (best, who, recheck)
+    }
+
+    /// [`pair_event`](Self::pair_event) while no disk rides (every scene without a floor, and
+    /// beds while nothing rests): the same contacts, in a loop that carries nothing for disks
+    /// at rest.
+    #[inline]
+    fn pair_event_in_flight(&self, i: usize) -> (f64, u32) {
+        let now = self.now;
+        let motion = &self.disks.motion;
+        let radius = &self.disks.radius;
+        let m = &motion[i];
+        let (xi, yi, vxi, vyi) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
+        let speed_i = vxi.abs() + vyi.abs();
+        let ai = radius[i];
+        let mut best = f64::INFINITY;
+        let mut who = partner::NONE;
+        for &j in self.lists.of(i) {
+            let m = &motion[j as usize];
+            let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
+            let (dx, dy) = self.wrap(xi - xj, yi - yj);
+            let speed = speed_i + vxj.abs() + vyj.abs();
+            if let Some(dt) = contact_time_within(
+                dx,
+                dy,
+                vxi - vxj,
+                vyi - vyj,
+                ai + radius[j as usize],
+                speed,
+                best,
+            ) {
+                if dt < best {
+                    best = dt;
+                    who = j;
+                }
+            }
+        }
+        (best, who)
     }
 
     /// Completes disk `i`'s event from its earliest pair contact (`best` from now, with `who`)

@@ -31,6 +31,9 @@ pub fn carried_room(a_min: f64, a_max: f64) -> usize {
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Riders {
     riding: Vec<bool>,
+    /// How many disks ride (kept with `riding`; recounted after a checkpoint is read).
+    #[serde(skip)]
+    riding_count: usize,
     lift: Vec<f64>,
     support: Vec<[u32; 2]>,
     /// Slots per disk in `carries`.
@@ -54,6 +57,7 @@ impl Riders {
     pub fn new(n: usize, room: usize) -> Riders {
         Riders {
             riding: vec![false; n],
+            riding_count: 0,
             lift: vec![0.0; n],
             support: vec![[NO_DISK; 2]; n],
             room,
@@ -99,7 +103,7 @@ impl Riders {
 
     /// Disk `i` starts riding the floor directly, its centre `lift` above the floor's surface.
     pub fn mount_on_floor(&mut self, i: usize, lift: f64) {
-        self.riding[i] = true;
+        self.set_riding(i, true);
         self.lift[i] = lift;
         self.support[i] = [NO_DISK; 2];
     }
@@ -115,7 +119,7 @@ impl Riders {
                 return false;
             }
         }
-        self.riding[k] = true;
+        self.set_riding(k, true);
         self.lift[k] = lift;
         self.support[k] = supports;
         for s in disks() {
@@ -152,7 +156,25 @@ impl Riders {
     /// Disk `i` stops riding.
     #[inline]
     pub fn dismount(&mut self, i: usize) {
-        self.riding[i] = false;
+        self.set_riding(i, false);
+    }
+
+    /// Marks disk `i` riding or not, keeping the count.
+    #[inline]
+    fn set_riding(&mut self, i: usize, riding: bool) {
+        if self.riding[i] != riding {
+            self.riding[i] = riding;
+            if riding {
+                self.riding_count += 1;
+            } else {
+                self.riding_count -= 1;
+            }
+        }
+    }
+
+    /// Counts the riding disks anew (after the flags were read from a checkpoint).
+    pub fn recount(&mut self) {
+        self.riding_count = self.riding.iter().filter(|&&r| r).count();
     }
 
     /// Appends the disks resting on `s` now to `out` (clears its carried list).
@@ -176,8 +198,9 @@ impl Riders {
     }
 
     /// Number of riding disks.
+    #[inline]
     pub fn count(&self) -> usize {
-        self.riding.iter().filter(|&&r| r).count()
+        self.riding_count
     }
 
     /// Number of riding disks that rest on other disks.
@@ -188,8 +211,9 @@ impl Riders {
     }
 
     /// `true` when any disk rides.
+    #[inline]
     pub fn any(&self) -> bool {
-        self.riding.contains(&true)
+        self.riding_count > 0
     }
 
     /// Indices of the riding disks.

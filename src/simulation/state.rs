@@ -148,6 +148,7 @@ impl<F: Flight> Simulation<F> {
         self.virial = state.virial;
         self.max_overlap = state.max_overlap;
         self.riders = state.riders;
+        self.riders.recount();
         self.same_instant = state.same_instant;
         Ok(())
     }
