@@ -306,6 +306,11 @@ hard_cases! {
     bed_riding_gamma_05: "bed_riding_gamma_0.5.json", 2e4; // [3.6e3: from t = 11]
     bed_at_rest_60: "bed_at_rest_60.json", 2e5; // [3.0e4: from t = 13]
     bouncing_bed_gamma_15: "bouncing_bed_gamma_1.5.json", 2e4; // [2.4e3]
+    // Piles of 100 poured on a static floor (see `beds_at_rest_come_to_rest_and_cost_nothing`).
+    pile_equal_periodic_tc: "pile_equal_periodic_tc.json", 4e4; // [7.4e3: from t = 10]
+    pile_equal_walls_e095_cutoff: "pile_equal_walls_e095_cutoff.json", 5e4; // [1.0e4: from 15]
+    pile_poly_periodic_cutoff: "pile_poly_periodic_cutoff.json", 3e5; // [5.2e4: from 15]
+    pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.8e4: from 29]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
@@ -434,15 +439,20 @@ fn column_without_a_cure_rests_on_contacts_or_stops_at_the_event_limit() {
 /// A bed poured on a static floor (24 disks, six layers, e = 0.5, between walls) comes to rest
 /// with either cure (resting contacts: disks at rest stop sliding, slow disks touching the
 /// floor beside a disk at rest rest on the floor, arches and jammed clusters come to rest
-/// together), and so does a ten-layer bed of 60 (TC): by half the run every disk is at rest,
-/// and from then on the run costs no events at all — every disk stays where it is, at zero
-/// speed.
+/// together), and so does a ten-layer bed of 60 (TC), and so do piles of 100 poured from a
+/// random start (equal and polydisperse disks, walls and periodic sides, e = 0.5 and 0.95, TC
+/// and the speed cutoff): by half the run every disk is at rest, and from then on the run
+/// costs no events at all — every disk stays where it is, at zero speed.
 #[test]
 fn beds_at_rest_come_to_rest_and_cost_nothing() {
     for file in [
         "bed_at_rest_tc.json",
         "bed_at_rest_speed_cutoff.json",
         "bed_at_rest_60.json",
+        "pile_equal_periodic_tc.json",
+        "pile_equal_walls_e095_cutoff.json",
+        "pile_poly_periodic_cutoff.json",
+        "pile_poly_walls_cutoff.json",
     ] {
         let s = load(file, &[]);
         let n = s.particles.count.unwrap();
