@@ -92,9 +92,9 @@ fn a_settling_bed_shows_what_resting_contacts_remove() {
         "/scenarios/hard/bed_at_rest_tc.json"
     ))
     .unwrap();
-    // `--quick` runs a quarter of it: averages over t = 15–20, when the bed is at rest (from
-    // t = 10 and 11 for seeds 3 and 4).
-    let sets = ["run.duration=80".to_string(), "run.warmup=60".to_string()];
+    // `--quick` runs a quarter of it: averages over t = 45–50, when the bed is at rest (from
+    // t = 7 and 39 for seeds 3 and 4).
+    let sets = ["run.duration=200".to_string(), "run.warmup=180".to_string()];
     let s = Scenario::from_json_with_overrides(&text, &sets).unwrap();
     let r = report(
         &s,

@@ -534,10 +534,10 @@ fn commensurate_row(s: &Scenario) -> Option<String> {
         return None;
     }
     Some(format!(
-        "domain.width = {} is exactly {whole} disk diameters: a bottom row at rest fills it with \
-         no room to spare, and disks pressed into that row collide ever more often (the run may \
-         end at run.max_events); a width slightly off a whole number of diameters (e.g. {}) \
-         avoids this exact jam",
+        "domain.width = {} is exactly {whole} disk diameters: rows fill it with no room to \
+         spare; a row at rest is held rigid, but a full row that has not come to rest rings ever \
+         faster in deep beds (the run may end at run.max_events); a width slightly off a whole \
+         number of diameters (e.g. {}) avoids this exact jam",
         s.domain.width,
         s.domain.width + 0.3 * 2.0 * a_min
     ))

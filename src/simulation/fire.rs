@@ -207,6 +207,18 @@ impl<F: Flight> Simulation<F> {
         let rode = [self.is_riding(i), self.is_riding(j)];
         let d = &self.disks;
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
+        if rode[0] != rode[1] && self.resting_contacts {
+            let (k, s) = if rode[0] { (j, i) } else { (i, j) };
+            let (nx, ny) = if k == i { (dx, dy) } else { (-dx, -dy) };
+            if ny >= 0.0 && self.in_jammed_row(s, -nx) {
+                let e = self.row_restitution(k, s);
+                if self.try_rest_on(k, s, e)? {
+                    return Ok(());
+                }
+                return self.bounce_off_row(k, s, e);
+            }
+        }
+        let d = &self.disks;
         let e = self.restitution.collision(
             i,
             j,

@@ -485,6 +485,122 @@ impl<F: Flight> Simulation<F> {
         true
     }
 
+    /// Whether disk `s` is at rest in a *jammed row* against a horizontal push of sign `push`:
+    /// a chain of disks at rest that do not slide, each touching the next side by side (within
+    /// [`TOUCH`] radii, the contact within [`TOUCH`] of horizontal), from `s` to the side wall
+    /// the push points to — or all the way round where the sides are periodic. The push is then
+    /// taken by the wall, its downward part by what carries the row: the row cannot move.
+    pub(super) fn in_jammed_row(&self, s: usize, push: f64) -> bool {
+        push != 0.0 && self.row_reaches(s, push)
+    }
+
+    /// Whether a chain of disks at rest side by side leads from `s` to the side wall in the
+    /// direction `dir` (its sign), or round to `s` again where the sides are periodic.
+    fn row_reaches(&self, s: usize, dir: f64) -> bool {
+        let now = self.now;
+        let width = self.sides.width();
+        let row = |c: usize| self.is_riding(c) && self.disks.motion[c].vx == 0.0;
+        if !row(s) {
+            return false;
+        }
+        let mut cur = s;
+        for _ in 0..self.disks.len() {
+            let (x, y, _, _) = self.state_at(cur, now);
+            let a = self.disks.radius[cur];
+            if let SideBounds::Walls { .. } = self.sides {
+                let gap = if dir < 0.0 { x - a } else { width - x - a };
+                if gap <= TOUCH * a {
+                    return true;
+                }
+            }
+            let next = self.lists.of(cur).iter().map(|&c| c as usize).find(|&c| {
+                if !row(c) {
+                    return false;
+                }
+                let (xc, yc, _, _) = self.state_at(c, now);
+                let (dx, dy) = self.wrap(xc - x, yc - y);
+                let reach = a + self.disks.radius[c];
+                let dist = (dx * dx + dy * dy).sqrt();
+                dx * dir > 0.0 && dist - reach <= TOUCH * a && dy.abs() <= TOUCH * reach
+            });
+            match next {
+                Some(c) if c == s => return true, // round the periodic sides
+                Some(c) => cur = c,
+                None => return false,
+            }
+        }
+        false
+    }
+
+    /// Restitution of flying disk `k` hitting disk `s` of a jammed row (recorded as an impact
+    /// on a boundary: a cure acts only through k's own past).
+    pub(super) fn row_restitution(&mut self, k: usize, s: usize) -> f64 {
+        let now = self.now;
+        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
+        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
+        let (dvx, dvy) = (mk.vx - ms.vx, mk.vy - ms.vy);
+        let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
+        if self.restitution.boundary_elastic(k, now, u.max(0.0)) {
+            1.0
+        } else {
+            self.restitution.law.e
+        }
+    }
+
+    /// Flying disk `k` hits disk `s` in a jammed row (see [`in_jammed_row`](Self::in_jammed_row)):
+    /// it bounces off `s` as off a fixed disk moving with the floor, with the restitution of an
+    /// impact on a boundary (a cure acts only through k's own past, as at a wall: the row,
+    /// hit over and over, does not make every impact on it elastic), and the row stays at rest.
+    /// The exact engine would send the push through the row to the wall and back in a chain of
+    /// collisions at one instant, for ever under a cure (the *exact jam*).
+    pub(super) fn bounce_off_row(&mut self, k: usize, s: usize, e: f64) -> Result<()> {
+        let now = self.now;
+        let (h_d, mass) = (
+            self.floor
+                .as_ref()
+                .expect("riders need a floor")
+                .ride(now)
+                .1,
+            self.disks.mass[k],
+        );
+        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
+        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
+        let dist = (dx * dx + dy * dy).sqrt();
+        let (nx, ny) = (dx / dist, dy / dist);
+        let (vx, vy) = (mk.vx, mk.vy - h_d);
+        let u = vx * nx + vy * ny;
+        let a = self.disks.radius[k].min(self.disks.radius[s]);
+        let g = self.flight.g();
+        let press = (g + self
+            .floor
+            .as_ref()
+            .expect("riders need a floor")
+            .ride_acceleration(now))
+            * ny;
+        let floor_rebound = if press > 0.0 {
+            Floor::pair_rest_speed(a, press)
+        } else {
+            0.0
+        };
+        let after = (-e * u).max(u).max(floor_rebound);
+        self.check_contact(k, s, dist)?;
+        let before = 0.5 * mass * (mk.vx * mk.vx + mk.vy * mk.vy);
+        let m = &mut self.disks.motion[k];
+        m.vx += (after - u) * nx;
+        m.vy += (after - u) * ny;
+        let gained = 0.5 * mass * (m.vx * m.vx + m.vy * m.vy) - before;
+        let lost = 0.5 * mass * (u * u - after * after);
+        self.flow.dissipated += lost;
+        self.flow.injected += gained + lost;
+        self.flow.floor_impulse += mass * (after - u) * ny;
+        self.virial += dist * mass * (after - u);
+        self.counts.pair += 1;
+        self.moved(k);
+        // `s` did not change: only its own event (this one, if it was its) needs renewing.
+        self.predict(s);
+        Ok(())
+    }
+
     /// Riding disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`) touch while
     /// approaching slower than the sleep speed: instead of a collision that would throw both
     /// off their supports, they stay at rest and slide on together with their common horizontal
