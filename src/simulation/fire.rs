@@ -231,23 +231,9 @@ impl<F: Flight> Simulation<F> {
         // A disk landing on a rider (or a rider hit from above) is pressed onto it by gravity
         // and the floor: a rebound of at least the resting speed keeps the pair from Zeno.
         let min_rebound = if rode[0] != rode[1] {
-            let floor = self.floor.as_ref().expect("riders need a floor");
-            let g = self.flight.g();
-            let dist = (dx * dx + dy * dy).sqrt();
-            // Acceleration of i relative to j along n = (r_i − r_j)/|r_i − r_j|.
-            let ride_acc = floor.ride_acceleration(now);
-            let (ai, aj) = if rode[0] {
-                (ride_acc, -g)
-            } else {
-                (-g, ride_acc)
-            };
-            let press = -(ai - aj) * dy / dist;
-            if press > 0.0 {
-                let a = self.disks.radius[i].min(self.disks.radius[j]);
-                Floor::pair_rest_speed(a, press)
-            } else {
-                0.0
-            }
+            // The separation's vertical part, from the rider to the flying disk.
+            let up = if rode[0] { -dy } else { dy };
+            self.landing_rebound(i, j, up, (dx * dx + dy * dy).sqrt())
         } else {
             0.0
         };
@@ -330,6 +316,20 @@ impl<F: Flight> Simulation<F> {
             self.settle_cluster(i);
         }
         Ok(())
+    }
+
+    /// The least rebound of a flying disk landing on a riding one (disks `i` and `j`, either
+    /// way round, centres `dist` apart, the flying one `up` higher): gravity and the floor press
+    /// them together at `(g + h'')·up/dist`, and a rebound of at least the resting speed at that
+    /// pressure keeps the pair from Zeno (0 if not pressed).
+    pub(super) fn landing_rebound(&self, i: usize, j: usize, up: f64, dist: f64) -> f64 {
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let press = (self.flight.g() + floor.ride_acceleration(self.now)) * up / dist;
+        if press > 0.0 {
+            Floor::pair_rest_speed(self.disks.radius[i].min(self.disks.radius[j]), press)
+        } else {
+            0.0
+        }
     }
 
     /// Books the overlap of disks `i` and `j` colliding at centre distance `distance`, and fails

@@ -555,33 +555,15 @@ impl<F: Flight> Simulation<F> {
     /// collisions at one instant, for ever under a cure (the *exact jam*).
     pub(super) fn bounce_off_row(&mut self, k: usize, s: usize, e: f64) -> Result<()> {
         let now = self.now;
-        let (h_d, mass) = (
-            self.floor
-                .as_ref()
-                .expect("riders need a floor")
-                .ride(now)
-                .1,
-            self.disks.mass[k],
-        );
+        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let mass = self.disks.mass[k];
         let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
         let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
         let dist = (dx * dx + dy * dy).sqrt();
         let (nx, ny) = (dx / dist, dy / dist);
-        let (vx, vy) = (mk.vx, mk.vy - h_d);
-        let u = vx * nx + vy * ny;
-        let a = self.disks.radius[k].min(self.disks.radius[s]);
-        let g = self.flight.g();
-        let press = (g + self
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride_acceleration(now))
-            * ny;
-        let floor_rebound = if press > 0.0 {
-            Floor::pair_rest_speed(a, press)
-        } else {
-            0.0
-        };
+        // Normal velocity relative to the row, which moves with the floor.
+        let u = mk.vx * nx + (mk.vy - hd) * ny;
+        let floor_rebound = self.landing_rebound(k, s, dy, dist);
         let after = (-e * u).max(u).max(floor_rebound);
         self.check_contact(k, s, dist)?;
         let before = 0.5 * mass * (mk.vx * mk.vx + mk.vy * mk.vy);
