@@ -420,7 +420,7 @@ fn column_without_a_cure_rests_on_contacts_or_stops_at_the_event_limit() {
     );
     assert_eq!(sum.ending, Ending::EventLimit);
     assert!(sum.sim_time < 0.5 * s.run.duration);
-    assert!(sum.events.popped() >= 200_000);
+    assert!(sum.events.guarded() >= 200_000);
     assert!(sum.max_overlap < TOLERANCE);
     assert!(sum.energy.balance_error < 1e-9);
 

@@ -40,6 +40,13 @@ impl EventCounts {
     pub fn popped(&self) -> u64 {
         self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount + self.shell
     }
+
+    /// What `run.max_events` limits: every popped event and every disk coming to rest (which
+    /// happen inside other events, sometimes many at once: a loop of disks coming to rest and
+    /// being released again must meet the guard too).
+    pub fn guarded(&self) -> u64 {
+        self.popped() + self.rest
+    }
 }
 
 /// Energy (and the floor's momentum) exchanged with the outside, and energy lost in collisions,

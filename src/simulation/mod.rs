@@ -121,7 +121,7 @@ impl<F: Flight> Simulation<F> {
         let mut turns = 0u32;
         loop {
             let local_target = self.base.local(target);
-            if self.counts.popped() >= self.event_limit {
+            if self.counts.guarded() >= self.event_limit {
                 return Ok(Progress::EventLimit);
             }
             if turns & 0x3ff == 0 && self.interrupted() {
