@@ -209,13 +209,10 @@ impl<F: Flight> Simulation<F> {
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
         if rode[0] != rode[1] && self.resting_contacts {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
-            let (nx, ny) = if k == i { (dx, dy) } else { (-dx, -dy) };
-            if ny >= 0.0 && self.in_jammed_row(s, -nx) {
-                let e = self.row_restitution(k, s);
-                if self.try_rest_on(k, s, e)? {
-                    return Ok(());
-                }
-                return self.bounce_off_row(k, s, e);
+            // Separation from the disk at rest to the flying one.
+            let (sx, sy) = if k == i { (dx, dy) } else { (-dx, -dy) };
+            if sy >= 0.0 && self.in_jammed_row(s, -sx) {
+                return self.meet_jammed_row(k, s, (sx, sy));
             }
         }
         let d = &self.disks;

@@ -491,24 +491,18 @@ impl<F: Flight> Simulation<F> {
     /// the push points to — or all the way round where the sides are periodic. The push is then
     /// taken by the wall, its downward part by what carries the row: the row cannot move.
     pub(super) fn in_jammed_row(&self, s: usize, push: f64) -> bool {
-        push != 0.0 && self.row_reaches(s, push)
-    }
-
-    /// Whether a chain of disks at rest side by side leads from `s` to the side wall in the
-    /// direction `dir` (its sign), or round to `s` again where the sides are periodic.
-    fn row_reaches(&self, s: usize, dir: f64) -> bool {
-        let now = self.now;
-        let width = self.sides.width();
         let row = |c: usize| self.is_riding(c) && self.disks.motion[c].vx == 0.0;
-        if !row(s) {
+        if push == 0.0 || !row(s) {
             return false;
         }
+        let now = self.now;
+        let width = self.sides.width();
         let mut cur = s;
         for _ in 0..self.disks.len() {
             let (x, y, _, _) = self.state_at(cur, now);
             let a = self.disks.radius[cur];
             if let SideBounds::Walls { .. } = self.sides {
-                let gap = if dir < 0.0 { x - a } else { width - x - a };
+                let gap = if push < 0.0 { x - a } else { width - x - a };
                 if gap <= TOUCH * a {
                     return true;
                 }
@@ -521,7 +515,7 @@ impl<F: Flight> Simulation<F> {
                 let (dx, dy) = self.wrap(xc - x, yc - y);
                 let reach = a + self.disks.radius[c];
                 let dist = (dx * dx + dy * dy).sqrt();
-                dx * dir > 0.0 && dist - reach <= TOUCH * a && dy.abs() <= TOUCH * reach
+                dx * push > 0.0 && dist - reach <= TOUCH * a && dy.abs() <= TOUCH * reach
             });
             match next {
                 Some(c) if c == s => return true, // round the periodic sides
@@ -532,45 +526,42 @@ impl<F: Flight> Simulation<F> {
         false
     }
 
-    /// Restitution of flying disk `k` hitting disk `s` of a jammed row (recorded as an impact
-    /// on a boundary: a cure acts only through k's own past).
-    pub(super) fn row_restitution(&mut self, k: usize, s: usize) -> f64 {
+    /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) hits disk `s` of a jammed
+    /// row (see [`in_jammed_row`](Self::in_jammed_row)). Its restitution is that of an impact on
+    /// a boundary (a cure acts only through k's own past, as at a wall: the row, hit over and
+    /// over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
+    /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
+    /// disk moving with the floor, and the row stays at rest. The exact engine would send the
+    /// push through the row to the wall and back in a chain of collisions at one instant, for
+    /// ever under a cure (the *exact jam*).
+    pub(super) fn meet_jammed_row(
+        &mut self,
+        k: usize,
+        s: usize,
+        (sx, sy): (f64, f64),
+    ) -> Result<()> {
         let now = self.now;
-        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
-        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
-        let (dvx, dvy) = (mk.vx - ms.vx, mk.vy - ms.vy);
-        let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
-        if self.restitution.boundary_elastic(k, now, u.max(0.0)) {
+        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let dist = (sx * sx + sy * sy).sqrt();
+        let (nx, ny) = (sx / dist, sy / dist);
+        // Normal velocity relative to the row, which moves with the floor.
+        let mk = self.disks.motion[k];
+        let u = mk.vx * nx + (mk.vy - hd) * ny;
+        let e = if self.restitution.boundary_elastic(k, now, (-u).max(0.0)) {
             1.0
         } else {
             self.restitution.law.e
+        };
+        if self.try_rest_on(k, s, e)? {
+            return Ok(());
         }
-    }
-
-    /// Flying disk `k` hits disk `s` in a jammed row (see [`in_jammed_row`](Self::in_jammed_row)):
-    /// it bounces off `s` as off a fixed disk moving with the floor, with the restitution of an
-    /// impact on a boundary (a cure acts only through k's own past, as at a wall: the row,
-    /// hit over and over, does not make every impact on it elastic), and the row stays at rest.
-    /// The exact engine would send the push through the row to the wall and back in a chain of
-    /// collisions at one instant, for ever under a cure (the *exact jam*).
-    pub(super) fn bounce_off_row(&mut self, k: usize, s: usize, e: f64) -> Result<()> {
-        let now = self.now;
-        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let mass = self.disks.mass[k];
-        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
-        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
-        let dist = (dx * dx + dy * dy).sqrt();
-        let (nx, ny) = (dx / dist, dy / dist);
-        // Normal velocity relative to the row, which moves with the floor.
-        let u = mk.vx * nx + (mk.vy - hd) * ny;
-        let floor_rebound = self.landing_rebound(k, s, dy, dist);
-        let after = (-e * u).max(u).max(floor_rebound);
+        let after = (-e * u).max(u).max(self.landing_rebound(k, s, sy, dist));
         self.check_contact(k, s, dist)?;
-        let before = 0.5 * mass * (mk.vx * mk.vx + mk.vy * mk.vy);
+        let mass = self.disks.mass[k];
         let m = &mut self.disks.motion[k];
         m.vx += (after - u) * nx;
         m.vy += (after - u) * ny;
-        let gained = 0.5 * mass * (m.vx * m.vx + m.vy * m.vy) - before;
+        let gained = 0.5 * mass * (m.vx * m.vx + m.vy * m.vy - mk.vx * mk.vx - mk.vy * mk.vy);
         let lost = 0.5 * mass * (u * u - after * after);
         self.flow.dissipated += lost;
         self.flow.injected += gained + lost;
