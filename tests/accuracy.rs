@@ -93,8 +93,12 @@ fn a_settling_bed_shows_what_resting_contacts_remove() {
     ))
     .unwrap();
     // `--quick` runs a quarter of it: averages over t = 45–50, when the bed is at rest (from
-    // t = 7 and 39 for seeds 3 and 4).
-    let sets = ["run.duration=200".to_string(), "run.warmup=180".to_string()];
+    // t = 7 and 11 for seeds 5 and 6; seed 4 still rattles at t = 60).
+    let sets = [
+        "run.duration=200".to_string(),
+        "run.warmup=180".to_string(),
+        "seed=5".to_string(),
+    ];
     let s = Scenario::from_json_with_overrides(&text, &sets).unwrap();
     let r = report(
         &s,

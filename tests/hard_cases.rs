@@ -311,6 +311,8 @@ hard_cases! {
     pile_equal_walls_e095_cutoff: "pile_equal_walls_e095_cutoff.json", 1e5; // [2.1e4: from 17]
     pile_poly_periodic_cutoff: "pile_poly_periodic_cutoff.json", 3e5; // [5.2e4: from 15]
     pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.3e4: from 14]
+    // Without the pocket rule: 4.6e3, the disk sliding to the wall and back for ever.
+    pocket_by_a_wall: "pocket_by_a_wall.json", 2e3; // [2.8e2: at rest from t = 2]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
@@ -743,6 +745,32 @@ fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
         assert!(sum.max_overlap < TOLERANCE);
         assert!(sum.energy.balance_error < 1e-9);
     }
+}
+
+/// A disk on top of a smaller one, a little off its top towards a side wall: it slides down
+/// into the pocket between its support and the wall. The wall is elastic and TC makes its hops
+/// on the support elastic, so frictionless it would slide to the wall and back for ever (4.6·10³
+/// events per unit time before the pocket rule). It comes to rest against the wall, on its
+/// support, and from then on the run costs no events (its invariants and energy balance are
+/// checked with the hard cases).
+#[test]
+fn a_disk_in_a_pocket_by_an_elastic_wall_comes_to_rest() {
+    let s = load("pocket_by_a_wall.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    sim.advance_to(0.5).unwrap();
+    assert!(sim.riders() < 2, "the upper disk slides at first");
+    sim.advance_to(5.0).unwrap();
+    assert_eq!(sim.riders(), 2, "both at rest by t = 5");
+    let before = sim.counts();
+    let still = sim.snapshot(5.0);
+    sim.advance_to(s.run.duration).unwrap();
+    assert_eq!(sim.counts().popped(), before.popped(), "events at rest");
+    let end = sim.snapshot(s.run.duration);
+    assert_eq!((&end.x, &end.y), (&still.x, &still.y));
+    // Against the right wall (x = 2), within the touching distance.
+    let gap = 2.0 - end.x[1] - 0.5;
+    assert!((0.0..=1e-5 * 0.5).contains(&gap), "gap to the wall {gap}");
+    assert!(sim.max_overlap() < TOLERANCE);
 }
 
 /// A column of five on a sine floor with Γ = 0.5 (no cure) comes to rest and rides the floor as

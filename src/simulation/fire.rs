@@ -2,6 +2,7 @@
 //! the bookkeeping of energy and counts, and the re-prediction of what it changed.
 
 use super::predict::partner;
+use super::riders::{LEFT_WALL, RIGHT_WALL};
 use super::{Collision, Partner, Simulation, OVERLAP_TOLERANCE};
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
@@ -38,15 +39,15 @@ impl<F: Flight> Simulation<F> {
         match who {
             partner::LEFT | partner::RIGHT => {
                 self.bring(i, now);
-                if self.stop_at_wall(i) {
+                let (side, wall) = if who == partner::LEFT {
+                    (Side::Left, LEFT_WALL)
+                } else {
+                    (Side::Right, RIGHT_WALL)
+                };
+                if self.stop_at_wall(i) || self.rest_in_pocket(i, wall) {
                     return Ok(());
                 }
                 self.unsettle(i);
-                let side = if who == partner::LEFT {
-                    Side::Left
-                } else {
-                    Side::Right
-                };
                 let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
                 self.flow.dissipated +=
                     self.sides.hit(side, &mut self.restitution, i, now, m, mass);

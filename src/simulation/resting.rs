@@ -485,6 +485,63 @@ impl<F: Flight> Simulation<F> {
         true
     }
 
+    /// Flying disk `k` (brought to now) reaches a side wall while it slides, in gentle hops, on
+    /// a disk `s` at rest that holds it against that wall (the contact normal and the wall's
+    /// bracket the vertical): a pocket. If its kinetic energy relative to `s` cannot carry it
+    /// over the top of `s`, it is trapped there: frictionless and with an elastic wall (or a
+    /// cure making its hops elastic) it would slide down to the wall and back for ever, at a few
+    /// sleep speeds, one hop every ~10⁻³ — the static friction of real grains stops it, and so
+    /// does this: it comes to rest on `s` and the wall. The energy it had (at most its weight
+    /// times the pocket's depth) is booked as dissipated. Returns whether it did (the wall
+    /// collision is then done).
+    pub(super) fn rest_in_pocket(&mut self, k: usize, wall: u32) -> bool {
+        if !self.resting_contacts || self.floor.is_none() || self.is_riding(k) {
+            return false;
+        }
+        let gentle = self.sleep_speed(k);
+        if gentle == 0.0 {
+            return false;
+        }
+        let Some(supports) = self.stable_place(k, None, |c| self.is_riding(c)) else {
+            return false;
+        };
+        let s = match supports {
+            [s, w] | [w, s] if w == wall && s < RIGHT_WALL => s as usize,
+            _ => return false,
+        };
+        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
+        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
+        let dist = (dx * dx + dy * dy).sqrt();
+        let (dvx, dvy) = (mk.vx - ms.vx, mk.vy - ms.vy);
+        // Sliding on s: no more than a gentle hop along the contact normal.
+        if ((dvx * dx + dvy * dy) / dist).abs() > gentle {
+            return false;
+        }
+        // Trapped: climbing to the top of s would take more than its kinetic energy.
+        let press = self.flight.g()
+            + self
+                .floor
+                .as_ref()
+                .expect("riders need a floor")
+                .ride_acceleration(self.now);
+        if 0.5 * (dvx * dvx + dvy * dvy) >= press * (dist - dy) {
+            return false;
+        }
+        let (h, hd) = self
+            .floor
+            .as_ref()
+            .expect("riders need a floor")
+            .ride(self.now);
+        if self.squeezed(k, ms.vx, hd) || self.near_lid(k) {
+            return false;
+        }
+        if !self.come_to_rest(k, h, supports, (ms.vx, hd)) {
+            return false;
+        }
+        self.counts.wall += 1;
+        true
+    }
+
     /// Whether disk `s` is at rest in a *jammed row* against a horizontal push of sign `push`:
     /// a chain of disks at rest that do not slide, each touching the next side by side (within
     /// [`TOUCH`] radii, the contact within [`TOUCH`] of horizontal), from `s` to the side wall
