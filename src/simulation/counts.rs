@@ -28,6 +28,14 @@ pub struct EventCounts {
     /// Disks that left their shell and rebuilt their own list (local re-mapping).
     #[serde(default)]
     pub shell: u64,
+    /// Flying disks stopped after more than `ZENO` events at one instant (caught in a closed
+    /// wedge); the event that would have been one more is dropped. Shown only when some were.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub zeno: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl EventCounts {
@@ -36,9 +44,16 @@ impl EventCounts {
         self.pair + self.wall + self.lid + self.floor
     }
 
-    /// Every event popped from the queue (collisions, stale events, rechecks, shell exits).
+    /// Every event popped from the queue (collisions, stale events, rechecks, shell exits,
+    /// events dropped by a Zeno stop).
     pub fn popped(&self) -> u64 {
-        self.collisions() + self.recheck + self.stale + self.takeoff + self.unmount + self.shell
+        self.collisions()
+            + self.recheck
+            + self.stale
+            + self.takeoff
+            + self.unmount
+            + self.shell
+            + self.zeno
     }
 
     /// What `run.max_events` limits: every popped event and every disk coming to rest (which
@@ -61,4 +76,24 @@ pub struct EnergyFlow {
     /// `m (g + h'')` carrying the disks at rest on it. Its time average per unit width is the
     /// pressure on the floor.
     pub floor_impulse: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zeno_stops_count_as_popped_and_show_only_when_some_happened() {
+        let mut c = EventCounts {
+            pair: 10,
+            ..Default::default()
+        };
+        let quiet = serde_json::to_value(c).unwrap();
+        assert!(quiet.get("zeno").is_none(), "{quiet}");
+        c.zeno = 3;
+        assert_eq!(c.popped(), 13);
+        assert_eq!(serde_json::to_value(c).unwrap()["zeno"], 3);
+        let back: EventCounts = serde_json::from_value(quiet).unwrap();
+        assert_eq!(back.zeno, 0);
+    }
 }

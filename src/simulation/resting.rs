@@ -438,6 +438,7 @@ impl<F: Flight> Simulation<F> {
             return false;
         }
         seen.1 = 0;
+        self.counts.zeno += 1;
         self.bring(i, now);
         let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
         self.take_velocity(i, (0.0, hd));
