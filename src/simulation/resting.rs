@@ -510,10 +510,11 @@ impl<F: Flight> Simulation<F> {
             [s, w] | [w, s] if w == wall && s < RIGHT_WALL => s as usize,
             _ => return false,
         };
-        let (mk, ms) = (self.disks.motion[k], self.disks.motion[s]);
-        let (dx, dy) = self.wrap(mk.x - ms.x, mk.y - ms.y);
+        let mk = self.disks.motion[k];
+        let (xs, ys, vxs, vys) = self.state_at(s, self.now);
+        let (dx, dy) = self.wrap(mk.x - xs, mk.y - ys);
         let dist = (dx * dx + dy * dy).sqrt();
-        let (dvx, dvy) = (mk.vx - ms.vx, mk.vy - ms.vy);
+        let (dvx, dvy) = (mk.vx - vxs, mk.vy - vys);
         // Sliding on s: no more than a gentle hop along the contact normal.
         if ((dvx * dx + dvy * dy) / dist).abs() > gentle {
             return false;
@@ -533,10 +534,10 @@ impl<F: Flight> Simulation<F> {
             .as_ref()
             .expect("riders need a floor")
             .ride(self.now);
-        if self.squeezed(k, ms.vx, hd) || self.near_lid(k) {
+        if self.squeezed(k, vxs, hd) || self.near_lid(k) {
             return false;
         }
-        if !self.come_to_rest(k, h, supports, (ms.vx, hd)) {
+        if !self.come_to_rest(k, h, supports, (vxs, hd)) {
             return false;
         }
         self.counts.wall += 1;
