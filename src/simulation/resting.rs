@@ -520,20 +520,12 @@ impl<F: Flight> Simulation<F> {
             return false;
         }
         // Trapped: climbing to the top of s would take more than its kinetic energy.
-        let press = self.flight.g()
-            + self
-                .floor
-                .as_ref()
-                .expect("riders need a floor")
-                .ride_acceleration(self.now);
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let press = self.flight.g() + floor.ride_acceleration(self.now);
         if 0.5 * (dvx * dvx + dvy * dvy) >= press * (dist - dy) {
             return false;
         }
-        let (h, hd) = self
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(self.now);
+        let (h, hd) = floor.ride(self.now);
         if self.squeezed(k, vxs, hd) || self.near_lid(k) {
             return false;
         }
