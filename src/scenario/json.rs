@@ -38,7 +38,7 @@ pub fn parse(text: &str) -> Result<Value> {
     Ok(value)
 }
 
-/// Refuses a list anywhere but in [`LIST_FIELDS`] (and looks inside species entries).
+/// Refuses a list anywhere but in `LIST_FIELDS` (and looks inside species entries).
 pub fn lists_only_where_lists_belong(value: &Value) -> Result<()> {
     fn walk(v: &Value, path: &str) -> Result<()> {
         match v {

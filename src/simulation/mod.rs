@@ -22,6 +22,7 @@ mod clock;
 mod counts;
 pub mod dutc;
 mod fire;
+mod jams;
 mod log;
 mod motion;
 mod observe;

@@ -27,6 +27,9 @@
 //!   floor, reaching a wall); two touching disks at rest slide on together instead of colliding
 //!   (`rest_together`); a flyer driven into a slot between supports at rest stops there
 //!   (`stop_in_slot`). Without these a bed of frictionless disks never stops sliding and ringing.
+//!
+//! The rules that end the sequences a bed at rest would otherwise ring in for ever (slots,
+//! jammed clusters and rows, pockets by a wall, Zeno wedges) are in [`jams`](super::jams).
 
 use super::riders::{LEFT_WALL, NO_DISK, RIGHT_WALL};
 use super::Simulation;
@@ -37,13 +40,6 @@ use crate::locals::{SideBounds, Top};
 
 /// A contact normal within this of the vertical (|n_x| ≤ `VERTICAL`) carries a disk alone.
 pub const VERTICAL: f64 = 1e-9;
-
-/// A slot whose two contact normals sum to less than this (they are within ~6° of opposite)
-/// stops a disk moving deeper into it (see `stop_in_slot`).
-pub const WEDGE: f64 = 0.1;
-
-/// More events than this for one flying disk at one instant stop it (see `stop_zeno`).
-pub const ZENO: u32 = 64;
 
 /// A support touches a disk when their gap is at most `TOUCH` radii of the resting disk; a
 /// resting disk leaves its supports when a gap grows beyond twice that.
@@ -128,85 +124,15 @@ impl<F: Flight> Simulation<F> {
         Ok(true)
     }
 
-    /// Flying disk `k` hits disk `s` at rest (contact normal `n` from `s` to `k`) while it touches,
-    /// on the other side, a disk at rest or a side wall whose normal is nearly opposite (the two
-    /// sum to less than [`WEDGE`]): a slot between supports that do not give, and k moves deeper
-    /// into it. Between rigid walls it would collide ~π/|n_s + n_c| times at once and stop (for
-    /// e < 1; with a cure it would rattle in zero gaps for ever): it stops at once — it comes to
-    /// rest if the place holds it, else it is left still to fall out of the slot. Returns
-    /// whether it stopped (the collision is then done).
-    fn stop_in_slot(
-        &mut self,
-        k: usize,
-        s: usize,
-        (nx, ny): (f64, f64),
-        dist: f64,
-    ) -> Result<bool> {
-        let now = self.now;
-        let (xk, yk, vxk, vyk) = self.state_at(k, now);
-        let ak = self.disks.radius[k];
-        let touch = TOUCH * ak;
-        let vs = self.disks.motion[s].vx;
-        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let (vx, vy) = (vxk - vs, vyk - hd);
-        let into = |(cx, cy): (f64, f64)| {
-            let (bx, by) = (nx + cx, ny + cy);
-            bx.hypot(by) < WEDGE && vx * bx + vy * by < 0.0
-        };
-        let wall = match self.sides {
-            SideBounds::Walls { width, .. } => {
-                (xk - ak <= touch && into((1.0, 0.0)))
-                    || (width - xk - ak <= touch && into((-1.0, 0.0)))
-            }
-            _ => false,
-        };
-        let slot = wall
-            || self.lists.of(k).iter().any(|&c| {
-                let c = c as usize;
-                if c == s || !self.is_riding(c) || self.disks.motion[c].vx != vs {
-                    return false;
-                }
-                let (xc, yc, _, _) = self.state_at(c, now);
-                let (dx, dy) = self.wrap(xk - xc, yk - yc);
-                let d = (dx * dx + dy * dy).sqrt();
-                d - ak - self.disks.radius[c] <= touch && into((dx / d, dy / d))
-            });
-        if !slot {
-            return Ok(false);
-        }
-        self.check_contact(k, s, dist)?;
-        self.counts.pair += 1;
-        let held = if self.touches_floor(k, h) {
-            Some([NO_DISK; 2])
-        } else {
-            self.stable_supports(k, s, None)
-        };
-        if let Some(supports) = held {
-            if !self.squeezed(k, vs, hd)
-                && !self.near_lid(k)
-                && self.come_to_rest(k, h, supports, (vs, hd))
-            {
-                self.predict(s);
-                self.settle_cluster(k);
-                return Ok(true);
-            }
-        }
-        // Still, relative to the supports, as a flying disk.
-        self.take_velocity(k, (vs, hd));
-        self.moved(k);
-        self.predict(s);
-        Ok(true)
-    }
-
     /// Whether disk `k` (at now) touches the floor's surface `h`, to within [`TOUCH`] radii.
-    fn touches_floor(&self, k: usize, h: f64) -> bool {
+    pub(super) fn touches_floor(&self, k: usize, h: f64) -> bool {
         let (_, y, _, _) = self.state_at(k, self.now);
         let a = self.disks.radius[k];
         y - h - a <= TOUCH * a
     }
 
     /// Whether disk `k` at rest could be pushed into the lid by the floor's motion.
-    fn near_lid(&self, k: usize) -> bool {
+    pub(super) fn near_lid(&self, k: usize) -> bool {
         match (self.top, self.floor.as_ref()) {
             (Top::Lid { height, .. }, Some(floor)) => {
                 let (_, y, _, _) = self.state_at(k, self.now);
@@ -220,7 +146,13 @@ impl<F: Flight> Simulation<F> {
     /// `(vx, h'(now))`; the floor's surface is at `h`. Its kinetic energy relative to the floor's
     /// motion is booked as dissipated and the rest of the change as work of the floor (which
     /// carries the stack). `false` (nothing changed) if a support carries too many disks.
-    fn come_to_rest(&mut self, k: usize, h: f64, supports: [u32; 2], (vx, hd): (f64, f64)) -> bool {
+    pub(super) fn come_to_rest(
+        &mut self,
+        k: usize,
+        h: f64,
+        supports: [u32; 2],
+        (vx, hd): (f64, f64),
+    ) -> bool {
         let mk = self.disks.motion[k];
         if supports == [NO_DISK; 2] {
             // On the floor itself, where it is (within TOUCH radii of the surface: moving it
@@ -241,7 +173,7 @@ impl<F: Flight> Simulation<F> {
     /// Disk `k` (brought to now) takes the velocity `(vx, h'(now))` of the disks at rest it
     /// meets: its kinetic energy relative to them is booked as dissipated and the rest of the
     /// change as work of the floor, which holds them and takes the momentum.
-    fn take_velocity(&mut self, k: usize, (vx, hd): (f64, f64)) {
+    pub(super) fn take_velocity(&mut self, k: usize, (vx, hd): (f64, f64)) {
         let mass = self.disks.mass[k];
         let m = &mut self.disks.motion[k];
         let relative = 0.5 * mass * ((m.vx - vx).powi(2) + (m.vy - hd).powi(2));
@@ -261,7 +193,12 @@ impl<F: Flight> Simulation<F> {
     ///
     /// With `slow = Some(v)`, flying disks touching `k` that move with velocity within their
     /// sleep speed of `v` count as supports too (they can come to rest with `k`).
-    fn stable_supports(&self, k: usize, hit: usize, slow: Option<(f64, f64)>) -> Option<[u32; 2]> {
+    pub(super) fn stable_supports(
+        &self,
+        k: usize,
+        hit: usize,
+        slow: Option<(f64, f64)>,
+    ) -> Option<[u32; 2]> {
         let now = self.now;
         self.stable_place(k, Some(hit), |c| {
             if self.is_riding(c) {
@@ -276,7 +213,7 @@ impl<F: Flight> Simulation<F> {
     /// Two supports of disk `k` (at now) whose contact normals bracket the vertical, among the
     /// disks touching it that `can_support` accepts (and `hit`, always), and the side walls; or
     /// one straight below it (only `hit`, if given; any accepted disk otherwise).
-    fn stable_place(
+    pub(super) fn stable_place(
         &self,
         k: usize,
         hit: Option<usize>,
@@ -342,7 +279,7 @@ impl<F: Flight> Simulation<F> {
     /// disk, pressed onto k, gets the floor of the rebound and leaves; a wall, a disk at rest, or
     /// a flying disk beside or below would push k off its supports at once, k would come to rest
     /// again, and so on in zero time.
-    fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
+    pub(super) fn squeezed(&self, k: usize, vx: f64, vy: f64) -> bool {
         let now = self.now;
         let (xk, yk, _, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
@@ -417,35 +354,6 @@ impl<F: Flight> Simulation<F> {
         Floor::pair_rest_speed(self.disks.radius[i], press)
     }
 
-    /// A flying disk whose events keep happening at one instant — more than [`ZENO`] after the
-    /// first — is caught in a closed wedge of neighbours and walls that do not give, where a cure makes
-    /// the collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
-    /// rest among them). It stops: it takes the floor's velocity (kinetic energy relative to the
-    /// floor booked as dissipated, the rest as floor work), and flies on from there. Returns
-    /// whether it did (the event is then dropped; its partner's prediction is renewed as stale).
-    pub(super) fn stop_zeno(&mut self, i: usize) -> bool {
-        let now = self.now;
-        if self.same_instant.is_empty() || self.is_riding(i) {
-            return false;
-        }
-        let seen = &mut self.same_instant[i];
-        if seen.0 != now {
-            *seen = (now, 0);
-            return false;
-        }
-        seen.1 += 1;
-        if seen.1 <= ZENO {
-            return false;
-        }
-        seen.1 = 0;
-        self.counts.zeno += 1;
-        self.bring(i, now);
-        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        self.take_velocity(i, (0.0, hd));
-        self.moved(i);
-        true
-    }
-
     /// Whether flying disk `i` (brought to now) moves slower than the sleep speed relative to
     /// the floor.
     pub(super) fn slow(&self, i: usize) -> bool {
@@ -486,145 +394,6 @@ impl<F: Flight> Simulation<F> {
         true
     }
 
-    /// Flying disk `k` (brought to now) reaches a side wall while it slides, in gentle hops, on
-    /// a disk `s` at rest that holds it against that wall (the contact normal and the wall's
-    /// bracket the vertical): a pocket. If its kinetic energy relative to `s` cannot carry it
-    /// over the top of `s`, it is trapped there: frictionless and with an elastic wall (or a
-    /// cure making its hops elastic) it would slide down to the wall and back for ever, at a few
-    /// sleep speeds, one hop every ~10⁻³ — the static friction of real grains stops it, and so
-    /// does this: it comes to rest on `s` and the wall. The energy it had (at most its weight
-    /// times the pocket's depth) is booked as dissipated. Returns whether it did (the wall
-    /// collision is then done).
-    pub(super) fn rest_in_pocket(&mut self, k: usize, wall: u32) -> bool {
-        if !self.resting_contacts || self.floor.is_none() || self.is_riding(k) {
-            return false;
-        }
-        let gentle = self.sleep_speed(k);
-        if gentle == 0.0 {
-            return false;
-        }
-        let Some(supports) = self.stable_place(k, None, |c| self.is_riding(c)) else {
-            return false;
-        };
-        let s = match supports {
-            [s, w] | [w, s] if w == wall && s < RIGHT_WALL => s as usize,
-            _ => return false,
-        };
-        let mk = self.disks.motion[k];
-        let (xs, ys, vxs, vys) = self.state_at(s, self.now);
-        let (dx, dy) = self.wrap(mk.x - xs, mk.y - ys);
-        let dist = (dx * dx + dy * dy).sqrt();
-        let (dvx, dvy) = (mk.vx - vxs, mk.vy - vys);
-        // Sliding on s: no more than a gentle hop along the contact normal.
-        if ((dvx * dx + dvy * dy) / dist).abs() > gentle {
-            return false;
-        }
-        // Trapped: climbing to the top of s would take more than its kinetic energy.
-        let floor = self.floor.as_ref().expect("riders need a floor");
-        let press = self.flight.g() + floor.ride_acceleration(self.now);
-        if 0.5 * (dvx * dvx + dvy * dvy) >= press * (dist - dy) {
-            return false;
-        }
-        let (h, hd) = floor.ride(self.now);
-        if self.squeezed(k, vxs, hd) || self.near_lid(k) {
-            return false;
-        }
-        if !self.come_to_rest(k, h, supports, (vxs, hd)) {
-            return false;
-        }
-        self.counts.wall += 1;
-        true
-    }
-
-    /// Whether disk `s` is at rest in a *jammed row* against a horizontal push of sign `push`:
-    /// a chain of disks at rest that do not slide, each touching the next side by side (within
-    /// [`TOUCH`] radii, the contact within [`TOUCH`] of horizontal), from `s` to the side wall
-    /// the push points to — or all the way round where the sides are periodic. The push is then
-    /// taken by the wall, its downward part by what carries the row: the row cannot move.
-    pub(super) fn in_jammed_row(&self, s: usize, push: f64) -> bool {
-        let row = |c: usize| self.is_riding(c) && self.disks.motion[c].vx == 0.0;
-        if push == 0.0 || !row(s) {
-            return false;
-        }
-        let now = self.now;
-        let width = self.sides.width();
-        let mut cur = s;
-        for _ in 0..self.disks.len() {
-            let (x, y, _, _) = self.state_at(cur, now);
-            let a = self.disks.radius[cur];
-            if let SideBounds::Walls { .. } = self.sides {
-                let gap = if push < 0.0 { x - a } else { width - x - a };
-                if gap <= TOUCH * a {
-                    return true;
-                }
-            }
-            let next = self.lists.of(cur).iter().map(|&c| c as usize).find(|&c| {
-                if !row(c) {
-                    return false;
-                }
-                let (xc, yc, _, _) = self.state_at(c, now);
-                let (dx, dy) = self.wrap(xc - x, yc - y);
-                let reach = a + self.disks.radius[c];
-                let dist = (dx * dx + dy * dy).sqrt();
-                dx * push > 0.0 && dist - reach <= TOUCH * a && dy.abs() <= TOUCH * reach
-            });
-            match next {
-                Some(c) if c == s => return true, // round the periodic sides
-                Some(c) => cur = c,
-                None => return false,
-            }
-        }
-        false
-    }
-
-    /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) hits disk `s` of a jammed
-    /// row (see [`in_jammed_row`](Self::in_jammed_row)). Its restitution is that of an impact on
-    /// a boundary (a cure acts only through k's own past, as at a wall: the row, hit over and
-    /// over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
-    /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
-    /// disk moving with the floor, and the row stays at rest. The exact engine would send the
-    /// push through the row to the wall and back in a chain of collisions at one instant, for
-    /// ever under a cure (the *exact jam*).
-    pub(super) fn meet_jammed_row(
-        &mut self,
-        k: usize,
-        s: usize,
-        (sx, sy): (f64, f64),
-    ) -> Result<()> {
-        let now = self.now;
-        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let dist = (sx * sx + sy * sy).sqrt();
-        let (nx, ny) = (sx / dist, sy / dist);
-        // Normal velocity relative to the row, which moves with the floor.
-        let mk = self.disks.motion[k];
-        let u = mk.vx * nx + (mk.vy - hd) * ny;
-        let e = if self.restitution.boundary_elastic(k, now, (-u).max(0.0)) {
-            1.0
-        } else {
-            self.restitution.law.e
-        };
-        if self.try_rest_on(k, s, e)? {
-            return Ok(());
-        }
-        let after = (-e * u).max(u).max(self.landing_rebound(k, s, sy, dist));
-        self.check_contact(k, s, dist)?;
-        let mass = self.disks.mass[k];
-        let m = &mut self.disks.motion[k];
-        m.vx += (after - u) * nx;
-        m.vy += (after - u) * ny;
-        let gained = 0.5 * mass * (m.vx * m.vx + m.vy * m.vy - mk.vx * mk.vx - mk.vy * mk.vy);
-        let lost = 0.5 * mass * (u * u - after * after);
-        self.flow.dissipated += lost;
-        self.flow.injected += gained + lost;
-        self.flow.floor_impulse += mass * (after - u) * ny;
-        self.virial += dist * mass * (after - u);
-        self.counts.pair += 1;
-        self.moved(k);
-        // `s` did not change: only its own event (this one, if it was its) needs renewing.
-        self.predict(s);
-        Ok(())
-    }
-
     /// Riding disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`) touch while
     /// approaching slower than the sleep speed: instead of a collision that would throw both
     /// off their supports, they stay at rest and slide on together with their common horizontal
@@ -657,101 +426,6 @@ impl<F: Flight> Simulation<F> {
         self.release_carried(i, None);
         self.release_carried(j, None);
         Ok(true)
-    }
-
-    /// Disk `seed` has just come to rest, or is a slow flying disk that has just met another.
-    /// The flying disks touching it (and `seed` itself, if it flies), directly or through each
-    /// other, that move slower than the sleep speed relative to the floor (a jammed layer or an
-    /// arch, held only as a whole) come to rest together: those of them that are in a stable
-    /// place among the disks at rest that do not slide, the side walls, the floor and each other —
-    /// dropping, until none is left, any that is not. Each would land where it is, gently, within
-    /// [`TOUCH`] radii; without this such a cluster rattles on its supports for ever.
-    pub(super) fn settle_cluster(&mut self, seed: usize) {
-        let n = self.disks.len();
-        let now = self.now;
-        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let mut member = std::mem::take(&mut self.in_cluster);
-        member.resize(n, false);
-        let mut cluster = std::mem::take(&mut self.cluster);
-        if !self.is_riding(seed) {
-            member[seed] = true;
-            cluster.push(seed as u32);
-        }
-        // Gather: breadth first from the seed, through slow flying disks that touch.
-        let mut from = seed;
-        let mut next = 0;
-        loop {
-            let (xs, ys, _, _) = self.state_at(from, now);
-            for idx in 0..self.lists.of(from).len() {
-                let c = self.lists.of(from)[idx] as usize;
-                if member[c] || self.is_riding(c) {
-                    continue;
-                }
-                let (xc, yc, vxc, vyc) = self.state_at(c, now);
-                let ac = self.disks.radius[c];
-                let (dx, dy) = self.wrap(xc - xs, yc - ys);
-                let gap = (dx * dx + dy * dy).sqrt() - ac - self.disks.radius[from];
-                if gap <= TOUCH * ac && vxc.hypot(vyc - hd) <= self.sleep_speed(c) {
-                    member[c] = true;
-                    cluster.push(c as u32);
-                }
-            }
-            let Some(&c) = cluster.get(next) else { break };
-            from = c as usize;
-            next += 1;
-        }
-        // Prune: drop the members that no place holds, until every remaining one is held.
-        let place = |sim: &Self, c: usize, member: &[bool]| -> Option<[u32; 2]> {
-            if sim.squeezed(c, 0.0, hd) || sim.near_lid(c) {
-                return None;
-            }
-            if sim.touches_floor(c, h) {
-                return Some([NO_DISK; 2]);
-            }
-            sim.stable_place(c, None, |s| {
-                member[s] || (sim.is_riding(s) && sim.disks.motion[s].vx == 0.0)
-            })
-        };
-        // The places of the last pass, the one that dropped nothing, hold together.
-        let mut places = Vec::new();
-        loop {
-            places.clear();
-            let mut dropped = false;
-            for &c in &cluster {
-                let c = c as usize;
-                if !member[c] {
-                    continue;
-                }
-                match place(self, c, &member) {
-                    Some(p) => places.push((c, p)),
-                    None => {
-                        member[c] = false;
-                        dropped = true;
-                    }
-                }
-            }
-            if !dropped {
-                break;
-            }
-        }
-        // Rest: every place is known first (they refer to each other), then every disk rests.
-        let mut refused = Vec::new();
-        for &(c, p) in &places {
-            self.bring(c, now);
-            if !self.come_to_rest(c, h, p, (0.0, hd)) {
-                refused.push(c);
-            }
-        }
-        // A disk that could not be carried (its supports are full) lets go of what rests on it.
-        for c in refused {
-            self.release_carried(c, None);
-        }
-        for &c in &cluster {
-            member[c as usize] = false;
-        }
-        cluster.clear();
-        self.cluster = cluster;
-        self.in_cluster = member;
     }
 
     /// Riding disk `i` is about to change velocity: if it rests on disks, it leaves them.

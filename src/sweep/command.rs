@@ -26,7 +26,7 @@ pub enum SweepCommand {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Run the sweep on this machine: each run writes DIR/<index>/summary.json (and profiles.csv
+    /// Run the sweep on this machine: each run writes `DIR/<index>/summary.json` (and profiles.csv
     /// for gravity scenes); a rerun skips completed runs.
     Run {
         /// The sweep file (JSON).
