@@ -308,9 +308,9 @@ hard_cases! {
     bouncing_bed_gamma_15: "bouncing_bed_gamma_1.5.json", 2e4; // [2.4e3]
     // Piles of 100 poured on a static floor (see `beds_at_rest_come_to_rest_and_cost_nothing`).
     pile_equal_periodic_tc: "pile_equal_periodic_tc.json", 4e4; // [7.4e3: from t = 10]
-    pile_equal_walls_e095_cutoff: "pile_equal_walls_e095_cutoff.json", 1e5; // [2.1e4: from 17]
+    pile_equal_walls_e095_cutoff: "pile_equal_walls_e095_cutoff.json", 1e5; // [1.9e4: from 17]
     pile_poly_periodic_cutoff: "pile_poly_periodic_cutoff.json", 3e5; // [5.2e4: from 15]
-    pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.3e4: from 14]
+    pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.2e4: from 15]
     // Without the pocket rule: 4.6e3, the disk sliding to the wall and back for ever.
     pocket_by_a_wall: "pocket_by_a_wall.json", 2e3; // [2.8e2: at rest from t = 2]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
