@@ -724,7 +724,7 @@ fn beds_at_rest_press_on_the_floor_with_their_weight() {
 /// ever faster (≈2·10⁶ events per unit time, events 3·10⁻⁸ apart at t ≈ 8) until the guard
 /// `run.max_events` stopped the run. Now a disk hitting a row at rest that a chain of disks at
 /// rest ties to a wall bounces off it as off a fixed disk, and the bed comes to rest (seeds 3
-/// and 4: from t = 12 and 11) with its invariants intact. `vibrobed check` still notes such
+/// and 4: from t = 13 and 10) with its invariants intact. `vibrobed check` still notes such
 /// widths (deeper beds can still jam in a row that has not come to rest).
 #[test]
 fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
