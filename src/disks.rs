@@ -77,6 +77,12 @@ impl Disks {
             })
     }
 
+    /// Root mean square radius (0 without disks).
+    pub fn rms_radius(&self) -> f64 {
+        let n = self.radius.len().max(1) as f64;
+        (self.radius.iter().map(|a| a * a).sum::<f64>() / n).sqrt()
+    }
+
     /// Bytes held by these arrays.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Motion>() * self.motion.capacity()

@@ -225,22 +225,12 @@ fn open_top_hashing_finds_what_the_dense_grid_finds() {
         let mut sparse = SparseCells::default();
         sparse.map(&open_geo, cells.len(), |i| cells[i]).unwrap();
         let (mut ld, mut ls) = (NeighbourLists::default(), NeighbourLists::default());
-        ld.build(
-            &dense_geo,
-            &mask,
-            cells.len(),
-            |i| cells[i],
-            &dense,
-            |_, _| true,
-        );
-        ls.build(
-            &open_geo,
-            &mask,
-            cells.len(),
-            |i| cells[i],
-            &sparse,
-            |_, _| true,
-        );
+        ld.build(cells.len(), |i, out| {
+            dense.gather_half(&dense_geo, &mask, cells[i], |j| out.push(j))
+        });
+        ls.build(cells.len(), |i, out| {
+            sparse.gather_half(&open_geo, &mask, cells[i], |j| out.push(j))
+        });
         let n = cells.len();
         assert_eq!(lists_sorted(&ld, n), lists_sorted(&ls, n), "trial {trial}");
         assert!(

@@ -71,21 +71,54 @@ impl GridGeometry {
         top: Option<f64>,
         y_periodic: bool,
     ) -> GridGeometry {
-        let nx = (width / target).ceil().max(1.0) as u32;
-        let lx = if x_periodic {
-            width / nx as f64
-        } else {
-            target
+        Self::sized(target, false, width, x_periodic, bottom, top, y_periodic)
+    }
+
+    /// As [`with_cell`](Self::with_cell), with cells of side at least `target` (linked cells,
+    /// whose 3 × 3 block must hold every pair closer than `target`).
+    pub fn with_cell_at_least(
+        target: f64,
+        width: f64,
+        x_periodic: bool,
+        bottom: f64,
+        top: Option<f64>,
+        y_periodic: bool,
+    ) -> GridGeometry {
+        Self::sized(target, true, width, x_periodic, bottom, top, y_periodic)
+    }
+
+    /// Cells of side `target`, or where periodic the nearest that divides the period: at most
+    /// `target` (`wider` false) or at least (`wider` true).
+    fn sized(
+        target: f64,
+        wider: bool,
+        width: f64,
+        x_periodic: bool,
+        bottom: f64,
+        top: Option<f64>,
+        y_periodic: bool,
+    ) -> GridGeometry {
+        let count = |span: f64, periodic: bool| {
+            let n = if periodic && wider {
+                (span / target).floor()
+            } else {
+                (span / target).ceil()
+            };
+            n.max(1.0) as u32
         };
+        let side = |span: f64, n: u32, periodic: bool| {
+            if periodic {
+                span / n as f64
+            } else {
+                target
+            }
+        };
+        let nx = count(width, x_periodic);
+        let lx = side(width, nx, x_periodic);
         let (ny, ly) = match top {
             Some(top) => {
-                let n = ((top - bottom) / target).ceil().max(1.0) as u32;
-                let ly = if y_periodic {
-                    (top - bottom) / n as f64
-                } else {
-                    target
-                };
-                (Some(n), ly)
+                let n = count(top - bottom, y_periodic);
+                (Some(n), side(top - bottom, n, y_periodic))
             }
             None => (None, target),
         };
@@ -435,6 +468,9 @@ pub struct SparseCells {
     /// Room left in each bucket at a mapping, for disks that move in between (the local
     /// re-mapping): a bucket gets twice its entries plus two.
     slack: bool,
+    /// Cells may hold several disks (the local re-mapping's anchors): no shared-cell check,
+    /// and a look-up reads every entry of the cell.
+    several: bool,
     /// How many entries bucket k holds.
     d: Vec<u32>,
 }
@@ -451,11 +487,70 @@ impl SparseCells {
         self.d.len()
     }
 
-    /// A map whose buckets keep room for disks moving in between mappings.
-    pub fn with_slack() -> SparseCells {
+    /// A map whose buckets keep room for disks moving in between mappings, and whose cells
+    /// hold any number of disks (the local re-mapping's anchors).
+    pub fn for_anchors() -> SparseCells {
         SparseCells {
             slack: true,
+            several: true,
             ..SparseCells::default()
+        }
+    }
+
+    /// `true` if cells may hold several disks.
+    pub fn several(&self) -> bool {
+        self.several
+    }
+
+    /// Calls `found` with every disk in cell `(ix, iy)`.
+    #[inline]
+    pub fn each(&self, ix: u32, iy: u32, mut found: impl FnMut(u32)) {
+        let k = self.bucket(ix, iy);
+        let start = self.c[k] as usize;
+        for e in start..start + self.d[k] as usize {
+            if self.bx[e] == ix && self.by[e] == iy {
+                found(self.a[e]);
+            }
+        }
+    }
+
+    /// Calls `found` with every disk in `cell` and in the cells at `offsets` around it.
+    #[inline]
+    pub fn gather_all(
+        &self,
+        geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        cell: (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        self.each(cell.0, cell.1, &mut found);
+        for &(dx, dy) in offsets {
+            if let Some((cx, cy)) = geometry.offset(cell.0, cell.1, dx, dy) {
+                self.each(cx, cy, &mut found);
+            }
+        }
+    }
+
+    /// Calls `found` with each disk that pairs with disk `i` (in `cell`) once: the disks of its
+    /// own cell numbered above it, and those in the cells at the half offsets `half`.
+    #[inline]
+    pub fn gather_half_of(
+        &self,
+        geometry: &GridGeometry,
+        half: &[(i32, i32)],
+        i: u32,
+        cell: (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        self.each(cell.0, cell.1, |j| {
+            if j > i {
+                found(j)
+            }
+        });
+        for &(dx, dy) in half {
+            if let Some((cx, cy)) = geometry.offset(cell.0, cell.1, dx, dy) {
+                self.each(cx, cy, &mut found);
+            }
         }
     }
 }
@@ -504,7 +599,7 @@ impl CellMap for SparseCells {
             self.bx[at] = ix;
             self.by[at] = iy;
         }
-        for i in 0..n {
+        for i in (0..n).filter(|_| !self.several) {
             let (ix, iy) = cell(i);
             let found = self.disk_at(ix, iy).expect("a disk just mapped is found");
             if found != i as u32 {
@@ -525,7 +620,7 @@ impl CellMap for SparseCells {
     }
 
     fn insert(&mut self, _: &GridGeometry, (ix, iy): (u32, u32), i: u32) -> Result<bool> {
-        if let Some(j) = self.disk_at(ix, iy) {
+        if let Some(j) = self.disk_at(ix, iy).filter(|_| !self.several) {
             if j != i {
                 return Err(shared_cell(j, i));
             }

@@ -1,9 +1,6 @@
 //! Neighbour lists: for each disk, the disks found in its mask at the last mapping, stored
 //! compactly (one offset per disk, one flat array of disk numbers).
 
-use super::grid::{CellMap, GridGeometry};
-use super::masks::Mask;
-
 /// Neighbour lists in compressed-row form: disk i's neighbours are
 /// `list[start[i + 1] .. start[i + 2]]` (the layout the in-place fill leaves behind).
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
@@ -19,25 +16,13 @@ pub struct NeighbourLists {
     room: usize,
     slots: Vec<u32>,
     len: Vec<u32>,
-    /// Scratch of [`replace`](Self::replace).
-    #[serde(skip)]
-    scratch: Vec<u32>,
 }
 
 impl NeighbourLists {
-    /// Rebuilds from the mapped cells: disk i's list holds the disks in the cells of `mask`
-    /// around its cell that `near(i, j)` accepts (a distance filter; it must be symmetric).
-    /// Each pair is found once, from the half of the mask "after" the centre cell, and filed
-    /// in both disks' lists, so j ∈ list(i) ⇔ i ∈ list(j).
-    pub fn build<M: CellMap>(
-        &mut self,
-        geometry: &GridGeometry,
-        mask: &Mask,
-        n: usize,
-        cell: impl Fn(usize) -> (u32, u32),
-        map: &M,
-        near: impl Fn(usize, usize) -> bool,
-    ) {
+    /// Rebuilds the lists of `n` disks from their pairs: `pairs(i, out)` appends to `out` the
+    /// partners of disk i that pair with it, each pair found once (from one of its two disks,
+    /// as a half mask does), and is filed in both disks' lists, so j ∈ list(i) ⇔ i ∈ list(j).
+    pub fn build(&mut self, n: usize, mut pairs: impl FnMut(usize, &mut Vec<u32>)) {
         self.room = 0;
         self.half.clear();
         self.half_start.clear();
@@ -48,14 +33,12 @@ impl NeighbourLists {
         self.start.clear();
         self.start.resize(n + 2, 0);
         for i in 0..n {
-            let (half, start) = (&mut self.half, &mut self.start);
-            map.gather_half(geometry, mask, cell(i), |j| {
-                if near(i, j as usize) {
-                    half.push(j);
-                    start[i + 1] += 1;
-                    start[j as usize + 1] += 1;
-                }
-            });
+            let from = self.half.len();
+            pairs(i, &mut self.half);
+            for &j in &self.half[from..] {
+                self.start[i + 1] += 1;
+                self.start[j as usize + 1] += 1;
+            }
             self.half_start.push(self.half.len() as u32);
         }
         for k in 1..=n {
@@ -115,39 +98,35 @@ impl NeighbourLists {
     }
 
     /// Makes `new` disk `i`'s list (fixed lists only), keeping the lists symmetric: `i` leaves
-    /// the lists of the disks no longer in it and joins those of the disks new to it; the
-    /// neighbours it keeps are not touched.
+    /// the lists of all its old neighbours and joins those of all its new ones (cheaper than
+    /// sorting out which stay, for lists of a dozen).
     pub fn replace(&mut self, i: usize, new: &[u32]) {
-        let mut old = std::mem::take(&mut self.scratch);
-        old.clear();
-        old.extend_from_slice(self.of(i));
-        let arriving = |j: &u32| !old.contains(j);
+        let room = self.room;
+        for k in 0..self.len[i] as usize {
+            let j = self.slots[i * room + k] as usize;
+            let row = j * room;
+            let last = row + self.len[j] as usize - 1;
+            if let Some(e) = (row..=last).find(|&e| self.slots[e] == i as u32) {
+                self.slots[e] = self.slots[last];
+                self.len[j] -= 1;
+            }
+        }
+        self.len[i] = 0;
         while new.len() > self.room
             || new
                 .iter()
-                .any(|&j| arriving(&j) && self.len[j as usize] as usize == self.room)
+                .any(|&j| self.len[j as usize] as usize == self.room)
         {
             self.widen();
         }
         let room = self.room;
-        for &j in &old {
-            if !new.contains(&j) {
-                let row = j as usize * room;
-                let last = row + self.len[j as usize] as usize - 1;
-                if let Some(e) = (row..=last).find(|&e| self.slots[e] == i as u32) {
-                    self.slots[e] = self.slots[last];
-                    self.len[j as usize] -= 1;
-                }
-            }
-        }
-        for &j in new.iter().filter(|j| arriving(j)) {
+        for &j in new {
             let j = j as usize;
             self.slots[j * room + self.len[j] as usize] = i as u32;
             self.len[j] += 1;
         }
         self.slots[i * room..i * room + new.len()].copy_from_slice(new);
         self.len[i] = new.len() as u32;
-        self.scratch = old;
     }
 
     /// Doubles the room of every list.

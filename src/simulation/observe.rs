@@ -69,11 +69,13 @@ impl<F: Flight> Simulation<F> {
         &self.mask
     }
 
-    /// `dense` or `hashed`: how the grid is stored.
+    /// `dense`, `hashed` or `linked` (several disks per cell, the local re-mapping's closed
+    /// domains): how the grid is stored.
     pub fn grid_kind(&self) -> &'static str {
         match self.cells {
             Cells::Dense(_) => "dense",
             Cells::Sparse(_) => "hashed",
+            Cells::Linked(_) => "linked",
         }
     }
 

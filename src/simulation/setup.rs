@@ -11,11 +11,10 @@ use super::{Collision, Scene, Simulation, OVERLAP_TOLERANCE};
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::globals::grid::CELL_PER_RADIUS;
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::locals::{SideBounds, Top};
 use crate::restitution::{CollisionLaw, Restitution};
-use crate::scenario::{GridChoice, QueueChoice, RemapChoice};
+use crate::scenario::{GridChoice, MaskChoice, QueueChoice, RemapChoice};
 use crate::scheduler::{CalendarQueue, CompleteBinaryTree, EventQueue};
 use std::sync::atomic::AtomicBool;
 
@@ -55,29 +54,62 @@ impl<F: Flight> Simulation<F> {
             Top::Periodic { height } => (Some(height), true),
         };
         let local = scene.remap == RemapChoice::Local;
-        let grid = |cell: f64| {
-            GridGeometry::with_cell(
-                cell,
+        let (geometry, mask, margin) = if local {
+            if scene.mask != MaskChoice::Auto {
+                return Err(Error::input(
+                    "engine.mask",
+                    "a mask applies to the global re-mapping; the local one searches the 3 × 3 cells around a disk (set its shell with engine.skin)",
+                ));
+            }
+            let a_rms = disks.rms_radius();
+            let packing = shells::packing_for_shells(scene.packing, scene.floor.is_some());
+            let mut margin = shells::local_margin(scene.skin, a_min, a_rms, packing);
+            // A periodic direction needs three cells for the 3 × 3 block not to wrap onto
+            // itself: narrow boxes get the shell that fits.
+            let periods = [
+                (
+                    "domain.width",
+                    matches!(scene.sides, SideBounds::Periodic { .. }),
+                    scene.sides.width(),
+                ),
+                (
+                    "domain.height",
+                    y_periodic,
+                    top_y.unwrap_or(f64::INFINITY) - bottom,
+                ),
+            ];
+            for (field, periodic, span) in periods {
+                if !periodic {
+                    continue;
+                }
+                margin = margin.min(span / 3.0 - 2.0 * a_max);
+                if margin <= 0.0 {
+                    return Err(Error::input(
+                        field,
+                        format!("{span} is too small for the local re-mapping: a periodic span must exceed three diameters of the largest disk ({})", 6.0 * a_max),
+                    ));
+                }
+            }
+            let geometry = GridGeometry::with_cell_at_least(
+                2.0 * a_max + margin,
                 scene.sides.width(),
                 matches!(scene.sides, SideBounds::Periodic { .. }),
                 bottom,
                 top_y,
                 y_periodic,
-            )
-        };
-        let (geometry, mask) = if local {
-            let (mask, cell, _) = shells::local_grid(scene.mask, a_min, a_max, scene.packing)
-                .ok_or_else(|| {
-                    Error::input(
-                        "engine.mask",
-                        format!(
-                            "with engine.remap = \"local\" this mask leaves no shell around disks of radius {a_max} (take a larger one, or auto)"
-                        ),
-                    )
-                })?;
-            (grid(cell), mask)
+            );
+            let mask = shells::block_mask();
+            let margin = mask.reach() * geometry.cell() - 2.0 * a_max;
+            (geometry, mask, margin)
         } else {
-            let geometry = grid(CELL_PER_RADIUS * a_min);
+            let geometry = GridGeometry::new(
+                a_min,
+                scene.sides.width(),
+                matches!(scene.sides, SideBounds::Periodic { .. }),
+                bottom,
+                top_y,
+                y_periodic,
+            );
             let mask = Mask::choose(scene.mask, geometry.cell(), a_min, a_max, scene.packing).ok_or_else(|| {
                 Error::input(
                     "engine.mask",
@@ -87,17 +119,19 @@ impl<F: Flight> Simulation<F> {
                     ),
                 )
             })?;
-            (geometry, mask)
+            let margin = mask.reach() * geometry.cell() - 2.0 * a_max;
+            let margin = match scene.skin {
+                Some(skin) => (skin * a_min).min(margin),
+                None => margin,
+            };
+            (geometry, mask, margin)
         };
         geometry.check_mask_fits(mask.half_width)?;
-        let mask_margin = mask.reach() * geometry.cell() - 2.0 * a_max;
-        let mask_margin = match scene.skin {
-            Some(skin) => (skin * a_min).min(mask_margin),
-            None => mask_margin,
-        };
         let shells = local.then(|| {
-            let r = 0.5 * mask_margin;
-            shells::Shells::new(n, r, shells::list_room(a_min, a_max, r, mask.offsets.len()))
+            let a = disks.rms_radius();
+            let packing = shells::packing_for_shells(scene.packing, scene.floor.is_some());
+            let room = shells::list_room(a, 2.0 * a + margin, packing);
+            shells::Shells::new(n, 0.5 * margin, room)
         });
         let mut sim = Simulation {
             flight,
@@ -129,7 +163,7 @@ impl<F: Flight> Simulation<F> {
                 },
                 n,
             ),
-            margin: mask_margin,
+            margin,
             base: Epoch::default(),
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
