@@ -77,7 +77,7 @@ impl NeighbourLists {
 
     /// After a [`build`](Self::build): copies the lists into `room` slots per disk (more if a
     /// disk has more neighbours), so that one disk's list can be rebuilt on its own with
-    /// [`replace`](Self::replace). The half lists stay as built.
+    /// [`replace`](Self::replace). The half lists are dropped (they would go stale).
     pub fn fix(&mut self, n: usize, room: usize) {
         let most = (0..n)
             .map(|i| (self.start[i + 2] - self.start[i + 1]) as usize)
@@ -95,6 +95,8 @@ impl NeighbourLists {
         }
         self.list = Vec::new();
         self.start = Vec::new();
+        self.half = Vec::new();
+        self.half_start = Vec::new();
     }
 
     /// Makes `new` disk `i`'s list (fixed lists only), keeping the lists symmetric: `i` leaves
@@ -129,9 +131,9 @@ impl NeighbourLists {
         self.len[i] = new.len() as u32;
     }
 
-    /// Doubles the room of every list.
+    /// Gives every list a quarter more room (at least one slot).
     fn widen(&mut self) {
-        let (old, room) = (self.room, 2 * self.room);
+        let (old, room) = (self.room, self.room + (self.room / 4).max(1));
         let n = self.len.len();
         let mut slots = vec![0; n * room];
         for i in 0..n {

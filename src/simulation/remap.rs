@@ -70,14 +70,17 @@ impl<F: Flight> Simulation<F> {
             Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
             None => Dutc::new(margin, v1, accel),
         };
-        if let Some(room) = self.shells.as_ref().map(|s| s.room) {
-            // Local re-mapping: the lists change one at a time from here; the grid is next
-            // re-mapped only to re-base the clock, long after the published deadline.
-            self.lists.fix(n, room);
+        if self.shells.is_some() {
+            // Local re-mapping: the grid is next re-mapped only to re-base the clock, long
+            // after the published deadline.
             self.anchor_all();
             self.dutc = Dutc::frozen(64.0 * self.dutc.deadline);
         }
         self.predict_all();
+        if let Some(room) = self.shells.as_ref().map(|s| s.room) {
+            // The lists change one at a time from here.
+            self.lists.fix(n, room);
+        }
         self.counts.rebuild += 1;
         Ok(())
     }
