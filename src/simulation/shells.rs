@@ -220,17 +220,21 @@ impl<F: Flight> Simulation<F> {
         };
         let (anchor, found) = (&sh.anchor, &mut sh.found);
         found.clear();
+        self.cells
+            .gather(&self.geometry, &self.mask, cell, |j| found.push(j));
+        // Kept without a branch per candidate (about a third are kept, at random).
         let [xi, yi] = anchor[i];
         let ai = self.disks.radius[i] + self.margin;
-        let (radius, sides, top) = (&self.disks.radius, self.sides, self.top);
-        self.cells.gather(&self.geometry, &self.mask, cell, |j| {
-            let [xj, yj] = anchor[j as usize];
-            let (dx, dy) = wrap(sides, top, xi - xj, yi - yj);
-            let reach = ai + radius[j as usize];
-            if dx * dx + dy * dy <= reach * reach && j as usize != i {
-                found.push(j)
-            }
-        });
+        let mut kept = 0;
+        for k in 0..found.len() {
+            let j = found[k] as usize;
+            let [xj, yj] = anchor[j];
+            let (dx, dy) = wrap(self.sides, self.top, xi - xj, yi - yj);
+            let reach = ai + self.disks.radius[j];
+            found[kept] = j as u32;
+            kept += (dx * dx + dy * dy <= reach * reach && j != i) as usize;
+        }
+        found.truncate(kept);
         self.lists.replace(i, found);
     }
 
