@@ -55,6 +55,17 @@ pub fn contact_time_within(
     Some((c / (-b + disc.sqrt())).max(0.0))
 }
 
+/// `false` only for pairs that [`contact_time_within`] turns down whatever its horizon: receding
+/// (`b ≥ 0`) or passing each other by (`b² < |Δv|² c`). Branch-free, for a first pass over a
+/// neighbour list.
+#[inline(always)]
+pub fn paths_meet(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> bool {
+    let b = dx * dvx + dy * dvy;
+    let c = dx * dx + dy * dy - s * s;
+    let dv2 = dvx * dvx + dvy * dvy;
+    (b < 0.0) & (b * b - dv2 * c >= 0.0)
+}
+
 /// Outcome of one pair collision.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impulse {

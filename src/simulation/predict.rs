@@ -3,7 +3,7 @@
 
 use super::Simulation;
 use crate::dynamics::Flight;
-use crate::interactions::{contact_time_within, rider_contact, RiderContact};
+use crate::interactions::{contact_time_within, paths_meet, rider_contact, RiderContact};
 use crate::locals::floor::{FloorEvent, RideEnd};
 use crate::locals::Side;
 
@@ -133,23 +133,39 @@ impl<F: Flight> Simulation<F> {
         let ai = radius[i];
         let mut best = f64::INFINITY;
         let mut who = partner::NONE;
-        for &j in self.lists.of(i) {
-            let m = &motion[j as usize];
-            let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
-            let (dx, dy) = self.wrap(xi - xj, yi - yj);
-            let speed = speed_i + vxj.abs() + vyj.abs();
-            if let Some(dt) = contact_time_within(
-                dx,
-                dy,
-                vxi - vxj,
-                vyi - vyj,
-                ai + radius[j as usize],
-                speed,
-                best,
-            ) {
-                if dt < best {
-                    best = dt;
-                    who = j;
+        // Two passes over each chunk of the list: first, without a branch, the neighbours that
+        // approach and whose paths meet (about a third, at random: a branch on it mispredicts
+        // often); then their contact times, in list order, exactly as one pass would find them.
+        const CHUNK: usize = 16;
+        let mut meeting = [0u32; CHUNK];
+        for chunk in self.lists.of(i).chunks(CHUNK) {
+            let mut k = 0;
+            for &j in chunk {
+                let m = &motion[j as usize];
+                let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
+                let (dx, dy) = self.wrap(xi - xj, yi - yj);
+                let s = ai + radius[j as usize];
+                meeting[k] = j;
+                k += paths_meet(dx, dy, vxi - vxj, vyi - vyj, s) as usize;
+            }
+            for &j in &meeting[..k] {
+                let m = &motion[j as usize];
+                let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
+                let (dx, dy) = self.wrap(xi - xj, yi - yj);
+                let speed = speed_i + vxj.abs() + vyj.abs();
+                if let Some(dt) = contact_time_within(
+                    dx,
+                    dy,
+                    vxi - vxj,
+                    vyi - vyj,
+                    ai + radius[j as usize],
+                    speed,
+                    best,
+                ) {
+                    if dt < best {
+                        best = dt;
+                        who = j;
+                    }
                 }
             }
         }
