@@ -263,27 +263,43 @@ impl<F: Flight> Simulation<F> {
         let mut who = std::mem::take(&mut self.ev_partner);
         who.fill(partner::NONE);
         let any_rider = self.riders.any();
-        for (i, j) in
-            (0..n).flat_map(|i| self.lists.half_of(i).iter().map(move |&j| (i, j as usize)))
-        {
-            if any_rider && (self.is_riding(i) || self.is_riding(j)) {
-                continue; // done disk by disk below
-            }
-            let (mi, mj) = (&self.disks.motion[i], &self.disks.motion[j]);
-            let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
-            let s = self.disks.radius[i] + self.disks.radius[j];
-            let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
-            let horizon = best[i].max(best[j]);
-            if let Some(dt) =
-                contact_time_within(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed, horizon)
-            {
-                if dt < best[i] {
-                    best[i] = dt;
-                    who[i] = j as u32;
+        let (motion, radius) = (&self.disks.motion, &self.disks.radius);
+        // Two passes per chunk of each half list, as in `pair_event_in_flight`.
+        const CHUNK: usize = 16;
+        let mut meeting = [0u32; CHUNK];
+        for i in 0..n {
+            let mi = &motion[i];
+            let riding_i = any_rider && self.is_riding(i);
+            for chunk in self.lists.half_of(i).chunks(CHUNK) {
+                let mut k = 0;
+                for &j in chunk {
+                    let mj = &motion[j as usize];
+                    let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
+                    let s = radius[i] + radius[j as usize];
+                    // Pairs with a rider are done disk by disk below.
+                    let flying = !riding_i & !(any_rider && self.is_riding(j as usize));
+                    meeting[k] = j;
+                    k += (flying & paths_meet(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s)) as usize;
                 }
-                if dt < best[j] {
-                    best[j] = dt;
-                    who[j] = i as u32;
+                for &j in &meeting[..k] {
+                    let j = j as usize;
+                    let mj = &motion[j];
+                    let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
+                    let s = radius[i] + radius[j];
+                    let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
+                    let horizon = best[i].max(best[j]);
+                    if let Some(dt) =
+                        contact_time_within(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed, horizon)
+                    {
+                        if dt < best[i] {
+                            best[i] = dt;
+                            who[i] = j as u32;
+                        }
+                        if dt < best[j] {
+                            best[j] = dt;
+                            who[j] = i as u32;
+                        }
+                    }
                 }
             }
         }
