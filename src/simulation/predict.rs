@@ -75,44 +75,59 @@ impl<F: Flight> Simulation<F> {
         let mut best = f64::INFINITY;
         let mut who = partner::NONE;
         let mut recheck = f64::INFINITY;
-        for &j in self.lists.of(i) {
-            let j = j as usize;
-            let dt = if self.is_riding(j) == rider {
-                // Both fly, or both ride the floor: relative motion is straight.
-                let (xj, yj, vxj, vyj) = self.state_at(j, now);
+        // Two passes per chunk, as in `pair_event_in_flight`; a pair of a rider and a flyer
+        // always goes on to the second.
+        const CHUNK: usize = 16;
+        let mut meeting = [0u32; CHUNK];
+        for chunk in self.lists.of(i).chunks(CHUNK) {
+            let mut k = 0;
+            for &j in chunk {
+                let (xj, yj, vxj, vyj) = self.state_at(j as usize, now);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                let speed = speed_i + vxj.abs() + vyj.abs();
-                contact_time_within(
-                    dx,
-                    dy,
-                    vxi - vxj,
-                    vyi - vyj,
-                    ai + self.disks.radius[j],
-                    speed,
-                    best,
-                )
-            } else {
-                let mut limit = (now + best).min(self.dutc.deadline);
-                let (r, f) = if rider { (i, j) } else { (j, i) };
-                if f == j {
-                    // The flyer re-predicts (against i too) at its own event, if not before:
-                    // a contact after that is its to find (this keeps a rider from searching
-                    // far along a flyer that bounces on the floor beside it).
-                    limit = limit.min(self.ev_time[j]);
-                }
-                match self.rider_contact(r, f, limit) {
-                    Some(RiderContact::At(t)) => Some(t - now),
-                    Some(RiderContact::Recheck(t)) => {
-                        recheck = recheck.min(t);
-                        None
+                let s = ai + self.disks.radius[j as usize];
+                let mixed = self.is_riding(j as usize) != rider;
+                meeting[k] = j;
+                k += (mixed | paths_meet(dx, dy, vxi - vxj, vyi - vyj, s)) as usize;
+            }
+            for &j in &meeting[..k] {
+                let j = j as usize;
+                let dt = if self.is_riding(j) == rider {
+                    // Both fly, or both ride the floor: relative motion is straight.
+                    let (xj, yj, vxj, vyj) = self.state_at(j, now);
+                    let (dx, dy) = self.wrap(xi - xj, yi - yj);
+                    let speed = speed_i + vxj.abs() + vyj.abs();
+                    contact_time_within(
+                        dx,
+                        dy,
+                        vxi - vxj,
+                        vyi - vyj,
+                        ai + self.disks.radius[j],
+                        speed,
+                        best,
+                    )
+                } else {
+                    let mut limit = (now + best).min(self.dutc.deadline);
+                    let (r, f) = if rider { (i, j) } else { (j, i) };
+                    if f == j {
+                        // The flyer re-predicts (against i too) at its own event, if not before:
+                        // a contact after that is its to find (this keeps a rider from searching
+                        // far along a flyer that bounces on the floor beside it).
+                        limit = limit.min(self.ev_time[j]);
                     }
-                    None => None,
-                }
-            };
-            if let Some(dt) = dt {
-                if dt < best {
-                    best = dt;
-                    who = j as u32;
+                    match self.rider_contact(r, f, limit) {
+                        Some(RiderContact::At(t)) => Some(t - now),
+                        Some(RiderContact::Recheck(t)) => {
+                            recheck = recheck.min(t);
+                            None
+                        }
+                        None => None,
+                    }
+                };
+                if let Some(dt) = dt {
+                    if dt < best {
+                        best = dt;
+                        who = j as u32;
+                    }
                 }
             }
         }
