@@ -60,12 +60,12 @@ impl Disks {
 
     /// Number of disks.
     pub fn len(&self) -> usize {
-        self.motion.len()
+        self.radius.len()
     }
 
     /// `true` when there are no disks.
     pub fn is_empty(&self) -> bool {
-        self.motion.is_empty()
+        self.radius.is_empty()
     }
 
     /// Smallest and largest radius.

@@ -61,6 +61,16 @@ impl CollisionLaw {
         }
     }
 
+    /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
+    pub fn permute(&mut self, from: &[u32]) {
+        if !self.last.is_empty() {
+            self.last = from.iter().map(|&k| self.last[k as usize]).collect();
+        }
+        if !self.paired.is_empty() {
+            self.paired = from.iter().map(|&k| self.paired[k as usize]).collect();
+        }
+    }
+
     /// Restitution of a collision of disks `i` and `j` happening at `now`, with separation
     /// `(dx, dy) = r_i − r_j` and relative velocity `(dvx, dvy) = v_i − v_j`; records it.
     #[inline]

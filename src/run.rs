@@ -147,16 +147,14 @@ struct Outputs {
 fn sink_for(
     out: &mut Outputs,
     s: &Scenario,
-    scene: &Scene,
-    disks: &crate::disks::Disks,
+    layout: &SceneLayout,
 ) -> Result<Option<Box<dyn FrameSink>>> {
     match (out.sink.take(), &out.rrd) {
         (Some(sink), _) => Ok(Some(sink)),
         (None, Some(path)) => Ok(Some(open_recording(
             path,
             s,
-            scene,
-            disks,
+            layout,
             out.recording_id.as_deref(),
         )?)),
         (None, None) => Ok(None),
@@ -172,21 +170,22 @@ fn run_with<F: Flight>(
     mut out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
+    let layout = scene_layout(s, scene, &disks);
     match s.engine.scheme {
         Scheme::EventDriven => {
             let sim = Simulation::new(flight, scene, disks)?;
-            let sink = sink_for(&mut out, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, out, opts)
+            let sink = sink_for(&mut out, s, &layout)?;
+            drive(sim, s, scene, &layout, sink, out, opts)
         }
         Scheme::TimeStep => {
             let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(&mut out, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, out, opts)
+            let sink = sink_for(&mut out, s, &layout)?;
+            drive(sim, s, scene, &layout, sink, out, opts)
         }
         Scheme::SpaceTime => {
             let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(&mut out, s, scene, sim.disks())?;
-            drive(sim, s, scene, sink, out, opts)
+            let sink = sink_for(&mut out, s, &layout)?;
+            drive(sim, s, scene, &layout, sink, out, opts)
         }
     }
 }
@@ -238,15 +237,14 @@ fn new_recording_id() -> String {
 /// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
 fn open_trajectory(
     s: &Scenario,
-    scene: &Scene,
+    layout: &SceneLayout,
     opts: &RunOptions,
-    disks: &crate::disks::Disks,
 ) -> Result<Option<TrajectoryWriter>> {
     let path = opts
         .trajectory
         .clone()
         .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
-    path.map(|p| TrajectoryWriter::create(&p, &scene_layout(s, scene, disks)).map_err(Error::Io))
+    path.map(|p| TrajectoryWriter::create(&p, layout).map_err(Error::Io))
         .transpose()
 }
 
@@ -254,8 +252,7 @@ fn open_trajectory(
 fn open_recording(
     path: &std::path::Path,
     s: &Scenario,
-    scene: &Scene,
-    disks: &crate::disks::Disks,
+    layout: &SceneLayout,
     recording_id: Option<&str>,
 ) -> Result<Box<dyn FrameSink>> {
     use crate::output::frame::ColorBy;
@@ -275,12 +272,11 @@ fn open_recording(
         }
     }
 
-    let layout = scene_layout(s, scene, disks);
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
     };
-    let rec = RerunRecorder::create_with_id(path, &layout, color, recording_id)
+    let rec = RerunRecorder::create_with_id(path, layout, color, recording_id)
         .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;
     Ok(Box::new(Sink(rec)))
 }
@@ -289,8 +285,7 @@ fn open_recording(
 fn open_recording(
     _path: &std::path::Path,
     _s: &Scenario,
-    _scene: &Scene,
-    _disks: &crate::disks::Disks,
+    _layout: &SceneLayout,
     _recording_id: Option<&str>,
 ) -> Result<Box<dyn FrameSink>> {
     Err(Error::input(
@@ -304,11 +299,12 @@ fn drive<E: Integrator>(
     sim: E,
     s: &Scenario,
     scene: &Scene,
+    layout: &SceneLayout,
     sink: Option<Box<dyn FrameSink>>,
     out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
-    let trajectory = open_trajectory(s, scene, opts, sim.disks())?;
+    let trajectory = open_trajectory(s, layout, opts)?;
     let mut driver = Driver::new(sim, s, scene, sink, trajectory, opts, out.recording_id);
     if let Some(ck) = out.resume {
         driver.resume(*ck)?;

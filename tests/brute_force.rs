@@ -56,13 +56,18 @@ fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize
 }
 
 /// Compares the engine with each re-mapping (Isobe's global one, and the local one) against
-/// the reference, on the scene `json` (which has no `engine` section).
+/// the reference, on the scene `json` (which has no `engine` section); and the global one with
+/// the disks renumbered in the engine (the log is in the scenario's numbering).
 fn both_remaps(json: &str, events: usize, gravity: bool) {
-    let local = format!(
-        "{}, \"engine\": {{\"remap\": \"local\"}}}}",
-        json.trim_end().strip_suffix('}').expect("a JSON object")
-    );
-    for json in [json, local.as_str()] {
+    let with = |engine: &str| {
+        format!(
+            "{}, \"engine\": {engine}}}",
+            json.trim_end().strip_suffix('}').expect("a JSON object")
+        )
+    };
+    let local = with(r#"{"remap": "local"}"#);
+    let renumbered = with(r#"{"renumber": "on"}"#);
+    for json in [json, local.as_str(), renumbered.as_str()] {
         let (scene, _) = common::scene(json);
         if gravity {
             compare(common::ballistic(json), &scene, events);

@@ -232,6 +232,31 @@ fn a_resumed_run_with_local_remapping_is_the_uninterrupted_run() {
     );
 }
 
+/// Renumbered disks: the engine's numbering goes into the checkpoint (a gas, and a bed with
+/// riders and the local re-mapping).
+#[test]
+fn a_resumed_renumbered_run_is_the_uninterrupted_run() {
+    resumed_equals_uninterrupted(
+        "renumbered-gas",
+        "gas_periodic_phi03.json",
+        &[
+            "particles.count=400",
+            "domain.width=20",
+            "engine.renumber=on",
+            "run.warmup=1",
+        ],
+        2.3,
+        5.0,
+    );
+    resumed_equals_uninterrupted(
+        "renumbered-bed",
+        "hard/bed_at_rest_tc.json",
+        &["engine.renumber=on", "engine.remap=local"],
+        4.7,
+        12.0,
+    );
+}
+
 #[test]
 fn a_resumed_vibrated_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("bed", "vibrated_bed.json", &["run.warmup=2"], 4.7, 9.0);

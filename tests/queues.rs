@@ -5,11 +5,8 @@
 
 mod common;
 
-use common::crate_path;
+use common::{crate_path, same_run};
 use serde_json::Value;
-use vibrobed::dynamics::{Ballistic, Straight};
-use vibrobed::run::{run, RunOptions};
-use vibrobed::simulation::{Progress, Scene, Simulation, Snapshot};
 use vibrobed::Scenario;
 
 fn load(file: &str, sets: &[&str], queue: &str) -> Scenario {
@@ -18,45 +15,13 @@ fn load(file: &str, sets: &[&str], queue: &str) -> Scenario {
     Scenario::load(&crate_path(&format!("scenarios/{file}")), &sets).expect("scenario loads")
 }
 
-/// The summary without what measures the process (wall time, rate, bytes held) and the name of
-/// the queue it ran with (checked here to be the one asked for).
+/// The summary without the process measurements, after checking that it names the queue
+/// that was asked for.
 fn summary(s: &Scenario) -> Value {
-    let summary = run(s, RunOptions::default()).expect("run");
-    let mut v = serde_json::to_value(&summary).expect("summary serializes");
-    let o = v.as_object_mut().expect("an object");
-    o.remove("wall_seconds");
-    o.remove("collisions_per_second");
-    let engine = o["engine"].as_object_mut().expect("engine");
-    engine.remove("bytes_per_disk");
-    let queue = engine.remove("queue").expect("the summary names the queue");
+    let (v, queue) = same_run::summary(s, &["queue"]);
     let asked = serde_json::to_value(s.engine.queue).expect("queue choice serializes");
-    assert_eq!(queue, asked, "the summary names the queue that ran");
+    assert_eq!(queue[0], asked, "the summary names the queue that ran");
     v
-}
-
-/// Runs the engine itself to the end of the scenario: final state, event counts, virial.
-fn final_state(s: &Scenario) -> (Snapshot, String, u64) {
-    let (scene, disks) = Scene::build(s).expect("scene");
-    let end = s.run.duration;
-    macro_rules! go {
-        ($sim:expr) => {{
-            let mut sim = $sim;
-            assert_eq!(sim.advance_to(end).expect("runs"), Progress::Reached);
-            (
-                sim.snapshot(end),
-                format!("{:?}", sim.counts()),
-                sim.virial().to_bits(),
-            )
-        }};
-    }
-    match scene.gravity {
-        Some(g) => go!(Simulation::new(Ballistic { g }, &scene, disks).expect("engine")),
-        None => go!(Simulation::new(Straight, &scene, disks).expect("engine")),
-    }
-}
-
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|x| x.to_bits()).collect()
 }
 
 fn same_with_either_queue(file: &str, sets: &[&str]) {
@@ -67,18 +32,7 @@ fn same_with_either_queue(file: &str, sets: &[&str]) {
         "{file}: too few collisions to compare"
     );
     assert_eq!(a, b, "{file}: summaries differ");
-    let ((sa, ca, va), (sb, cb, vb)) = (final_state(&tree), final_state(&calendar));
-    assert_eq!(ca, cb, "{file}: event counts differ");
-    assert_eq!(va, vb, "{file}: virial differs");
-    assert_eq!(sa.time.to_bits(), sb.time.to_bits());
-    for (what, x, y) in [
-        ("x", &sa.x, &sb.x),
-        ("y", &sa.y, &sb.y),
-        ("vx", &sa.vx, &sb.vx),
-        ("vy", &sa.vy, &sb.vy),
-    ] {
-        assert!(bits(x) == bits(y), "{file}: final {what} differs");
-    }
+    same_run::same_final_state(file, &tree, &calendar);
 }
 
 #[test]

@@ -391,6 +391,11 @@ pub struct Engine {
     /// Both pop the same events in the same order; only speed and memory differ.
     #[serde(default)]
     pub queue: QueueChoice,
+    /// Disk numbering inside the engine: `auto` (from 8192 disks, renumbered along a Z-order
+    /// curve of the grid at re-mappings, so that neighbours lie close in memory), `on` (at any
+    /// size) or `off`. Outputs keep the scenario's numbering either way.
+    #[serde(default)]
+    pub renumber: RenumberChoice,
     /// Switch on the invariant checks (no overlap, no event in the past, energy balance).
     #[serde(default)]
     pub check_invariants: bool,
@@ -422,6 +427,7 @@ impl Default for Engine {
             grid: GridChoice::Auto,
             remap: RemapChoice::default(),
             queue: QueueChoice::Calendar,
+            renumber: RenumberChoice::Auto,
             check_invariants: false,
             dt: None,
             verlet_skin: None,
@@ -470,6 +476,22 @@ pub enum RemapChoice {
     /// when it leaves it (a per-disk displacement budget, on Isobe's grid and masks).
     Local,
 }
+
+/// Whether the event-driven engine renumbers its disks along a space-filling curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RenumberChoice {
+    /// From [`RENUMBER_FROM`] disks on: below, the engine's arrays fit in the caches anyway.
+    #[default]
+    Auto,
+    /// At any size.
+    On,
+    /// Never: disks keep the scenario's numbering inside the engine too.
+    Off,
+}
+
+/// Smallest number of disks that `renumber = "auto"` renumbers.
+pub const RENUMBER_FROM: usize = 8192;
 
 /// The event-driven engine's event queue.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

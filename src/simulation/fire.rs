@@ -33,6 +33,11 @@ impl<F: Flight> Simulation<F> {
                 _ => None,
             };
             if let Some(p) = p {
+                let p = match p {
+                    Partner::Disk(j) => Partner::Disk(self.numbering.id(j as usize) as u32),
+                    other => other,
+                };
+                let i = self.numbering.id(i);
                 log.push(Collision::new(self.base.absolute(now), i, p));
             }
         }

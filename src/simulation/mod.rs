@@ -14,6 +14,7 @@
 //! - [`shells`]: the local re-mapping (each disk rebuilds its own list when it leaves its
 //!   shell);
 //! - `motion`: where a disk is at a time (lazy flight, riding the floor);
+//! - [`numbering`]: disks renumbered along a space-filling curve at re-mappings;
 //! - [`riders`] and `resting`: disks at rest on the floor or on disks at rest;
 //! - `clock`, `counts`, `log`, `observe`: the clock, what is counted, the collision log, and
 //!   what callers can see.
@@ -25,6 +26,7 @@ mod fire;
 mod jams;
 mod log;
 mod motion;
+pub mod numbering;
 mod observe;
 mod predict;
 mod remap;
@@ -91,6 +93,8 @@ pub struct Simulation<F: Flight> {
     dutc: Dutc,
     /// The local re-mapping's anchors (`engine.remap = "local"`); `None` for Isobe's global one.
     shells: Option<shells::Shells>,
+    /// The engine's numbering of the disks against the scenario's (`engine.renumber`).
+    numbering: numbering::Numbering,
     counts: EventCounts,
     flow: EnergyFlow,
     virial: f64,

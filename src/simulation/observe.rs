@@ -33,10 +33,11 @@ impl<F: Flight> Simulation<F> {
         self.floor.as_ref()
     }
 
-    /// The disks (states at their own time stamps; use [`snapshot`](Self::snapshot) for a
-    /// common time).
+    /// The disks in the scenario's numbering, for their radii, masses and species (which go
+    /// with [`snapshot`](Self::snapshot)'s entries). Their motions are not the present state
+    /// (nor kept at all once the engine has renumbered its disks): take a snapshot for that.
     pub fn disks(&self) -> &Disks {
-        &self.disks
+        self.numbering.original().unwrap_or(&self.disks)
     }
 
     /// Current absolute time.
@@ -118,6 +119,7 @@ impl<F: Flight> Simulation<F> {
             + self.lists.bytes()
             + self.restitution.bytes()
             + self.riders.bytes()
+            + self.numbering.bytes()
     }
 
     /// Energy flows up to absolute time `t`, including the work the floor has done on riding
@@ -155,8 +157,9 @@ impl<F: Flight> Simulation<F> {
         out.y.resize(n, 0.0);
         out.vx.resize(n, 0.0);
         out.vy.resize(n, 0.0);
-        for i in 0..n {
-            let (x, y, vx, vy) = self.state_at(i, local);
+        for k in 0..n {
+            let (x, y, vx, vy) = self.state_at(k, local);
+            let i = self.numbering.id(k);
             out.x[i] = x;
             out.y[i] = y;
             out.vx[i] = vx;
@@ -186,11 +189,13 @@ impl<F: Flight> Simulation<F> {
     /// run at samples when the invariant checks are on.
     pub fn overlap_in(&self, snap: &Snapshot) -> (f64, usize, usize) {
         let mut worst = (0.0, 0, 0);
-        for i in 0..self.disks.len() {
-            for &j in self.lists.of(i) {
-                let j = j as usize;
+        let id = |k: usize| self.numbering.id(k);
+        for k in 0..self.disks.len() {
+            for &l in self.lists.of(k) {
+                let l = l as usize;
+                let (i, j) = (id(k), id(l));
                 let (dx, dy) = self.wrap(snap.x[i] - snap.x[j], snap.y[i] - snap.y[j]);
-                let s = self.disks.radius[i] + self.disks.radius[j];
+                let s = self.disks.radius[k] + self.disks.radius[l];
                 let o = s - (dx * dx + dy * dy).sqrt();
                 if o > worst.0 {
                     worst = (o, i, j);
@@ -204,7 +209,7 @@ impl<F: Flight> Simulation<F> {
     /// reach (O(N·neighbours), used at start and by tests).
     pub fn check_no_overlap(&self, snap: &Snapshot) -> Result<()> {
         let (o, i, j) = self.overlap_in(snap);
-        let s = self.disks.radius[i] + self.disks.radius[j];
+        let s = self.disks().radius[i] + self.disks().radius[j];
         if o > OVERLAP_TOLERANCE * s {
             return Err(Error::Runtime(format!(
                 "disks {i} and {j} overlap by {o:e} at time {}",

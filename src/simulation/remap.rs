@@ -19,6 +19,7 @@ impl<F: Flight> Simulation<F> {
             self.disks.motion[i].t = 0.0;
             self.wrap_position(i);
         }
+        self.renumber_if_due();
         self.base.advance(now);
         self.now = 0.0;
         self.restitution.rebase(now);

@@ -221,6 +221,27 @@ impl Riders {
         (0..self.riding.len()).filter(|&i| self.riding[i])
     }
 
+    /// Follows a renumbering of the disks: new disk k is old disk `from[k]`, old disk j is now
+    /// `place[j]`.
+    pub fn permute(&mut self, from: &[u32], place: &[u32]) {
+        if self.riding.is_empty() {
+            return;
+        }
+        let renamed = |d: u32| if d < RIGHT_WALL { place[d as usize] } else { d };
+        let take = |k: &u32| *k as usize;
+        self.riding = from.iter().map(|k| self.riding[take(k)]).collect();
+        self.lift = from.iter().map(|k| self.lift[take(k)]).collect();
+        self.support = from
+            .iter()
+            .map(|k| self.support[take(k)].map(renamed))
+            .collect();
+        let mut carries = Vec::with_capacity(self.carries.len());
+        for &k in from {
+            carries.extend(self.slots(k as usize).iter().map(|&c| renamed(c)));
+        }
+        self.carries = carries;
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.riding.capacity()

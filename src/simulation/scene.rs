@@ -8,8 +8,8 @@ use crate::locals::{SideBounds, Top};
 use crate::placement::{self, Region};
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
-    GridChoice, MaskChoice, Placement, PlacementKind, QueueChoice, Radius, RemapChoice, Scenario,
-    XBoundary, YBoundary,
+    GridChoice, MaskChoice, Placement, PlacementKind, QueueChoice, Radius, RemapChoice,
+    RenumberChoice, Scenario, XBoundary, YBoundary,
 };
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -46,6 +46,8 @@ pub struct Scene {
     pub remap: RemapChoice,
     /// Event queue choice.
     pub queue: QueueChoice,
+    /// Whether the engine renumbers its disks (see [`RenumberChoice`]).
+    pub renumber: RenumberChoice,
     /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
     pub packing: f64,
     /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
@@ -174,6 +176,7 @@ impl Scene {
             grid: s.engine.grid,
             remap: s.engine.remap,
             queue: s.engine.queue,
+            renumber: s.engine.renumber,
             packing: match height {
                 Some(h) => n as f64 * mean_disk_area(s) / (width * h),
                 None => s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING),

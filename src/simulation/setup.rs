@@ -4,6 +4,7 @@
 use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
+use super::numbering::Numbering;
 use super::predict::partner;
 use super::riders::{self, Riders};
 use super::shells;
@@ -168,6 +169,7 @@ impl<F: Flight> Simulation<F> {
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
             shells,
+            numbering: Numbering::new(scene.renumber, n),
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
             virial: 0.0,
@@ -198,7 +200,7 @@ impl<F: Flight> Simulation<F> {
         sim.counts.rebuild = 0;
         let start = sim.snapshot(0.0);
         let (o, i, j) = sim.overlap_in(&start);
-        if o > OVERLAP_TOLERANCE * (sim.disks.radius[i] + sim.disks.radius[j]) {
+        if o > OVERLAP_TOLERANCE * (sim.disks().radius[i] + sim.disks().radius[j]) {
             return Err(Error::input(
                 "particles.placement",
                 format!("disks {i} and {j} overlap by {o:e} at the start"),

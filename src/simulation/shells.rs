@@ -197,7 +197,8 @@ impl<F: Flight> Simulation<F> {
         let [ox, oy] = sh.anchor[i];
         sh.anchor[i] = [m.x, m.y];
         sh.since_map += 1;
-        let due = sh.since_map >= REMAP_EVERY * sh.anchor.len() as u64;
+        let due = sh.since_map >= REMAP_EVERY * sh.anchor.len() as u64
+            || self.numbering.due(self.counts.pair, sh.anchor.len());
         self.counts.shell += 1;
         let from = self.geometry.cell_of(ox, oy);
         let to = self.geometry.cell_of(m.x, m.y);

@@ -9,6 +9,7 @@
 use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
+use super::numbering::Numbering;
 use super::riders::Riders;
 use super::shells::Shells;
 use super::Simulation;
@@ -43,6 +44,7 @@ pub struct EngineState {
     max_overlap: f64,
     riders: Riders,
     same_instant: Vec<(f64, u32)>,
+    numbering: Numbering,
 }
 
 impl EngineState {
@@ -80,6 +82,7 @@ impl<F: Flight> Simulation<F> {
             max_overlap: self.max_overlap,
             riders: self.riders.clone(),
             same_instant: self.same_instant.clone(),
+            numbering: self.numbering.clone(),
         }
     }
 
@@ -128,6 +131,9 @@ impl<F: Flight> Simulation<F> {
         if state.same_instant.len() != self.same_instant.len() {
             return Err(mismatch("riders"));
         }
+        if state.numbering.on != self.numbering.on {
+            return Err(mismatch("engine.renumber"));
+        }
         self.disks = state.disks;
         self.ev_time = state.ev_time;
         self.ev_partner = state.ev_partner;
@@ -150,6 +156,7 @@ impl<F: Flight> Simulation<F> {
         self.riders = state.riders;
         self.riders.recount();
         self.same_instant = state.same_instant;
+        self.numbering = state.numbering;
         Ok(())
     }
 }

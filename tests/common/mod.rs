@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod same_run;
+
 use vibrobed::disks::Disks;
 use vibrobed::dynamics::{Ballistic, Straight};
 use vibrobed::simulation::{Scene, Simulation};

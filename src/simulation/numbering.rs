@@ -1,0 +1,171 @@
+//! Renumbering: at a re-mapping the engine may give its disks new numbers along a Z-order
+//! (Morton) curve of a coarse grid, so that disks close in space are close in memory — a
+//! disk's neighbour list, its neighbours' states and the cells around it then share cache
+//! lines instead of each costing a miss (the engine's arrays outgrow the caches from about
+//! 10⁴ disks on, and disks wander away from their initial order).
+//!
+//! Renumbering changes no physics: only the order in which pairs are examined, hence which of
+//! two contacts at exactly the same time comes first and the round-off of sums; outputs keep
+//! the scenario's numbering ([`Numbering::id`]).
+
+use super::Simulation;
+use crate::disks::Disks;
+use crate::dynamics::Flight;
+use crate::scenario::{RenumberChoice, RENUMBER_FROM};
+
+/// Pair collisions per disk between two renumberings.
+pub const RENUMBER_EVERY: u64 = 8;
+
+/// The engine's numbering of the disks against the scenario's.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct Numbering {
+    /// Renumbering is on for this scene.
+    pub on: bool,
+    /// Scenario number of each engine disk (empty: the same numbers).
+    id: Vec<u32>,
+    /// The disks' radii, masses and species in the scenario's numbering (kept from the first
+    /// renumbering on, for callers that pair them with snapshots; no motions or counters).
+    original: Option<Disks>,
+    /// Pair collisions at the last renumbering (`None`: not yet renumbered).
+    at: Option<u64>,
+}
+
+impl Numbering {
+    /// Renumbering as `choice` says for `n` disks.
+    pub fn new(choice: RenumberChoice, n: usize) -> Numbering {
+        Numbering {
+            on: match choice {
+                RenumberChoice::Auto => n >= RENUMBER_FROM,
+                RenumberChoice::On => true,
+                RenumberChoice::Off => false,
+            },
+            ..Numbering::default()
+        }
+    }
+
+    /// Scenario number of engine disk `k`.
+    #[inline]
+    pub fn id(&self, k: usize) -> usize {
+        if self.id.is_empty() {
+            k
+        } else {
+            self.id[k] as usize
+        }
+    }
+
+    /// `true` once `pairs` collisions (of `n` disks) call for a renumbering.
+    #[inline]
+    pub fn due(&self, pairs: u64, n: usize) -> bool {
+        self.on
+            && self
+                .at
+                .is_none_or(|at| pairs >= at + RENUMBER_EVERY * n as u64)
+    }
+
+    /// The disks in the scenario's numbering, if the engine's differs.
+    pub fn original(&self) -> Option<&Disks> {
+        self.original.as_ref()
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        4 * self.id.capacity() + self.original.as_ref().map_or(0, |d| d.bytes())
+    }
+}
+
+/// Interleaves the bits of `x` and `y` (Z-order).
+fn morton(x: u32, y: u32) -> u64 {
+    let spread = |v: u32| {
+        let mut v = v as u64;
+        v = (v | (v << 16)) & 0x0000_ffff_0000_ffff;
+        v = (v | (v << 8)) & 0x00ff_00ff_00ff_00ff;
+        v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
+        v = (v | (v << 2)) & 0x3333_3333_3333_3333;
+        v = (v | (v << 1)) & 0x5555_5555_5555_5555;
+        v
+    };
+    spread(x) | (spread(y) << 1)
+}
+
+/// `v` reordered so that its entry `k` is the old entry `from[k]`.
+fn permuted<T: Copy>(v: &[T], from: &[u32]) -> Vec<T> {
+    from.iter().map(|&k| v[k as usize]).collect()
+}
+
+impl<F: Flight> Simulation<F> {
+    /// At a re-mapping (every disk brought to the present, before the grid is rebuilt): if it
+    /// is due, renumbers the disks along a Z-order curve of square tiles about two diameters
+    /// wide. Everything that holds disk numbers between events follows; the grid, the lists,
+    /// the anchors and the predictions are rebuilt by the re-mapping itself.
+    pub(super) fn renumber_if_due(&mut self) {
+        let n = self.disks.len();
+        if !self.numbering.due(self.counts.pair, n) {
+            return;
+        }
+        self.numbering.at = Some(self.counts.pair);
+        let (_, a_max) = self.disks.radius_range();
+        let tile = 4.0 * a_max;
+        let y0 = self.geometry.y0;
+        let key = |k: usize| {
+            let m = &self.disks.motion[k];
+            let tx = (m.x / tile).max(0.0) as u32;
+            let ty = ((m.y - y0) / tile).max(0.0) as u32;
+            morton(tx, ty)
+        };
+        let mut from: Vec<u32> = (0..n as u32).collect();
+        // Stable: disks of one tile keep their order, so the result depends only on the state.
+        from.sort_by_key(|&k| key(k as usize));
+        if from.iter().enumerate().all(|(k, &f)| k == f as usize) {
+            return;
+        }
+        let mut place = vec![0u32; n];
+        for (k, &f) in from.iter().enumerate() {
+            place[f as usize] = k as u32;
+        }
+        if self.numbering.original.is_none() {
+            let d = &self.disks;
+            self.numbering.original = Some(Disks {
+                motion: Vec::new(),
+                radius: d.radius.clone(),
+                mass: d.mass.clone(),
+                species: d.species.clone(),
+                counter: Vec::new(),
+            });
+        }
+        let ids: Vec<u32> = (0..n).map(|k| self.numbering.id(k) as u32).collect();
+        self.numbering.id = permuted(&ids, &from);
+        let d = &mut self.disks;
+        d.motion = permuted(&d.motion, &from);
+        d.radius = permuted(&d.radius, &from);
+        d.mass = permuted(&d.mass, &from);
+        d.species = permuted(&d.species, &from);
+        d.counter = permuted(&d.counter, &from);
+        self.restitution.permute(&from);
+        self.riders.permute(&from, &place);
+        if !self.same_instant.is_empty() {
+            self.same_instant = permuted(&self.same_instant, &from);
+        }
+        if !self.in_cluster.is_empty() {
+            self.in_cluster = permuted(&self.in_cluster, &from);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn morton_interleaves_bits() {
+        assert_eq!(morton(0, 0), 0);
+        assert_eq!(morton(1, 0), 1);
+        assert_eq!(morton(0, 1), 2);
+        assert_eq!(morton(3, 3), 15);
+        assert_eq!(morton(u32::MAX, 0), 0x5555_5555_5555_5555);
+    }
+
+    #[test]
+    fn permuting_takes_entries_from_the_old_places() {
+        assert_eq!(permuted(&[10, 11, 12, 13], &[2, 0, 3, 1]), [12, 10, 13, 11]);
+    }
+}
