@@ -65,9 +65,10 @@ fn both_remaps(json: &str, events: usize, gravity: bool) {
             json.trim_end().strip_suffix('}').expect("a JSON object")
         )
     };
+    let global = with(r#"{"remap": "global"}"#);
     let local = with(r#"{"remap": "local"}"#);
-    let renumbered = with(r#"{"renumber": "on"}"#);
-    for json in [json, local.as_str(), renumbered.as_str()] {
+    let renumbered = with(r#"{"remap": "global", "renumber": "on"}"#);
+    for json in [global.as_str(), local.as_str(), renumbered.as_str()] {
         let (scene, _) = common::scene(json);
         if gravity {
             compare(common::ballistic(json), &scene, events);

@@ -12,6 +12,9 @@ use vibrobed::Scenario;
 fn load(file: &str, sets: &[&str], renumber: &str) -> Scenario {
     let mut sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     sets.push(format!("engine.renumber={renumber}"));
+    if !sets.iter().any(|s| s.starts_with("engine.remap")) {
+        sets.push("engine.remap=global".into());
+    }
     Scenario::load(&crate_path(&format!("scenarios/{file}")), &sets).expect("scenario loads")
 }
 

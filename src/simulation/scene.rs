@@ -42,7 +42,7 @@ pub struct Scene {
     pub mask: MaskChoice,
     /// Grid storage choice.
     pub grid: GridChoice,
-    /// When neighbour lists are rebuilt.
+    /// `global` or `local` (`auto` resolved for the scene).
     pub remap: RemapChoice,
     /// Event queue choice.
     pub queue: QueueChoice,
@@ -174,7 +174,10 @@ impl Scene {
             resting_contacts: s.collisions.resting_contacts,
             mask: s.engine.mask,
             grid: s.engine.grid,
-            remap: s.engine.remap,
+            remap: s
+                .engine
+                .remap
+                .resolve(matches!(top, Top::Open) && s.gravity.is_some_and(|g| g > 0.0)),
             queue: s.engine.queue,
             renumber: s.engine.renumber,
             packing: match height {
