@@ -125,9 +125,10 @@ fn mask_choice() -> String {
     std::env::var("VIBROBED_BENCH_MASK").unwrap_or_else(|_| "auto".to_string())
 }
 
-/// `engine.remap` of every scene: `VIBROBED_BENCH_REMAP` (`global` or `local`), default `global`.
+/// `engine.remap` of every scene: `VIBROBED_BENCH_REMAP` (`global`, `local` or `auto`),
+/// default `auto` (the engine's default: local for the gas, global for the open-top bed).
 fn remap_choice() -> String {
-    std::env::var("VIBROBED_BENCH_REMAP").unwrap_or_else(|_| "global".to_string())
+    std::env::var("VIBROBED_BENCH_REMAP").unwrap_or_else(|_| "auto".to_string())
 }
 
 /// `engine.grid` of the gas scenes: `VIBROBED_BENCH_GRID` (`dense` or `hashed`), default `auto`

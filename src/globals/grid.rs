@@ -51,8 +51,9 @@ impl GridGeometry {
         top: Option<f64>,
         y_periodic: bool,
     ) -> GridGeometry {
-        Self::with_cell(
+        Self::sized(
             CELL_PER_RADIUS * a_min,
+            false,
             width,
             x_periodic,
             bottom,
@@ -61,21 +62,8 @@ impl GridGeometry {
         )
     }
 
-    /// As [`new`](Self::new), with cells of side at most `target` (the local re-mapping needs
-    /// smaller cells: see `simulation::shells`).
-    pub fn with_cell(
-        target: f64,
-        width: f64,
-        x_periodic: bool,
-        bottom: f64,
-        top: Option<f64>,
-        y_periodic: bool,
-    ) -> GridGeometry {
-        Self::sized(target, false, width, x_periodic, bottom, top, y_periodic)
-    }
-
-    /// As [`with_cell`](Self::with_cell), with cells of side at least `target` (linked cells,
-    /// whose 3 × 3 block must hold every pair closer than `target`).
+    /// As [`new`](Self::new), with cells of side at least `target` (linked cells, whose 3 × 3
+    /// block must hold every pair closer than `target`).
     pub fn with_cell_at_least(
         target: f64,
         width: f64,
@@ -205,6 +193,53 @@ impl GridGeometry {
             }
         }
         Ok(())
+    }
+}
+
+/// Cells that hold any number of disks (the local re-mapping's anchors): what is in one cell,
+/// and from it the scans of a mask around a cell.
+pub trait SeveralPerCell {
+    /// Calls `found` with every disk in `cell`.
+    fn each(&self, cell: (u32, u32), found: impl FnMut(u32));
+
+    /// Calls `found` with every disk in `cell` and in the cells at `offsets` around it.
+    #[inline]
+    fn gather_all(
+        &self,
+        geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        cell: (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        self.each(cell, &mut found);
+        for &(dx, dy) in offsets {
+            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
+                self.each(c, &mut found);
+            }
+        }
+    }
+
+    /// Calls `found` with each disk that pairs with disk `i` (in `cell`) once: the disks of its
+    /// own cell numbered above it, and those in the cells at the half offsets `half`.
+    #[inline]
+    fn gather_half_of(
+        &self,
+        geometry: &GridGeometry,
+        half: &[(i32, i32)],
+        i: u32,
+        cell: (u32, u32),
+        mut found: impl FnMut(u32),
+    ) {
+        self.each(cell, |j| {
+            if j > i {
+                found(j)
+            }
+        });
+        for &(dx, dy) in half {
+            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
+                self.each(c, &mut found);
+            }
+        }
     }
 }
 
@@ -501,55 +536,16 @@ impl SparseCells {
     pub fn several(&self) -> bool {
         self.several
     }
+}
 
-    /// Calls `found` with every disk in cell `(ix, iy)`.
+impl SeveralPerCell for SparseCells {
     #[inline]
-    pub fn each(&self, ix: u32, iy: u32, mut found: impl FnMut(u32)) {
+    fn each(&self, (ix, iy): (u32, u32), mut found: impl FnMut(u32)) {
         let k = self.bucket(ix, iy);
         let start = self.c[k] as usize;
         for e in start..start + self.d[k] as usize {
             if self.bx[e] == ix && self.by[e] == iy {
                 found(self.a[e]);
-            }
-        }
-    }
-
-    /// Calls `found` with every disk in `cell` and in the cells at `offsets` around it.
-    #[inline]
-    pub fn gather_all(
-        &self,
-        geometry: &GridGeometry,
-        offsets: &[(i32, i32)],
-        cell: (u32, u32),
-        mut found: impl FnMut(u32),
-    ) {
-        self.each(cell.0, cell.1, &mut found);
-        for &(dx, dy) in offsets {
-            if let Some((cx, cy)) = geometry.offset(cell.0, cell.1, dx, dy) {
-                self.each(cx, cy, &mut found);
-            }
-        }
-    }
-
-    /// Calls `found` with each disk that pairs with disk `i` (in `cell`) once: the disks of its
-    /// own cell numbered above it, and those in the cells at the half offsets `half`.
-    #[inline]
-    pub fn gather_half_of(
-        &self,
-        geometry: &GridGeometry,
-        half: &[(i32, i32)],
-        i: u32,
-        cell: (u32, u32),
-        mut found: impl FnMut(u32),
-    ) {
-        self.each(cell.0, cell.1, |j| {
-            if j > i {
-                found(j)
-            }
-        });
-        for &(dx, dy) in half {
-            if let Some((cx, cy)) = geometry.offset(cell.0, cell.1, dx, dy) {
-                self.each(cx, cy, &mut found);
             }
         }
     }

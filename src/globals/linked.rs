@@ -4,7 +4,7 @@
 //! as wide as the longest listed pair makes the 3 × 3 block around a disk's cell hold every
 //! anchor it can list (the peer codes' cell list).
 
-use super::grid::GridGeometry;
+use super::grid::{GridGeometry, SeveralPerCell};
 
 /// End of a cell's chain (and an empty cell).
 const END: u32 = u32::MAX;
@@ -65,7 +65,13 @@ impl LinkedCells {
         }
     }
 
-    /// Calls `found` with every disk of cell `cell`.
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        4 * (self.head.capacity() + self.next.capacity())
+    }
+}
+
+impl SeveralPerCell for LinkedCells {
     #[inline(always)]
     fn each(&self, cell: (u32, u32), mut found: impl FnMut(u32)) {
         let mut k = self.head[self.index(cell)];
@@ -74,51 +80,6 @@ impl LinkedCells {
             k = self.next[k as usize];
         }
     }
-
-    /// Calls `found` with every disk in `cell` and in the cells at `offsets` around it.
-    #[inline]
-    pub fn gather(
-        &self,
-        geometry: &GridGeometry,
-        offsets: &[(i32, i32)],
-        cell: (u32, u32),
-        mut found: impl FnMut(u32),
-    ) {
-        self.each(cell, &mut found);
-        for &(dx, dy) in offsets {
-            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
-                self.each(c, &mut found);
-            }
-        }
-    }
-
-    /// Calls `found` with each disk that pairs with disk `i` (in `cell`) once: the disks of
-    /// its own cell after it, and those in the cells at the half offsets `half`.
-    #[inline]
-    pub fn gather_half(
-        &self,
-        geometry: &GridGeometry,
-        half: &[(i32, i32)],
-        i: u32,
-        cell: (u32, u32),
-        mut found: impl FnMut(u32),
-    ) {
-        let mut k = self.next[i as usize];
-        while k != END {
-            found(k);
-            k = self.next[k as usize];
-        }
-        for &(dx, dy) in half {
-            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
-                self.each(c, &mut found);
-            }
-        }
-    }
-
-    /// Bytes held.
-    pub fn bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity())
-    }
 }
 
 #[cfg(test)]
@@ -126,7 +87,7 @@ mod tests {
     use super::*;
 
     fn geometry() -> GridGeometry {
-        GridGeometry::with_cell(1.0, 4.0, true, 0.0, Some(3.0), false)
+        GridGeometry::with_cell_at_least(1.0, 4.0, true, 0.0, Some(3.0), false)
     }
 
     #[test]
@@ -159,13 +120,13 @@ mod tests {
         let mask = super::super::Mask::circle("B1", 2);
         let mut half = Vec::new();
         for (i, &cell) in cells_of.iter().enumerate() {
-            c.gather_half(&g, &mask.half, i as u32, cell, |j| {
+            c.gather_half_of(&g, &mask.half, i as u32, cell, |j| {
                 half.push((i.min(j as usize), i.max(j as usize)))
             });
         }
         let mut full = Vec::new();
         for (i, &cell) in cells_of.iter().enumerate() {
-            c.gather(&g, &mask.offsets, cell, |j| {
+            c.gather_all(&g, &mask.offsets, cell, |j| {
                 if j as usize > i {
                     full.push((i, j as usize))
                 }

@@ -6,7 +6,7 @@ pub mod linked;
 pub mod masks;
 pub mod neighbours;
 
-pub use grid::{CellMap, DenseCells, GridGeometry, SparseCells};
+pub use grid::{CellMap, DenseCells, GridGeometry, SeveralPerCell, SparseCells};
 pub use linked::LinkedCells;
 pub use masks::Mask;
 pub use neighbours::NeighbourLists;
@@ -94,7 +94,7 @@ impl Cells {
         match self {
             Cells::Dense(d) => d.gather_rows(&mask.rows, cell, found),
             Cells::Sparse(s) => s.gather_all(geometry, &mask.offsets, cell, found),
-            Cells::Linked(l) => l.gather(geometry, &mask.offsets, cell, found),
+            Cells::Linked(l) => l.gather_all(geometry, &mask.offsets, cell, found),
         }
     }
 
@@ -138,7 +138,7 @@ impl Cells {
                 l.map(geometry, n, cell);
                 lists.build(n, |i, out| {
                     let from = out.len();
-                    l.gather_half(geometry, &mask.half, i as u32, cell(i), |j| out.push(j));
+                    l.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j));
                     keep_near(out, from, |j| near(i, j as usize));
                 });
             }
