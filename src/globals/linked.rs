@@ -10,7 +10,7 @@ use super::grid::{GridGeometry, SeveralPerCell};
 const END: u32 = u32::MAX;
 
 /// Disks by cell, several per cell: `head[c]` is the first disk of cell `c`, `next[i]` the one
-/// after disk `i`, [`END`] closes a chain.
+/// after disk `i`, `END` (`u32::MAX`) closes a chain.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct LinkedCells {
     nx: usize,
