@@ -602,3 +602,32 @@ fn output_as_a_list_is_refused_naming_it() {
         &["output"],
     );
 }
+
+// --- The local re-mapping's own limits. ---
+
+#[test]
+fn a_named_mask_with_the_local_re_mapping_is_refused() {
+    run_refuses(
+        "local-mask",
+        "gas_periodic_phi03.json",
+        &[],
+        &["engine.remap=local", "engine.mask=r5"],
+        &["engine.mask"],
+    );
+}
+
+#[test]
+fn a_periodic_box_narrower_than_three_diameters_is_refused_by_the_local_re_mapping() {
+    run_refuses(
+        "local-narrow",
+        "gas_periodic_phi03.json",
+        &[],
+        &[
+            "engine.remap=local",
+            "domain.width=2.9",
+            "particles.count=3",
+            "particles.packing_fraction=0.01",
+        ],
+        &["domain.width"],
+    );
+}

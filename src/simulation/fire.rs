@@ -344,7 +344,9 @@ impl<F: Flight> Simulation<F> {
             self.max_overlap = overlap;
             if self.check && overlap > OVERLAP_TOLERANCE * contact {
                 return Err(Error::Runtime(format!(
-                    "disks {i} and {j} overlap by {overlap:e} at time {}",
+                    "disks {} and {} overlap by {overlap:e} at time {}",
+                    self.numbering.id(i),
+                    self.numbering.id(j),
                     self.time()
                 )));
             }

@@ -147,7 +147,8 @@ impl<F: Flight> Simulation<F> {
             }
             if self.check && te < self.now {
                 return Err(Error::Runtime(format!(
-                    "event of disk {i} at {} is before the present {}",
+                    "event of disk {} at {} is before the present {}",
+                    self.numbering.id(i),
                     self.base.absolute(te),
                     self.base.absolute(self.now)
                 )));
