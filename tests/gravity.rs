@@ -225,12 +225,16 @@ fn open_top_hashing_finds_what_the_dense_grid_finds() {
         let mut sparse = SparseCells::default();
         sparse.map(&open_geo, cells.len(), |i| cells[i]).unwrap();
         let (mut ld, mut ls) = (NeighbourLists::default(), NeighbourLists::default());
-        ld.build(cells.len(), |i, out| {
-            dense.gather_half(&dense_geo, &mask, cells[i], |j| out.push(j))
-        });
-        ls.build(cells.len(), |i, out| {
-            sparse.gather_half(&open_geo, &mask, cells[i], |j| out.push(j))
-        });
+        ld.build(
+            cells.len(),
+            |i, out| dense.gather_half(&dense_geo, &mask, cells[i], |j| out.push(j)),
+            |_, _| true,
+        );
+        ls.build(
+            cells.len(),
+            |i, out| sparse.gather_half(&open_geo, &mask, cells[i], |j| out.push(j)),
+            |_, _| true,
+        );
         let n = cells.len();
         assert_eq!(lists_sorted(&ld, n), lists_sorted(&ls, n), "trial {trial}");
         assert!(

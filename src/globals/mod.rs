@@ -13,19 +13,6 @@ pub use neighbours::NeighbourLists;
 
 use crate::error::Result;
 
-/// Keeps the entries of `out` from `from` on that `near` accepts, in order, without a branch per
-/// entry (most candidates of a mask are turned down, at random).
-#[inline(always)]
-fn keep_near(out: &mut Vec<u32>, from: usize, near: impl Fn(u32) -> bool) {
-    let mut kept = from;
-    for k in from..out.len() {
-        let j = out[k];
-        out[kept] = j;
-        kept += near(j) as usize;
-    }
-    out.truncate(kept);
-}
-
 /// The grid storage a scene uses: dense for closed domains, Isobe's compressed array for an
 /// open top; linked cells (several disks per cell) for the local re-mapping's anchors.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -112,35 +99,29 @@ impl Cells {
         match self {
             Cells::Dense(d) => {
                 d.map(geometry, n, cell)?;
-                lists.build(n, |i, out| {
-                    let from = out.len();
-                    d.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                    keep_near(out, from, |j| near(i, j as usize));
-                });
+                let half =
+                    |i, out: &mut Vec<u32>| d.gather_half(geometry, mask, cell(i), |j| out.push(j));
+                lists.build(n, half, near);
             }
             Cells::Sparse(s) if s.several() => {
                 s.map(geometry, n, cell)?;
-                lists.build(n, |i, out| {
-                    let from = out.len();
-                    s.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j));
-                    keep_near(out, from, |j| near(i, j as usize));
-                });
+                let half = |i, out: &mut Vec<u32>| {
+                    s.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
+                };
+                lists.build(n, half, near);
             }
             Cells::Sparse(s) => {
                 s.map(geometry, n, cell)?;
-                lists.build(n, |i, out| {
-                    let from = out.len();
-                    s.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                    keep_near(out, from, |j| near(i, j as usize));
-                });
+                let half =
+                    |i, out: &mut Vec<u32>| s.gather_half(geometry, mask, cell(i), |j| out.push(j));
+                lists.build(n, half, near);
             }
             Cells::Linked(l) => {
                 l.map(geometry, n, cell);
-                lists.build(n, |i, out| {
-                    let from = out.len();
-                    l.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j));
-                    keep_near(out, from, |j| near(i, j as usize));
-                });
+                let half = |i, out: &mut Vec<u32>| {
+                    l.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
+                };
+                lists.build(n, half, near);
             }
         }
         Ok(())

@@ -19,10 +19,16 @@ pub struct NeighbourLists {
 }
 
 impl NeighbourLists {
-    /// Rebuilds the lists of `n` disks from their pairs: `pairs(i, out)` appends to `out` the
-    /// partners of disk i that pair with it, each pair found once (from one of its two disks,
-    /// as a half mask does), and is filed in both disks' lists, so j ∈ list(i) ⇔ i ∈ list(j).
-    pub fn build(&mut self, n: usize, mut pairs: impl FnMut(usize, &mut Vec<u32>)) {
+    /// Rebuilds the lists of `n` disks from their candidate pairs: `half(i, out)` appends to
+    /// `out` the candidates of disk i, each pair offered once (from one of its two disks, as a
+    /// half mask does); those that `near(i, j)` accepts are filed in both disks' lists, so
+    /// j ∈ list(i) ⇔ i ∈ list(j).
+    pub fn build(
+        &mut self,
+        n: usize,
+        mut half: impl FnMut(usize, &mut Vec<u32>),
+        near: impl Fn(usize, usize) -> bool,
+    ) {
         self.room = 0;
         self.half.clear();
         self.half_start.clear();
@@ -34,7 +40,15 @@ impl NeighbourLists {
         self.start.resize(n + 2, 0);
         for i in 0..n {
             let from = self.half.len();
-            pairs(i, &mut self.half);
+            half(i, &mut self.half);
+            // Kept without a branch per candidate (most are turned down, at random).
+            let mut kept = from;
+            for k in from..self.half.len() {
+                let j = self.half[k];
+                self.half[kept] = j;
+                kept += near(i, j as usize) as usize;
+            }
+            self.half.truncate(kept);
             for &j in &self.half[from..] {
                 self.start[i + 1] += 1;
                 self.start[j as usize + 1] += 1;

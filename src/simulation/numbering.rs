@@ -114,7 +114,7 @@ impl<F: Flight> Simulation<F> {
         };
         let mut from: Vec<u32> = (0..n as u32).collect();
         // Stable: disks of one tile keep their order, so the result depends only on the state.
-        from.sort_by_key(|&k| key(k as usize));
+        from.sort_by_cached_key(|&k| key(k as usize));
         if from.iter().enumerate().all(|(k, &f)| k == f as usize) {
             return;
         }

@@ -55,6 +55,7 @@ impl<F: Flight> Simulation<F> {
             Top::Periodic { height } => (Some(height), true),
         };
         let local = scene.remap == RemapChoice::Local;
+        let shell_packing = shells::packing_for_shells(scene.packing, scene.floor.is_some());
         let (geometry, mask, margin) = if local {
             if scene.mask != MaskChoice::Auto {
                 return Err(Error::input(
@@ -63,8 +64,7 @@ impl<F: Flight> Simulation<F> {
                 ));
             }
             let a_rms = disks.rms_radius();
-            let packing = shells::packing_for_shells(scene.packing, scene.floor.is_some());
-            let mut margin = shells::local_margin(scene.skin, a_min, a_rms, packing);
+            let mut margin = shells::local_margin(scene.skin, a_min, a_rms, shell_packing);
             // A periodic direction needs three cells for the 3 × 3 block not to wrap onto
             // itself: narrow boxes get the shell that fits.
             let periods = [
@@ -130,8 +130,7 @@ impl<F: Flight> Simulation<F> {
         geometry.check_mask_fits(mask.half_width)?;
         let shells = local.then(|| {
             let a = disks.rms_radius();
-            let packing = shells::packing_for_shells(scene.packing, scene.floor.is_some());
-            let room = shells::list_room(a, 2.0 * a + margin, packing);
+            let room = shells::list_room(a, 2.0 * a + margin, shell_packing);
             shells::Shells::new(n, 0.5 * margin, room)
         });
         let mut sim = Simulation {

@@ -79,9 +79,9 @@ pub fn local_margin(skin: Option<f64>, a_min: f64, a: f64, phi: f64) -> f64 {
 pub const SETTLED_BED_PACKING: f64 = 0.7;
 
 /// The packing the shells are sized for: the scene's, or with a floor at least a settled bed's
-/// ([`SETTLED_BED_PACKING`]). Measured on the shipped beds, shells sized for the initial
-/// placement (φ = 0.5) made the dense ones (`leidenfrost.json`, `brazil_nut.json`) up to 1.3×
-/// slower than the best skin, sized for 0.7 all are within 6% of their best.
+/// ([`SETTLED_BED_PACKING`]). Measured on the shipped beds (single runs), shells sized for the
+/// initial placement (φ = 0.5) made the dense ones (`leidenfrost.json`, `brazil_nut.json`) up
+/// to 1.3× slower than the best skin tried; sized for 0.7 they ran 5–13% above it.
 pub fn packing_for_shells(packing: f64, floor: bool) -> f64 {
     if floor {
         packing.max(SETTLED_BED_PACKING)
