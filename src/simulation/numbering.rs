@@ -24,7 +24,8 @@ pub struct Numbering {
     /// Scenario number of each engine disk (empty: the same numbers).
     id: Vec<u32>,
     /// The disks' radii, masses and species in the scenario's numbering (kept from the first
-    /// renumbering on, for callers that pair them with snapshots; no motions or counters).
+    /// renumbering on, for callers that pair them with snapshots; no motions or counters;
+    /// `None` while the disks differ only in their motions).
     original: Option<Disks>,
     /// Pair collisions at the last renumbering (`None`: not yet renumbered).
     at: Option<u64>,
@@ -122,8 +123,13 @@ impl<F: Flight> Simulation<F> {
         for (k, &f) in from.iter().enumerate() {
             place[f as usize] = k as u32;
         }
-        if self.numbering.original.is_none() {
-            let d = &self.disks;
+        // Disks that differ only in their motions (equal radii, masses and species) need no
+        // copy in the scenario's numbering: their properties read the same in either.
+        let d = &self.disks;
+        let alike = |v: &[f64]| v.iter().all(|&x| x == v[0]);
+        let uniform = n == 0
+            || (alike(&d.radius) && alike(&d.mass) && d.species.iter().all(|&s| s == d.species[0]));
+        if self.numbering.original.is_none() && !uniform {
             self.numbering.original = Some(Disks {
                 motion: Vec::new(),
                 radius: d.radius.clone(),

@@ -35,7 +35,8 @@ impl<F: Flight> Simulation<F> {
 
     /// The disks in the scenario's numbering, for their radii, masses and species (which go
     /// with [`snapshot`](Self::snapshot)'s entries). Their motions are not the present state
-    /// (nor kept at all once the engine has renumbered its disks): take a snapshot for that.
+    /// (nor in the scenario's numbering once the engine has renumbered its disks): take a
+    /// snapshot for that.
     pub fn disks(&self) -> &Disks {
         self.numbering.original().unwrap_or(&self.disks)
     }

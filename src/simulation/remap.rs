@@ -42,6 +42,10 @@ impl<F: Flight> Simulation<F> {
             let reach = disks.radius[i] + disks.radius[j] + margin;
             dx * dx + dy * dy <= reach * reach
         };
+        // Under the local re-mapping the lists change one at a time from here: rows with room.
+        if let Some(shells) = &self.shells {
+            self.lists.in_rows(shells.room);
+        }
         self.cells
             .rebuild(geometry, &self.mask, n, cell, &mut self.lists, near)?;
         let lift = self.floor.as_ref().map_or(0.0, |f| f.max_speed());
@@ -78,9 +82,8 @@ impl<F: Flight> Simulation<F> {
             self.dutc = Dutc::frozen(64.0 * self.dutc.deadline);
         }
         self.predict_all();
-        if let Some(room) = self.shells.as_ref().map(|s| s.room) {
-            // The lists change one at a time from here.
-            self.lists.fix(n, room);
+        if self.shells.is_some() {
+            self.lists.drop_half();
         }
         self.counts.rebuild += 1;
         Ok(())
