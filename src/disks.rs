@@ -1,5 +1,8 @@
 //! The disks, as a structure of arrays: positions, velocities and the time stamp each state
-//! belongs to (disks are advanced lazily), radii, masses, collision counters.
+//! belongs to (disks are advanced lazily), radii, masses, collision counters. A property that
+//! every disk shares (equal disks, one species) is stored once.
+
+use std::ops::Index;
 
 /// A disk's motion: its state at its own time stamp (kept together: the hot data of the event
 /// loop, one cache line's worth per disk).
@@ -23,11 +26,11 @@ pub struct Disks {
     /// Position, velocity and time stamp of each disk.
     pub motion: Vec<Motion>,
     /// Radius.
-    pub radius: Vec<f64>,
+    pub radius: PerDisk<f64>,
     /// Mass.
-    pub mass: Vec<f64>,
+    pub mass: PerDisk<f64>,
     /// Species index (for output).
-    pub species: Vec<u32>,
+    pub species: PerDisk<u32>,
     /// Number of velocity changes so far (invalidates partners' predicted events).
     pub counter: Vec<u32>,
 }
@@ -51,9 +54,9 @@ impl Disks {
                     ..Motion::default()
                 })
                 .collect(),
-            radius,
-            mass,
-            species,
+            radius: PerDisk::new(radius),
+            mass: PerDisk::new(mass),
+            species: PerDisk::new(species),
             counter: vec![0; n],
         }
     }
@@ -72,7 +75,7 @@ impl Disks {
     pub fn radius_range(&self) -> (f64, f64) {
         self.radius
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
                 (lo.min(r), hi.max(r))
             })
     }
@@ -86,7 +89,110 @@ impl Disks {
     /// Bytes held by these arrays.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Motion>() * self.motion.capacity()
-            + 8 * (self.radius.capacity() + self.mass.capacity())
-            + 4 * (self.species.capacity() + self.counter.capacity())
+            + self.radius.bytes()
+            + self.mass.bytes()
+            + self.species.bytes()
+            + 4 * self.counter.capacity()
+    }
+}
+
+/// A property of each disk, held once when all disks share it (N values otherwise).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PerDisk<T> {
+    /// Number of disks.
+    len: usize,
+    /// The value all disks share (when `each` is empty).
+    common: T,
+    /// One value per disk, unless all are equal.
+    each: Vec<T>,
+}
+
+impl<T: Copy + PartialEq + Default> PerDisk<T> {
+    /// The values of `v`, stored once if they are all equal.
+    pub fn new(v: Vec<T>) -> PerDisk<T> {
+        match v.first() {
+            Some(&first) if v.iter().all(|&x| x == first) => PerDisk {
+                len: v.len(),
+                common: first,
+                each: Vec::new(),
+            },
+            _ => PerDisk {
+                len: v.len(),
+                common: T::default(),
+                each: v,
+            },
+        }
+    }
+
+    /// Number of disks.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// `true` without disks.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The value every disk shares, if they do.
+    pub fn common(&self) -> Option<T> {
+        (self.each.is_empty() && self.len > 0).then_some(self.common)
+    }
+
+    /// The values in disk order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = T> + '_ {
+        (0..self.len).map(|i| self[i])
+    }
+
+    /// The values as a vector.
+    pub fn to_vec(&self) -> Vec<T> {
+        self.iter().collect()
+    }
+
+    /// Reordered so that entry `k` is the old entry `from[k]`.
+    pub fn permute(&mut self, from: &[u32]) {
+        if !self.each.is_empty() {
+            self.each = from.iter().map(|&k| self.each[k as usize]).collect();
+        }
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<T>() * self.each.capacity()
+    }
+}
+
+impl<T> Index<usize> for PerDisk<T> {
+    type Output = T;
+
+    #[inline(always)]
+    fn index(&self, i: usize) -> &T {
+        if self.each.is_empty() {
+            debug_assert!(i < self.len, "disk {i} of {}", self.len);
+            &self.common
+        } else {
+            &self.each[i]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_shared_value_is_stored_once_and_reads_the_same() {
+        let shared = PerDisk::new(vec![0.5; 4]);
+        assert_eq!(
+            (shared.common(), shared.bytes(), shared.len()),
+            (Some(0.5), 0, 4)
+        );
+        assert_eq!(shared[3], 0.5);
+        assert_eq!(shared.to_vec(), vec![0.5; 4]);
+        let mut each = PerDisk::new(vec![1u32, 2, 3, 4]);
+        assert_eq!((each.common(), each.bytes()), (None, 16));
+        each.permute(&[2, 0, 3, 1]);
+        assert_eq!(each.to_vec(), [3, 1, 4, 2]);
+        assert_eq!(PerDisk::<f64>::new(Vec::new()).common(), None);
     }
 }

@@ -220,7 +220,7 @@ fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> Sce
         },
         y_periodic: s.domain.y_boundary == YBoundary::Periodic,
         floor: s.floor.is_some(),
-        species: disks.species.iter().max().map_or(1, |&m| m as usize + 1),
+        species: disks.species.iter().max().map_or(1, |m| m as usize + 1),
         speed_scale,
     }
 }

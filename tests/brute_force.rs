@@ -28,8 +28,8 @@ fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize
         let mut reference = Reference::new(
             sim.flight(),
             &snap,
-            &sim.disks().radius,
-            &sim.disks().mass,
+            &sim.disks().radius.to_vec(),
+            &sim.disks().mass.to_vec(),
             scene.sides,
             scene.top,
             scene.floor.clone(),

@@ -20,7 +20,7 @@ fn elastic_periodic_gas_conserves_energy_and_momentum() {
             .sum();
         (px, py, ke)
     };
-    let m = sim.disks().mass.clone();
+    let m = sim.disks().mass.to_vec();
     let (px0, py0, ke0) = p(&sim.snapshot(0.0), &m);
     for k in 1..=10 {
         let t = k as f64;

@@ -5,7 +5,6 @@ use super::averages::{empty_profiles, Averages, Window};
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
-use crate::disks::Disks;
 use crate::error::{Error, Result};
 use crate::locals::Top;
 use crate::measure::{Observables, ProfileTable};
@@ -281,10 +280,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .profiles
             .as_ref()
             .map(|p| p.of_snapshot(snap, d));
+        let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         sink.frame(&frame_view(
             self.stops.k_frame - 1,
             snap,
-            d,
+            (&radius, &species),
             &series,
             profile.as_ref(),
         ))
@@ -297,8 +297,15 @@ impl<'a, E: Integrator> Driver<'a, E> {
             return Ok(());
         };
         let (snap, d) = (&self.snap, self.sim.disks());
-        w.frame(&frame_view(self.stops.k_trajectory - 1, snap, d, &[], None))
-            .map_err(Error::Io)
+        let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
+        w.frame(&frame_view(
+            self.stops.k_trajectory - 1,
+            snap,
+            (&radius, &species),
+            &[],
+            None,
+        ))
+        .map_err(Error::Io)
     }
 
     /// Closes the recording with a note on how the run ended.
@@ -427,7 +434,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
 fn frame_view<'a>(
     index: u64,
     snap: &'a Snapshot,
-    d: &'a Disks,
+    (radius, species): (&'a [f64], &'a [u32]),
     series: &'a [(&'static str, f64)],
     profile: Option<&'a ProfileTable>,
 ) -> FrameView<'a> {
@@ -438,8 +445,8 @@ fn frame_view<'a>(
         y: &snap.y,
         vx: &snap.vx,
         vy: &snap.vy,
-        radius: &d.radius,
-        species: &d.species,
+        radius,
+        species,
         floor_height: snap.floor_height,
         series,
         profile,

@@ -126,9 +126,9 @@ impl<F: Flight> Simulation<F> {
         // Disks that differ only in their motions (equal radii, masses and species) need no
         // copy in the scenario's numbering: their properties read the same in either.
         let d = &self.disks;
-        let alike = |v: &[f64]| v.iter().all(|&x| x == v[0]);
-        let uniform = n == 0
-            || (alike(&d.radius) && alike(&d.mass) && d.species.iter().all(|&s| s == d.species[0]));
+        let uniform = d.radius.common().is_some()
+            && d.mass.common().is_some()
+            && d.species.common().is_some();
         if self.numbering.original.is_none() && !uniform {
             self.numbering.original = Some(Disks {
                 motion: Vec::new(),
@@ -142,9 +142,9 @@ impl<F: Flight> Simulation<F> {
         self.numbering.id = permuted(&ids, &from);
         let d = &mut self.disks;
         d.motion = permuted(&d.motion, &from);
-        d.radius = permuted(&d.radius, &from);
-        d.mass = permuted(&d.mass, &from);
-        d.species = permuted(&d.species, &from);
+        d.radius.permute(&from);
+        d.mass.permute(&from);
+        d.species.permute(&from);
         d.counter = permuted(&d.counter, &from);
         self.restitution.permute(&from);
         self.riders.permute(&from, &place);

@@ -155,7 +155,11 @@ impl Scene {
         let mut disks = Disks::new(&positions, radius, mass, species);
         let velocities = match &s.particles.placement {
             Placement::Explicit(e) if e.velocities.is_some() => e.velocities.clone().unwrap(),
-            _ => placement::thermal_velocities(&disks.mass, s.particles.temperature, &mut rng),
+            _ => placement::thermal_velocities(
+                &disks.mass.to_vec(),
+                s.particles.temperature,
+                &mut rng,
+            ),
         };
         for (i, v) in velocities.iter().enumerate() {
             disks.motion[i].vx = v[0];
