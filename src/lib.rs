@@ -29,6 +29,7 @@ pub mod locals;
 pub mod measure;
 pub mod output;
 pub mod placement;
+pub mod prefetch;
 pub mod restitution;
 pub mod run;
 pub mod scenario;

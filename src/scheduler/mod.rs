@@ -49,6 +49,25 @@ impl EventQueue {
         }
     }
 
+    /// Hints that disk `i`'s entry will be changed soon (a calendar's entries are spread over
+    /// memory; the tree's top levels stay cached anyway).
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        if let EventQueue::Calendar(c) = self {
+            c.prefetch(i);
+        }
+    }
+
+    /// Disks likely to be next after [`min`](Self::min) (the calendar's heap knows two; the
+    /// tree none).
+    #[inline(always)]
+    pub fn next_likely(&self) -> [Option<usize>; 2] {
+        match self {
+            EventQueue::Tree(_) => [None, None],
+            EventQueue::Calendar(c) => c.next_likely(),
+        }
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         match self {

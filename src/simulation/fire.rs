@@ -208,6 +208,19 @@ impl<F: Flight> Simulation<F> {
 
     pub(super) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
         let now = self.now;
+        // Both disks' shells and queue entries are looked at once their new events are known.
+        if let Some(shells) = &self.shells {
+            shells.prefetch(i);
+            shells.prefetch(j);
+        }
+        self.queue.prefetch(i);
+        self.queue.prefetch(j);
+        // And so are their neighbours' states, for their new predictions.
+        for k in [i, j] {
+            for &n in self.lists.of(k) {
+                crate::prefetch::prefetch(&self.disks.motion, n as usize);
+            }
+        }
         self.bring(i, now);
         self.bring(j, now);
         let rode = [self.is_riding(i), self.is_riding(j)];

@@ -49,6 +49,7 @@ use crate::error::{Error, Result};
 use crate::globals::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::locals::floor::Floor;
 use crate::locals::{SideBounds, Top};
+use crate::prefetch::prefetch;
 use crate::restitution::CollisionLaw;
 use crate::scheduler::EventQueue;
 use clock::Epoch;
@@ -134,6 +135,7 @@ impl<F: Flight> Simulation<F> {
             }
             turns = turns.wrapping_add(1);
             let i = self.queue.min();
+            self.prefetch_next();
             let te = self.ev_time[i];
             let deadline = self.dutc.deadline;
             if deadline <= te && deadline < local_target {
@@ -155,6 +157,17 @@ impl<F: Flight> Simulation<F> {
             }
             self.now = te;
             self.fire(i)?;
+        }
+    }
+
+    /// Hints the memory system at the states and events of the disks likely to come next.
+    #[inline(always)]
+    fn prefetch_next(&self) {
+        for k in self.queue.next_likely().into_iter().flatten() {
+            prefetch(&self.disks.motion, k);
+            prefetch(&self.ev_time, k);
+            prefetch(&self.ev_partner, k);
+            prefetch(&self.ev_counter, k);
         }
     }
 

@@ -110,9 +110,10 @@ impl<F: Flight> Simulation<F> {
         self.flight.g()
     }
 
-    /// Bytes held by the engine's arrays (disks, events, queue, grid, neighbour lists).
+    /// Bytes held by the engine's arrays (disks, events, queue, grid, neighbour lists, shells).
     pub fn bytes(&self) -> usize {
         self.disks.bytes()
+            + self.shells.as_ref().map_or(0, |s| s.bytes())
             + 8 * self.ev_time.capacity()
             + 4 * (self.ev_partner.capacity() + self.ev_counter.capacity())
             + self.queue.bytes()

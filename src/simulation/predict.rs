@@ -6,6 +6,7 @@ use crate::dynamics::Flight;
 use crate::interactions::{contact_time_within, paths_meet, rider_contact, RiderContact};
 use crate::locals::floor::{FloorEvent, RideEnd};
 use crate::locals::Side;
+use crate::prefetch::prefetch;
 
 /// Event partner codes beyond the disk numbers.
 pub(super) mod partner {
@@ -164,6 +165,8 @@ impl<F: Flight> Simulation<F> {
                 k += paths_meet(dx, dy, vxi - vxj, vyi - vyj, s) as usize;
             }
             for &j in &meeting[..k] {
+                // The partner's counter is read once the earliest contact is known.
+                prefetch(&self.disks.counter, j as usize);
                 let m = &motion[j as usize];
                 let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);

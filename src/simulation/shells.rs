@@ -115,9 +115,20 @@ impl Shells {
         self.anchor.len()
     }
 
+    /// Bytes held (the anchors).
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<[f64; 2]>() * self.anchor.capacity()
+    }
+
     /// `true` without disks.
     pub fn is_empty(&self) -> bool {
         self.anchor.is_empty()
+    }
+
+    /// Hints that disk `i`'s anchor will be read soon.
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        crate::prefetch::prefetch(&self.anchor, i);
     }
 }
 

@@ -1,0 +1,20 @@
+//! Asking the memory system early for data the event loop will need (at N ≳ 10⁵ the engine's
+//! arrays outgrow the caches, and a disk's anchor or its partner's counter would otherwise
+//! each cost a full miss at the moment they are read).
+
+/// Hints that entry `i` of `v` will be read soon. Changes nothing but timing; an index out of
+/// range is ignored.
+#[inline(always)]
+pub fn prefetch<T>(v: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(entry) = v.get(i) {
+        // SAFETY: a prefetch only hints the cache; it never faults or changes memory, and the
+        // address is that of a live entry.
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            _mm_prefetch::<_MM_HINT_T0>(entry as *const T as *const i8);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (v, i);
+}
