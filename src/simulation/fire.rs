@@ -206,20 +206,28 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
-    pub(super) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
-        let now = self.now;
-        // Both disks' shells and queue entries are looked at once their new events are known.
+    /// Hints the memory system at what a collision of `i` and `j` reads next: both disks'
+    /// shells and queue entries, once their new events are known, and their neighbours'
+    /// states, for the new predictions.
+    fn prefetch_pair(&self, i: usize, j: usize) {
         if let Some(shells) = &self.shells {
             shells.prefetch(i);
             shells.prefetch(j);
         }
         self.queue.prefetch(i);
         self.queue.prefetch(j);
-        // And so are their neighbours' states, for their new predictions.
         for k in [i, j] {
             for &n in self.lists.of(k) {
                 crate::prefetch::prefetch(&self.disks.motion, n as usize);
             }
+        }
+    }
+
+    /// A collision of disks `i` and `j` (or what stands in for one: a landing, a jammed row).
+    pub(super) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
+        let now = self.now;
+        if self.prefetching {
+            self.prefetch_pair(i, j);
         }
         self.bring(i, now);
         self.bring(j, now);

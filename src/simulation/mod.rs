@@ -117,6 +117,11 @@ pub struct Simulation<F: Flight> {
     /// Per disk: the instant of its last event and how many it had at that instant (scenes
     /// with a floor and resting contacts; see `stop_zeno`).
     same_instant: Vec<(f64, u32)>,
+    /// The event loop prefetches what it will read (from [`RENUMBER_FROM`] disks on: below,
+    /// the arrays fit in the caches and the hints would only cost).
+    ///
+    /// [`RENUMBER_FROM`]: crate::scenario::RENUMBER_FROM
+    prefetching: bool,
 }
 
 impl<F: Flight> Simulation<F> {
@@ -163,11 +168,17 @@ impl<F: Flight> Simulation<F> {
     /// Hints the memory system at the states and events of the disks likely to come next.
     #[inline(always)]
     fn prefetch_next(&self) {
+        if !self.prefetching {
+            return;
+        }
         for k in self.queue.next_likely().into_iter().flatten() {
             prefetch(&self.disks.motion, k);
             prefetch(&self.ev_time, k);
             prefetch(&self.ev_partner, k);
             prefetch(&self.ev_counter, k);
+            if let Some(shells) = &self.shells {
+                shells.prefetch(k);
+            }
         }
     }
 

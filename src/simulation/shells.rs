@@ -232,8 +232,11 @@ impl<F: Flight> Simulation<F> {
         };
         let (anchor, found) = (&sh.anchor, &mut sh.found);
         found.clear();
-        self.cells
-            .gather(&self.geometry, &self.mask, cell, |j| found.push(j));
+        self.cells.gather(&self.geometry, &self.mask, cell, |j| {
+            found.push(j);
+            // Read just below.
+            crate::prefetch::prefetch(anchor, j as usize);
+        });
         // Kept without a branch per candidate (about a third are kept, at random).
         let [xi, yi] = anchor[i];
         let ai = self.disks.radius[i] + self.margin;
