@@ -96,6 +96,31 @@ impl Disks {
     }
 }
 
+/// Reorders `v` in place so that its entry `k` is the old entry `from[k]` (`from` a
+/// permutation of `0..v.len()`): cycle by cycle, with one bit per entry to mark those done, so
+/// that renumbering a million disks needs no second copy of their arrays.
+pub fn permute_in_place<T: Copy>(v: &mut [T], from: &[u32]) {
+    assert_eq!(v.len(), from.len(), "a permutation of every entry");
+    let mut done = vec![0u64; v.len().div_ceil(64)];
+    for start in 0..v.len() {
+        if done[start / 64] >> (start % 64) & 1 == 1 {
+            continue;
+        }
+        let first = v[start];
+        let mut k = start;
+        loop {
+            done[k / 64] |= 1 << (k % 64);
+            let src = from[k] as usize;
+            if src == start {
+                v[k] = first;
+                break;
+            }
+            v[k] = v[src];
+            k = src;
+        }
+    }
+}
+
 /// A property of each disk, held once when all disks share it (N values otherwise).
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PerDisk<T> {
@@ -152,7 +177,7 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
     /// Reordered so that entry `k` is the old entry `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         if !self.each.is_empty() {
-            self.each = from.iter().map(|&k| self.each[k as usize]).collect();
+            permute_in_place(&mut self.each, from);
         }
     }
 
@@ -194,5 +219,18 @@ mod tests {
         each.permute(&[2, 0, 3, 1]);
         assert_eq!(each.to_vec(), [3, 1, 4, 2]);
         assert_eq!(PerDisk::<f64>::new(Vec::new()).common(), None);
+    }
+
+    #[test]
+    fn permuting_in_place_takes_entries_from_the_old_places() {
+        let mut v = [10, 11, 12, 13, 14, 15];
+        // Cycles (0 2 3 1) and (4 5).
+        permute_in_place(&mut v, &[2, 0, 3, 1, 5, 4]);
+        assert_eq!(v, [12, 10, 13, 11, 15, 14]);
+        let n = 1000;
+        let from: Vec<u32> = (0..n).map(|k| (k * 7 + 3) % n).collect();
+        let mut w: Vec<u32> = (0..n).map(|k| k * k).collect();
+        permute_in_place(&mut w, &from);
+        assert!((0..n as usize).all(|k| w[k] == from[k] * from[k]));
     }
 }

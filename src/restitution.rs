@@ -64,10 +64,10 @@ impl CollisionLaw {
     /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         if !self.last.is_empty() {
-            self.last = from.iter().map(|&k| self.last[k as usize]).collect();
+            crate::disks::permute_in_place(&mut self.last, from);
         }
         if !self.paired.is_empty() {
-            self.paired = from.iter().map(|&k| self.paired[k as usize]).collect();
+            crate::disks::permute_in_place(&mut self.paired, from);
         }
     }
 

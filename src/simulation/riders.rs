@@ -221,11 +221,15 @@ impl Riders {
         (0..self.riding.len()).filter(|&i| self.riding[i])
     }
 
-    /// Follows a renumbering of the disks: new disk k is old disk `from[k]`, old disk j is now
-    /// `place[j]`.
-    pub fn permute(&mut self, from: &[u32], place: &[u32]) {
+    /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
+    pub fn permute(&mut self, from: &[u32]) {
         if self.riding.is_empty() {
             return;
+        }
+        // Old disk j is now place[j].
+        let mut place = vec![0u32; from.len()];
+        for (k, &f) in from.iter().enumerate() {
+            place[f as usize] = k as u32;
         }
         let renamed = |d: u32| if d < RIGHT_WALL { place[d as usize] } else { d };
         let take = |k: &u32| *k as usize;
