@@ -1,8 +1,10 @@
 //! Neighbour lists: for each disk, the disks found in its mask at the last mapping, stored
-//! compactly (one offset per disk, one flat array of disk numbers).
+//! compactly (one offset per disk, one flat array of disk numbers), or in rows with room when
+//! single lists change (the local re-mapping).
 
-/// Neighbour lists in compressed-row form: disk i's neighbours are
-/// `list[start[i + 1] .. start[i + 2]]` (the layout the in-place fill leaves behind).
+/// Neighbour lists, in compressed-row form (disk i's neighbours are
+/// `list[start[i + 1] .. start[i + 2]]`, the layout the in-place fill leaves behind) or, for
+/// the local re-mapping, in rows with room (see [`in_rows`](Self::in_rows)).
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighbourLists {
     start: Vec<u32>,
@@ -11,8 +13,9 @@ pub struct NeighbourLists {
     /// are the partners j of disk i found from the half mask.
     half_start: Vec<u32>,
     half: Vec<u32>,
-    /// Room per disk once the lists are [`fixed`](Self::fix) (0: compressed rows): disk i's
-    /// neighbours are then `slots[i·room .. i·room + len[i]]`, and single lists can change.
+    /// Room per disk when the lists are rows ([`in_rows`](Self::in_rows); 0: compressed rows):
+    /// disk i's neighbours are then `slots[i·room .. i·room + len[i]]`, and single lists can
+    /// change.
     room: usize,
     slots: Vec<u32>,
     len: Vec<u32>,
