@@ -37,7 +37,7 @@ impl NeighbourLists {
         self.half.clear();
         self.half_start.clear();
         self.half_start.push(0);
-        // Degrees first (in `len`, or in start[i + 1] for compressed rows).
+        // The half lists and each disk's degree first; then either layout.
         let mut degree = vec![0u32; n];
         for i in 0..n {
             let from = self.half.len();
