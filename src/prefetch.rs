@@ -2,6 +2,10 @@
 //! arrays outgrow the caches, and a disk's anchor or its partner's counter would otherwise
 //! each cost a full miss at the moment they are read).
 
+/// Disks from which on the engine gives these hints: below, its arrays fit in the caches and
+/// the hints would only cost (measured: 2% at N = 2500).
+pub const PREFETCH_FROM: usize = 8192;
+
 /// Hints that entry `i` of `v` will be read soon. Changes nothing but timing; an index out of
 /// range is ignored.
 #[inline(always)]

@@ -380,7 +380,9 @@ impl CalendarQueue {
         if self.heap.is_empty() {
             self.refill();
         }
-        self.walk_ahead();
+        if self.node.len() >= crate::prefetch::PREFETCH_FROM {
+            self.walk_ahead();
+        }
     }
 
     /// One step of a walk through the lists of the buckets after the current one, asking the

@@ -117,10 +117,8 @@ pub struct Simulation<F: Flight> {
     /// Per disk: the instant of its last event and how many it had at that instant (scenes
     /// with a floor and resting contacts; see `stop_zeno`).
     same_instant: Vec<(f64, u32)>,
-    /// The event loop prefetches what it will read (from [`RENUMBER_FROM`] disks on: below,
-    /// the arrays fit in the caches and the hints would only cost).
-    ///
-    /// [`RENUMBER_FROM`]: crate::scenario::RENUMBER_FROM
+    /// The event loop prefetches what it will read (from
+    /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,
 }
 

@@ -109,14 +109,17 @@ impl<F: Flight> Simulation<F> {
             morton(tx, ty)
         };
         // Stable: disks of one tile keep their order, so the result depends only on the state.
-        let from: Vec<u32> = if (0..n).all(|k| key(k) < 1 << 32) {
-            // Key and number packed in one word: one sort of 8 bytes per disk.
-            let mut packed: Vec<u64> = (0..n).map(|k| key(k) << 32 | k as u64).collect();
-            packed.sort_unstable();
-            packed.iter().map(|&p| p as u32).collect()
+        let mut keys: Vec<u64> = (0..n).map(key).collect();
+        let from: Vec<u32> = if keys.iter().all(|&k| k < 1 << 32) {
+            // Key and number packed in one word: the sort needs no second array.
+            for (k, key) in keys.iter_mut().enumerate() {
+                *key = *key << 32 | k as u64;
+            }
+            keys.sort_unstable();
+            keys.iter().map(|&p| p as u32).collect()
         } else {
             let mut from: Vec<u32> = (0..n as u32).collect();
-            from.sort_by_cached_key(|&k| key(k as usize));
+            from.sort_by_key(|&k| keys[k as usize]);
             from
         };
         if from.iter().enumerate().all(|(k, &f)| k == f as usize) {

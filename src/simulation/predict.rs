@@ -166,7 +166,9 @@ impl<F: Flight> Simulation<F> {
             }
             for &j in &meeting[..k] {
                 // The partner's counter is read once the earliest contact is known.
-                prefetch(&self.disks.counter, j as usize);
+                if self.prefetching {
+                    prefetch(&self.disks.counter, j as usize);
+                }
                 let m = &motion[j as usize];
                 let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);

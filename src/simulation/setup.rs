@@ -184,7 +184,7 @@ impl<F: Flight> Simulation<F> {
             cluster: Vec::new(),
             in_cluster: Vec::new(),
             same_instant: Vec::new(),
-            prefetching: n >= crate::scenario::RENUMBER_FROM,
+            prefetching: n >= crate::prefetch::PREFETCH_FROM,
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));

@@ -227,6 +227,7 @@ impl<F: Flight> Simulation<F> {
 
     /// Rebuilds disk `i`'s list from the anchors in the mask around its cell `cell`.
     fn relist(&mut self, i: usize, cell: (u32, u32)) {
+        let hint = self.prefetching;
         let Some(sh) = self.shells.as_mut() else {
             return;
         };
@@ -234,8 +235,10 @@ impl<F: Flight> Simulation<F> {
         found.clear();
         self.cells.gather(&self.geometry, &self.mask, cell, |j| {
             found.push(j);
-            // Read just below.
-            crate::prefetch::prefetch(anchor, j as usize);
+            if hint {
+                // Read just below.
+                crate::prefetch::prefetch(anchor, j as usize);
+            }
         });
         // Kept without a branch per candidate (about a third are kept, at random).
         let [xi, yi] = anchor[i];
