@@ -1,11 +1,27 @@
 //! Measurements (output plugins): energies, granular temperature, centre of mass, height
-//! profiles, sampled at exact times from snapshots and averaged after the warm-up.
+//! profiles, sampled at exact times and averaged after the warm-up.
 
 use crate::disks::Disks;
 use crate::simulation::Snapshot;
 use serde::Serialize;
 
-/// Instantaneous observables of one snapshot.
+/// The disks' states at one instant, as a measurement reads them: from a snapshot, or from an
+/// engine observed on the fly (no copy of every state).
+pub trait States {
+    /// Calls `f(i, [x, y, vx, vy])` for every disk `i` (the scenario's numbering), in an
+    /// order of the source's choosing.
+    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4]));
+}
+
+impl States for Snapshot {
+    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4])) {
+        for i in 0..self.x.len() {
+            f(i, [self.x[i], self.y[i], self.vx[i], self.vy[i]]);
+        }
+    }
+}
+
+/// Instantaneous observables of the disks at one instant.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Observables {
     /// Σ ½ m v².
@@ -19,26 +35,26 @@ pub struct Observables {
 }
 
 impl Observables {
-    /// Measures a snapshot of `disks` under gravity `g`.
-    pub fn of(snap: &Snapshot, disks: &Disks, g: f64) -> Observables {
+    /// Measures the states of `disks` under gravity `g` (two passes: the mean velocity, then
+    /// the temperature about it).
+    pub fn of(states: &dyn States, disks: &Disks, g: f64) -> Observables {
         let n = disks.len() as f64;
         let (mut m_sum, mut px, mut py, mut ke, mut my) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for i in 0..disks.len() {
+        states.each(&mut |i, [_, y, vx, vy]| {
             let m = disks.mass[i];
-            let (vx, vy) = (snap.vx[i], snap.vy[i]);
             m_sum += m;
             px += m * vx;
             py += m * vy;
             ke += 0.5 * m * (vx * vx + vy * vy);
-            my += m * snap.y[i];
-        }
+            my += m * y;
+        });
         let (ux, uy) = (px / m_sum, py / m_sum);
         let (mut tx, mut ty) = (0.0, 0.0);
-        for i in 0..disks.len() {
+        states.each(&mut |i, [_, _, vx, vy]| {
             let m = disks.mass[i];
-            tx += m * (snap.vx[i] - ux).powi(2);
-            ty += m * (snap.vy[i] - uy).powi(2);
-        }
+            tx += m * (vx - ux).powi(2);
+            ty += m * (vy - uy).powi(2);
+        });
         Observables {
             kinetic: ke,
             potential: g * my,
@@ -112,27 +128,27 @@ impl Profiles {
         }
     }
 
-    /// Adds one snapshot.
-    pub fn add(&mut self, snap: &Snapshot, disks: &Disks) {
+    /// Adds the disks' states at one instant.
+    pub fn add(&mut self, states: &dyn States, disks: &Disks) {
         let bins = self.count.len();
         let h = (self.top - self.bottom) / bins as f64;
         self.samples += 1;
-        for i in 0..disks.len() {
-            self.add_area(snap.y[i], disks.radius[i], h);
-            let k = ((snap.y[i] - self.bottom) / h).floor();
+        states.each(&mut |i, [_, y, vx, vy]| {
+            self.add_area(y, disks.radius[i], h);
+            let k = ((y - self.bottom) / h).floor();
             if k >= bins as f64 {
                 self.above += 1.0;
-                continue;
+                return;
             }
             let k = k.max(0.0) as usize;
             let m = disks.mass[i];
             self.count[k] += 1.0;
             self.mass[k] += m;
-            self.px[k] += m * snap.vx[i];
-            self.py[k] += m * snap.vy[i];
-            self.kx[k] += m * snap.vx[i] * snap.vx[i];
-            self.ky[k] += m * snap.vy[i] * snap.vy[i];
-        }
+            self.px[k] += m * vx;
+            self.py[k] += m * vy;
+            self.kx[k] += m * vx * vx;
+            self.ky[k] += m * vy * vy;
+        });
     }
 
     /// Splits the area of a disk of radius `a` centred at height `y` over the bins of height
@@ -153,15 +169,15 @@ impl Profiles {
         }
     }
 
-    /// The profiles of `snap` alone over the same bins (the live profiles of a recorded frame);
-    /// `self` is left as it is.
-    pub fn of_snapshot(&self, snap: &Snapshot, disks: &Disks) -> ProfileTable {
+    /// The profiles of one instant alone over the same bins (the live profiles of a recorded
+    /// frame); `self` is left as it is.
+    pub fn of_instant(&self, states: &dyn States, disks: &Disks) -> ProfileTable {
         let mut one = Profiles::new(self.count.len(), self.bottom, self.top, self.width);
-        one.add(snap, disks);
+        one.add(states, disks);
         one.table()
     }
 
-    /// Number of snapshots added.
+    /// Number of instants added.
     pub fn samples(&self) -> usize {
         self.samples
     }

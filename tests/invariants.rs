@@ -26,7 +26,7 @@ fn elastic_periodic_gas_conserves_energy_and_momentum() {
         let t = k as f64;
         sim.advance_to(t).unwrap();
         let snap = sim.snapshot(t);
-        sim.check_no_overlap(&snap).unwrap();
+        sim.check_no_overlap(t).unwrap();
         let (px, py, ke) = p(&snap, &m);
         assert!(
             (px - px0).abs() < 1e-10 && (py - py0).abs() < 1e-10,

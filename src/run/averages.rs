@@ -2,9 +2,9 @@
 //! profiles.
 
 use crate::disks::Disks;
-use crate::measure::{Observables, Profiles};
+use crate::measure::{Observables, Profiles, States};
 use crate::scenario::Scenario;
-use crate::simulation::{Scene, Snapshot};
+use crate::simulation::Scene;
 use crate::summary::Temperature;
 use serde::{Deserialize, Serialize};
 
@@ -30,13 +30,13 @@ pub(super) struct Averages {
 
 impl Averages {
     /// Adds one sample (after the warm-up only).
-    pub(super) fn add(&mut self, snap: &Snapshot, disks: &Disks, o: &Observables) {
+    pub(super) fn add(&mut self, states: &dyn States, disks: &Disks, o: &Observables) {
         self.temperature[0] += o.temperature[0];
         self.temperature[1] += o.temperature[1];
         self.com_height += o.com_height;
         self.samples += 1;
         if let Some(p) = self.profiles.as_mut() {
-            p.add(snap, disks);
+            p.add(states, disks);
         }
     }
 
@@ -55,15 +55,14 @@ impl Averages {
 pub(super) fn empty_profiles(
     s: &Scenario,
     scene: &Scene,
-    snap: &Snapshot,
+    states: &dyn States,
     disks: &Disks,
 ) -> Option<Profiles> {
     scene.gravity?;
     let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
     let top = s.output.profile_height.unwrap_or_else(|| {
-        let highest = (0..disks.len())
-            .map(|i| snap.y[i] + disks.radius[i])
-            .fold(0.0, f64::max);
+        let mut highest = 0.0f64;
+        states.each(&mut |i, [_, y, _, _]| highest = highest.max(y + disks.radius[i]));
         2.0 * highest.max(bottom + 1.0)
     });
     Some(Profiles::new(

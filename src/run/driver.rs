@@ -7,7 +7,7 @@ use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::error::{Error, Result};
 use crate::locals::Top;
-use crate::measure::{Observables, ProfileTable};
+use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
 use crate::output::trajectory::TrajectoryWriter;
@@ -29,6 +29,10 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) sink: Option<Box<dyn FrameSink>>,
     pub(super) trajectory: Option<TrajectoryWriter>,
     pub(super) g: f64,
+    /// The time of the current stop.
+    pub(super) now: f64,
+    /// Every disk's state at `now`, filled only for what needs them all at once (frames,
+    /// trajectories, the overlap check); measurements read the engine on the fly.
     pub(super) snap: Snapshot,
     pub(super) initial: Observables,
     pub(super) stops: Stops,
@@ -64,10 +68,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             sim.set_interrupt(flag);
         }
         let g = scene.gravity.unwrap_or(0.0);
-        let mut snap = Snapshot::default();
-        sim.snapshot_into(0.0, &mut snap);
-        let initial = Observables::of(&snap, sim.disks(), g);
-        let profiles = empty_profiles(s, scene, &snap, sim.disks());
+        let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
+        let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
         Driver {
             sim,
             s,
@@ -75,7 +77,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             sink,
             trajectory,
             g,
-            snap,
+            now: 0.0,
+            snap: Snapshot::default(),
             initial,
             stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
             averages: Averages {
@@ -192,7 +195,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Progress::EventLimit => return Ok(Ending::EventLimit),
                 Progress::Interrupted => return Ok(Ending::Interrupted),
             }
-            self.sim.snapshot_into(stop.time, &mut self.snap);
+            self.now = stop.time;
             if stop.window {
                 self.open_window(stop.time)?;
             }
@@ -234,23 +237,35 @@ impl<'a, E: Integrator> Driver<'a, E> {
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
         self.at_rest_since = if self.sim.disks_at_rest() == self.sim.disks().len() {
-            self.at_rest_since.or(Some(self.snap.time))
+            self.at_rest_since.or(Some(self.now))
         } else {
             None
         };
         if self.averages.window.is_some() {
-            let o = Observables::of(&self.snap, self.sim.disks(), self.g);
-            self.averages.add(&self.snap, self.sim.disks(), &o);
+            let states = StatesAt(&self.sim, self.now);
+            let o = Observables::of(&states, self.sim.disks(), self.g);
+            self.averages.add(&states, self.sim.disks(), &o);
         }
         if self.scene.check_invariants {
-            check_sample(&self.sim, &self.snap, &self.initial, self.g)?;
+            check_sample(&self.sim, self.now, &self.initial, self.g)?;
         }
         Ok(())
+    }
+
+    /// Every disk's state at the current stop into `snap` (once per stop).
+    fn fill_snapshot(&mut self) {
+        if self.snap.time != self.now || self.snap.x.is_empty() {
+            self.sim.snapshot_into(self.now, &mut self.snap);
+        }
     }
 
     /// A frame: the disks and the time series, to the sink.
     pub(super) fn frame(&mut self) -> Result<()> {
         self.stops.k_frame += 1;
+        if self.sink.is_none() {
+            return Ok(());
+        }
+        self.fill_snapshot();
         let Some(sink) = self.sink.as_mut() else {
             return Ok(());
         };
@@ -279,7 +294,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .averages
             .profiles
             .as_ref()
-            .map(|p| p.of_snapshot(snap, d));
+            .map(|p| p.of_instant(snap, d));
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         sink.frame(&frame_view(
             self.stops.k_frame - 1,
@@ -293,6 +308,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A trajectory frame: every disk, to the extended XYZ file.
     pub(super) fn trajectory_frame(&mut self) -> Result<()> {
         self.stops.k_trajectory += 1;
+        if self.trajectory.is_none() {
+            return Ok(());
+        }
+        self.fill_snapshot();
         let Some(w) = self.trajectory.as_mut() else {
             return Ok(());
         };
@@ -339,7 +358,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
         } else {
             self.sim.time()
         };
-        self.sim.snapshot_into(end_time, &mut self.snap);
         // However the run ended (completed, event limit, signal), its state is saved: a resume
         // can extend the duration or the event budget.
         self.save_checkpoint()?;
@@ -355,8 +373,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
     pub(super) fn summarise(&self, ending: Ending, end_time: f64, wall: f64) -> Summary {
         let (s, scene, sim) = (self.s, self.scene, &self.sim);
         let n = sim.disks().len();
-        let last = Observables::of(&self.snap, sim.disks(), self.g);
-        let flow = sim.energy_flow_at(self.snap.time);
+        let last = Observables::of(&StatesAt(sim, end_time), sim.disks(), self.g);
+        let flow = sim.energy_flow_at(end_time);
         let avg = &self.averages;
         let measured = avg
             .window
@@ -430,6 +448,15 @@ impl<'a, E: Integrator> Driver<'a, E> {
     }
 }
 
+/// The states of an engine's disks at one time, read on the fly (no copy of every state).
+pub(super) struct StatesAt<'e, E>(pub(super) &'e E, pub(super) f64);
+
+impl<E: Integrator> States for StatesAt<'_, E> {
+    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4])) {
+        self.0.visit_states(self.1, f)
+    }
+}
+
 /// Frame `index` of the disks in `snap`, with the time series and live profiles it carries.
 fn frame_view<'a>(
     index: u64,
@@ -478,21 +505,20 @@ pub(super) fn balance_error(initial: &Observables, now: &Observables, flow: &Ene
     balance.abs() / scale
 }
 
-/// Invariant checks at a sample: no overlap, energy balance.
+/// Invariant checks at a sample at time `t`: no overlap, energy balance.
 pub(super) fn check_sample<E: Integrator>(
     sim: &E,
-    snap: &Snapshot,
+    t: f64,
     initial: &Observables,
     g: f64,
 ) -> Result<()> {
-    sim.check_state(snap)?;
-    let now = Observables::of(snap, sim.disks(), g);
-    let flow = sim.energy_flow_at(snap.time);
+    sim.check_state(t)?;
+    let now = Observables::of(&StatesAt(sim, t), sim.disks(), g);
+    let flow = sim.energy_flow_at(t);
     let error = balance_error(initial, &now, &flow);
     if error > 1e-9 {
         return Err(Error::Runtime(format!(
-            "energy budget off by {error:e} (relative) at time {}",
-            snap.time
+            "energy budget off by {error:e} (relative) at time {t}"
         )));
     }
     Ok(())

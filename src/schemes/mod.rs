@@ -78,8 +78,17 @@ pub trait Integrator {
     fn time(&self) -> f64;
     /// Runs until absolute time `target`.
     fn advance_to(&mut self, target: f64) -> Result<Progress>;
-    /// Every disk's state at absolute time `t ≥ time()`.
-    fn snapshot_into(&self, t: f64, out: &mut Snapshot);
+    /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time `t ≥ time()`
+    /// (`i` in the scenario's numbering, in any order; positions wrapped into a periodic box).
+    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4]));
+    /// The floor's height at absolute time `t` (`None` without a floor).
+    fn floor_height_at(&self, t: f64) -> Option<f64>;
+    /// Every disk's state at absolute time `t ≥ time()`, in the scenario's numbering.
+    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        out.fill(self.disks().len(), t, self.floor_height_at(t), |f| {
+            self.visit_states(t, f)
+        });
+    }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
     /// Energy injected and dissipated up to absolute time `t`.
@@ -88,9 +97,9 @@ pub trait Integrator {
     fn virial(&self) -> f64;
     /// Largest pair overlap seen.
     fn max_overlap(&self) -> f64;
-    /// The invariant check on a snapshot (no overlap beyond tolerance for the exact engine; the
-    /// approximate schemes overlap by design and report it instead).
-    fn check_state(&self, snap: &Snapshot) -> Result<()>;
+    /// The invariant check at absolute time `t ≥ time()` (no overlap beyond tolerance for the
+    /// exact engine; the approximate schemes overlap by design and report it instead).
+    fn check_state(&self, t: f64) -> Result<()>;
     /// How the engine is set up.
     fn setup(&self) -> Setup;
     /// Errors and steps of an approximate scheme (`None` for the exact engine).
@@ -127,8 +136,11 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         Simulation::advance_to(self, target)
     }
-    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        Simulation::snapshot_into(self, t, out)
+    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+        Simulation::visit_states(self, t, visit)
+    }
+    fn floor_height_at(&self, t: f64) -> Option<f64> {
+        Simulation::floor_height_at(self, t)
     }
     fn counts(&self) -> EventCounts {
         Simulation::counts(self)
@@ -145,8 +157,8 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn disks_at_rest(&self) -> usize {
         self.riders()
     }
-    fn check_state(&self, snap: &Snapshot) -> Result<()> {
-        self.check_no_overlap(snap)
+    fn check_state(&self, t: f64) -> Result<()> {
+        self.check_no_overlap(t)
     }
     fn setup(&self) -> Setup {
         let geometry = self.geometry();
@@ -198,38 +210,24 @@ pub(crate) fn wrap_positions(sides: SideBounds, top: Top, disks: &mut Disks) {
     }
 }
 
-/// Snapshot of disks all stored at engine time `now`, flown freely to absolute time `t`.
-pub(crate) fn free_flight_snapshot<F: Flight>(
+/// Visits disks all stored at engine time `now`, flown freely to absolute time `t` (positions
+/// wrapped into a periodic box), in their own order.
+pub(crate) fn free_flight_visit<F: Flight>(
     flight: F,
     disks: &Disks,
     sides: SideBounds,
     top: Top,
-    floor: Option<&crate::locals::floor::Floor>,
     t: f64,
-    out: &mut Snapshot,
+    visit: &mut dyn FnMut(usize, [f64; 4]),
 ) {
-    let n = disks.len();
-    out.time = t;
-    out.x.resize(n, 0.0);
-    out.y.resize(n, 0.0);
-    out.vx.resize(n, 0.0);
-    out.vy.resize(n, 0.0);
     for (i, m) in disks.motion.iter().enumerate() {
-        let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);
-        out.x[i] = x;
-        out.y[i] = y;
-        out.vx[i] = vx;
-        out.vy[i] = vy;
-    }
-    if let SideBounds::Periodic { width } = sides {
-        for x in &mut out.x {
-            *x = x.rem_euclid(width);
+        let (mut x, mut y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);
+        if let SideBounds::Periodic { width } = sides {
+            x = x.rem_euclid(width);
         }
-    }
-    if let Top::Periodic { height } = top {
-        for y in &mut out.y {
-            *y = y.rem_euclid(height);
+        if let Top::Periodic { height } = top {
+            y = y.rem_euclid(height);
         }
+        visit(i, [x, y, vx, vy]);
     }
-    out.floor_height = floor.map(|f| f.height(t));
 }

@@ -16,7 +16,7 @@
 //! [`REST_HOP`] radii, which ends the infinite sequence of ever smaller bounces.
 
 use super::cells::CellList;
-use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
 use crate::disks::{Disks, Motion};
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
@@ -25,7 +25,7 @@ use crate::locals::floor::{Floor, FloorEvent};
 use crate::locals::{Side, SideBounds, Top};
 use crate::restitution::{CollisionLaw, Restitution};
 use crate::scenario::Engine;
-use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
+use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene};
 use std::cmp::Ordering as CmpOrdering;
 use std::collections::{BinaryHeap, HashSet};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -509,16 +509,11 @@ impl<F: Flight> Integrator for SpaceTime<F> {
             }
         }
     }
-    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        free_flight_snapshot(
-            self.flight,
-            &self.disks,
-            self.sides,
-            self.top,
-            self.floor.as_ref(),
-            t,
-            out,
-        );
+    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+        free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
+    }
+    fn floor_height_at(&self, t: f64) -> Option<f64> {
+        self.floor.as_ref().map(|f| f.height(t))
     }
     fn counts(&self) -> EventCounts {
         self.counts
@@ -532,7 +527,7 @@ impl<F: Flight> Integrator for SpaceTime<F> {
     fn max_overlap(&self) -> f64 {
         self.max_overlap
     }
-    fn check_state(&self, _snap: &Snapshot) -> Result<()> {
+    fn check_state(&self, _t: f64) -> Result<()> {
         Ok(())
     }
     fn setup(&self) -> Setup {

@@ -12,7 +12,7 @@
 //! bounces, where they are booked, so the energy budget closes to round-off.
 
 use super::cells::CellList;
-use super::{free_flight_snapshot, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
@@ -21,7 +21,7 @@ use crate::locals::floor::Floor;
 use crate::locals::{Side, SideBounds, Top};
 use crate::restitution::{CollisionLaw, Restitution};
 use crate::scenario::{Engine, FloorModel};
-use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene, Snapshot};
+use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Default Verlet skin in units of the smallest radius.
@@ -344,7 +344,7 @@ impl<F: Flight> Integrator for TimeStep<F> {
         self.now()
     }
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
-        // Whole steps only: the state between steps is free flight (see `snapshot_into`).
+        // Whole steps only: the state between steps is free flight (see `visit_states`).
         while (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt {
             if self.counts.popped() >= self.event_limit {
                 return Ok(Progress::EventLimit);
@@ -360,16 +360,11 @@ impl<F: Flight> Integrator for TimeStep<F> {
         }
         Ok(Progress::Reached)
     }
-    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        free_flight_snapshot(
-            self.flight,
-            &self.disks,
-            self.sides,
-            self.top,
-            self.floor.as_ref(),
-            t,
-            out,
-        );
+    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+        free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
+    }
+    fn floor_height_at(&self, t: f64) -> Option<f64> {
+        self.floor.as_ref().map(|f| f.height(t))
     }
     fn counts(&self) -> EventCounts {
         self.counts
@@ -383,7 +378,7 @@ impl<F: Flight> Integrator for TimeStep<F> {
     fn max_overlap(&self) -> f64 {
         self.max_overlap
     }
-    fn check_state(&self, _snap: &Snapshot) -> Result<()> {
+    fn check_state(&self, _t: f64) -> Result<()> {
         Ok(())
     }
     fn setup(&self) -> Setup {

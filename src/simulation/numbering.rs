@@ -54,6 +54,19 @@ impl Numbering {
         }
     }
 
+    /// The engine number of each scenario disk, if renumbered (`None`: the same numbers). Built
+    /// on each call (4 bytes per disk while it lives), for visits in the scenario's order.
+    pub fn engine_numbers(&self) -> Option<Vec<u32>> {
+        if self.id.is_empty() {
+            return None;
+        }
+        let mut k_of = vec![0u32; self.id.len()];
+        for (k, &i) in self.id.iter().enumerate() {
+            k_of[i as usize] = k as u32;
+        }
+        Some(k_of)
+    }
+
     /// `true` once `pairs` collisions (of `n` disks) call for a renumbering.
     #[inline]
     pub fn due(&self, pairs: u64, n: usize) -> bool {

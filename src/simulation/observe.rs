@@ -27,6 +27,31 @@ pub struct Snapshot {
     pub floor_height: Option<f64>,
 }
 
+impl Snapshot {
+    /// Fills the snapshot of `n` disks at time `t` from a visit of their states (see
+    /// [`Simulation::visit_states`]).
+    pub fn fill(
+        &mut self,
+        n: usize,
+        t: f64,
+        floor_height: Option<f64>,
+        visit: impl FnOnce(&mut dyn FnMut(usize, [f64; 4])),
+    ) {
+        self.time = t;
+        self.x.resize(n, 0.0);
+        self.y.resize(n, 0.0);
+        self.vx.resize(n, 0.0);
+        self.vy.resize(n, 0.0);
+        visit(&mut |i, [x, y, vx, vy]| {
+            self.x[i] = x;
+            self.y[i] = y;
+            self.vx[i] = vx;
+            self.vy[i] = vy;
+        });
+        self.floor_height = floor_height;
+    }
+}
+
 impl<F: Flight> Simulation<F> {
     /// The scene's floor (its phase refers to the engine's current local clock).
     pub fn floor(&self) -> Option<&Floor> {
@@ -149,35 +174,48 @@ impl<F: Flight> Simulation<F> {
         self.riders.stacked()
     }
 
-    /// Every disk's state at absolute time `t ≥` [`time`](Self::time), without touching the
-    /// engine (so observing never changes the dynamics).
-    pub fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        let n = self.disks.len();
+    /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time
+    /// `t ≥` [`time`](Self::time), in the scenario's numbering and order (so that sums over the
+    /// disks do not depend on renumbering), positions wrapped into a periodic box, without
+    /// touching the engine (so observing never changes the dynamics) and without a copy of
+    /// every state.
+    pub fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
         let local = self.base.local(t);
-        out.time = t;
-        out.x.resize(n, 0.0);
-        out.y.resize(n, 0.0);
-        out.vx.resize(n, 0.0);
-        out.vy.resize(n, 0.0);
-        for k in 0..n {
+        let width = match self.sides {
+            SideBounds::Periodic { width } => Some(width),
+            _ => None,
+        };
+        let height = match self.top {
+            Top::Periodic { height } => Some(height),
+            _ => None,
+        };
+        let state = |k: usize| {
             let (x, y, vx, vy) = self.state_at(k, local);
-            let i = self.numbering.id(k);
-            out.x[i] = x;
-            out.y[i] = y;
-            out.vx[i] = vx;
-            out.vy[i] = vy;
-        }
-        if let SideBounds::Periodic { width } = self.sides {
-            for x in &mut out.x {
-                *x = into_period(*x, width);
+            let x = width.map_or(x, |w| into_period(x, w));
+            let y = height.map_or(y, |h| into_period(y, h));
+            [x, y, vx, vy]
+        };
+        match self.numbering.engine_numbers() {
+            None => (0..self.disks.len()).for_each(|i| visit(i, state(i))),
+            Some(k_of) => {
+                for (i, &k) in k_of.iter().enumerate() {
+                    visit(i, state(k as usize));
+                }
             }
         }
-        if let Top::Periodic { height } = self.top {
-            for y in &mut out.y {
-                *y = into_period(*y, height);
-            }
-        }
-        out.floor_height = self.floor.as_ref().map(|f| f.height(local));
+    }
+
+    /// The floor's height at absolute time `t` (`None` without a floor).
+    pub fn floor_height_at(&self, t: f64) -> Option<f64> {
+        self.floor.as_ref().map(|f| f.height(self.base.local(t)))
+    }
+
+    /// Every disk's state at absolute time `t ≥` [`time`](Self::time) into `out` (see
+    /// [`visit_states`](Self::visit_states)).
+    pub fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        out.fill(self.disks.len(), t, self.floor_height_at(t), |f| {
+            self.visit_states(t, f)
+        });
     }
 
     /// Every disk's state at absolute time `t`.
@@ -187,35 +225,50 @@ impl<F: Flight> Simulation<F> {
         s
     }
 
-    /// Largest overlap between any two listed neighbours in `snap` (0 if none): an O(N) check
-    /// run at samples when the invariant checks are on.
-    pub fn overlap_in(&self, snap: &Snapshot) -> (f64, usize, usize) {
+    /// Disk `k`'s position at local time `local`, wrapped into a periodic box (as
+    /// [`visit_states`](Self::visit_states) gives it).
+    fn position_at(&self, k: usize, local: f64) -> (f64, f64) {
+        let (mut x, mut y, _, _) = self.state_at(k, local);
+        if let SideBounds::Periodic { width } = self.sides {
+            x = into_period(x, width);
+        }
+        if let Top::Periodic { height } = self.top {
+            y = into_period(y, height);
+        }
+        (x, y)
+    }
+
+    /// Largest overlap between any two listed neighbours at absolute time `t ≥`
+    /// [`time`](Self::time) (0 if none), with the two disks (the scenario's numbering): an
+    /// O(N·neighbours) check, at the start and at samples when the invariant checks are on,
+    /// read from the engine without a copy of every state.
+    pub fn overlap_at(&self, t: f64) -> (f64, usize, usize) {
+        let local = self.base.local(t);
         let mut worst = (0.0, 0, 0);
-        let id = |k: usize| self.numbering.id(k);
         for k in 0..self.disks.len() {
+            let (xk, yk) = self.position_at(k, local);
             for &l in self.lists.of(k) {
                 let l = l as usize;
-                let (i, j) = (id(k), id(l));
-                let (dx, dy) = self.wrap(snap.x[i] - snap.x[j], snap.y[i] - snap.y[j]);
+                let (xl, yl) = self.position_at(l, local);
+                let (dx, dy) = self.wrap(xk - xl, yk - yl);
                 let s = self.disks.radius[k] + self.disks.radius[l];
                 let o = s - (dx * dx + dy * dy).sqrt();
                 if o > worst.0 {
-                    worst = (o, i, j);
+                    worst = (o, self.numbering.id(k), self.numbering.id(l));
                 }
             }
         }
         worst
     }
 
-    /// Checks that no two disks overlap beyond tolerance, by brute force over all pairs within
-    /// reach (O(N·neighbours), used at start and by tests).
-    pub fn check_no_overlap(&self, snap: &Snapshot) -> Result<()> {
-        let (o, i, j) = self.overlap_in(snap);
+    /// Checks that no two listed neighbours overlap beyond tolerance at absolute time `t`
+    /// (see [`overlap_at`](Self::overlap_at)).
+    pub fn check_no_overlap(&self, t: f64) -> Result<()> {
+        let (o, i, j) = self.overlap_at(t);
         let s = self.disks().radius[i] + self.disks().radius[j];
         if o > OVERLAP_TOLERANCE * s {
             return Err(Error::Runtime(format!(
-                "disks {i} and {j} overlap by {o:e} at time {}",
-                snap.time
+                "disks {i} and {j} overlap by {o:e} at time {t}"
             )));
         }
         Ok(())

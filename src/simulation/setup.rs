@@ -198,8 +198,7 @@ impl<F: Flight> Simulation<F> {
             other => other,
         })?;
         sim.counts.rebuild = 0;
-        let start = sim.snapshot(0.0);
-        let (o, i, j) = sim.overlap_in(&start);
+        let (o, i, j) = sim.overlap_at(0.0);
         if o > OVERLAP_TOLERANCE * (sim.disks().radius[i] + sim.disks().radius[j]) {
             return Err(Error::input(
                 "particles.placement",
