@@ -85,6 +85,30 @@ impl Cells {
         }
     }
 
+    /// Appends to `out` the candidates of disk `i` (in `cell`) from the half of `mask`, each
+    /// pair of the grid offered from one of its two disks (the candidates the lists are built
+    /// from, in the order they are built).
+    #[inline]
+    pub fn gather_half(
+        &self,
+        geometry: &GridGeometry,
+        mask: &Mask,
+        i: usize,
+        cell: (u32, u32),
+        out: &mut Vec<u32>,
+    ) {
+        match self {
+            Cells::Dense(d) => d.gather_half(geometry, mask, cell, |j| out.push(j)),
+            Cells::Sparse(s) if s.several() => {
+                s.gather_half_of(geometry, &mask.half, i as u32, cell, |j| out.push(j))
+            }
+            Cells::Sparse(s) => s.gather_half(geometry, mask, cell, |j| out.push(j)),
+            Cells::Linked(l) => {
+                l.gather_half_of(geometry, &mask.half, i as u32, cell, |j| out.push(j))
+            }
+        }
+    }
+
     /// Re-maps the disks and rebuilds the neighbour lists from `mask`, keeping the pairs that
     /// `near` accepts.
     pub fn rebuild(
@@ -97,33 +121,16 @@ impl Cells {
         near: impl Fn(usize, usize) -> bool,
     ) -> Result<()> {
         match self {
-            Cells::Dense(d) => {
-                d.map(geometry, n, cell)?;
-                let half =
-                    |i, out: &mut Vec<u32>| d.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                lists.build(n, half, near);
-            }
-            Cells::Sparse(s) if s.several() => {
-                s.map(geometry, n, cell)?;
-                let half = |i, out: &mut Vec<u32>| {
-                    s.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
-                };
-                lists.build(n, half, near);
-            }
-            Cells::Sparse(s) => {
-                s.map(geometry, n, cell)?;
-                let half =
-                    |i, out: &mut Vec<u32>| s.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                lists.build(n, half, near);
-            }
-            Cells::Linked(l) => {
-                l.map(geometry, n, cell);
-                let half = |i, out: &mut Vec<u32>| {
-                    l.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
-                };
-                lists.build(n, half, near);
-            }
+            Cells::Dense(d) => d.map(geometry, n, cell)?,
+            Cells::Sparse(s) => s.map(geometry, n, cell)?,
+            Cells::Linked(l) => l.map(geometry, n, cell),
         }
+        let cells = &*self;
+        lists.build(
+            n,
+            |i, out: &mut Vec<u32>| cells.gather_half(geometry, mask, i, cell(i), out),
+            near,
+        );
         Ok(())
     }
 

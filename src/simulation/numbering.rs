@@ -54,17 +54,9 @@ impl Numbering {
         }
     }
 
-    /// The engine number of each scenario disk, if renumbered (`None`: the same numbers). Built
-    /// on each call (4 bytes per disk while it lives), for visits in the scenario's order.
-    pub fn engine_numbers(&self) -> Option<Vec<u32>> {
-        if self.id.is_empty() {
-            return None;
-        }
-        let mut k_of = vec![0u32; self.id.len()];
-        for (k, &i) in self.id.iter().enumerate() {
-            k_of[i as usize] = k as u32;
-        }
-        Some(k_of)
+    /// The scenario number of every engine disk, if renumbered (`None`: the same numbers).
+    pub fn ids(&self) -> Option<&[u32]> {
+        (!self.id.is_empty()).then_some(&self.id[..])
     }
 
     /// `true` once `pairs` collisions (of `n` disks) call for a renumbering.

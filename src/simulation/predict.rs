@@ -287,10 +287,12 @@ impl<F: Flight> Simulation<F> {
         // Two passes per chunk of each half list, as in `pair_event_in_flight`.
         const CHUNK: usize = 16;
         let mut meeting = [0u32; CHUNK];
+        let mut half = Vec::new();
         for i in 0..n {
             let mi = &motion[i];
             let riding_i = any_rider && self.is_riding(i);
-            for chunk in self.lists.half_of(i).chunks(CHUNK) {
+            self.half_list_into(i, &mut half);
+            for chunk in half.chunks(CHUNK) {
                 let mut k = 0;
                 for &j in chunk {
                     let mj = &motion[j as usize];

@@ -4,9 +4,10 @@
 use super::dutc::Dutc;
 use super::motion::wrap;
 use super::Simulation;
+use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::Result;
-use crate::locals::Top;
+use crate::locals::{SideBounds, Top};
 
 impl<F: Flight> Simulation<F> {
     /// Brings every disk to the present, re-bases the clock to it, re-maps the grid, rebuilds
@@ -28,23 +29,13 @@ impl<F: Flight> Simulation<F> {
         }
         // Pairs farther apart than contact + margin cannot meet before the DUTC deadline: the
         // lists keep only the closer ones (the mask guarantees every closer disk is seen).
-        let margin = self.margin;
-        let (disks, sides, top) = (&self.disks, self.sides, self.top);
-        let geometry = &self.geometry;
+        let (disks, geometry) = (&self.disks, &self.geometry);
         let cell = |i: usize| geometry.cell_of(disks.motion[i].x, disks.motion[i].y);
-        let near = |i: usize, j: usize| {
-            let (dx, dy) = wrap(
-                sides,
-                top,
-                disks.motion[i].x - disks.motion[j].x,
-                disks.motion[i].y - disks.motion[j].y,
-            );
-            let reach = disks.radius[i] + disks.radius[j] + margin;
-            dx * dx + dy * dy <= reach * reach
-        };
+        let (sides, top, margin) = (self.sides, self.top, self.margin);
+        let near = |i: usize, j: usize| near_at_mapping(disks, sides, top, margin, i, j);
         // Under the local re-mapping the lists change one at a time from here: rows with room.
-        if let Some(shells) = &self.shells {
-            self.lists.in_rows(shells.room);
+        if self.shells.is_some() {
+            self.lists.in_rows();
         }
         self.cells
             .rebuild(geometry, &self.mask, n, cell, &mut self.lists, near)?;
@@ -72,8 +63,8 @@ impl<F: Flight> Simulation<F> {
             0.0
         };
         self.dutc = match self.isolation(fastest, v1, v2) {
-            Some(clearance) => Dutc::with_isolated(margin, v2, accel, clearance, v1),
-            None => Dutc::new(margin, v1, accel),
+            Some(clearance) => Dutc::with_isolated(self.margin, v2, accel, clearance, v1),
+            None => Dutc::new(self.margin, v1, accel),
         };
         if self.shells.is_some() {
             // Local re-mapping: the grid is next re-mapped only to re-base the clock, long
@@ -82,11 +73,34 @@ impl<F: Flight> Simulation<F> {
             self.dutc = Dutc::frozen(64.0 * self.dutc.deadline);
         }
         self.predict_all();
-        if self.shells.is_some() {
-            self.lists.drop_half();
-        }
+        self.lists.drop_half();
         self.counts.rebuild += 1;
         Ok(())
+    }
+
+    /// At a mapping (every disk at the present): `true` if disks `i` and `j` are close enough
+    /// to meet before the DUTC deadline, contact plus the list margin (the lists keep only
+    /// such pairs).
+    #[inline(always)]
+    pub(super) fn near_at_mapping(&self, i: usize, j: usize) -> bool {
+        near_at_mapping(&self.disks, self.sides, self.top, self.margin, i, j)
+    }
+
+    /// At a mapping: the half of disk `i`'s list found from its own half mask (each listed
+    /// pair once over all disks, in the order the lists were built), into `out`: kept by the
+    /// lists for Isobe's re-mapping, found again from the cells for the local one (whose
+    /// lists are rows without the half lists, to save their memory).
+    pub(super) fn half_list_into(&self, i: usize, out: &mut Vec<u32>) {
+        out.clear();
+        if let Some(half) = self.lists.half_of(i) {
+            out.extend_from_slice(half);
+            return;
+        }
+        let m = &self.disks.motion[i];
+        let cell = self.geometry.cell_of(m.x, m.y);
+        self.cells
+            .gather_half(&self.geometry, &self.mask, i, cell, out);
+        out.retain(|&j| self.near_at_mapping(i, j as usize));
     }
 
     /// At a mapping: the gap between flying disk `f` (speed `v`) and every other disk if `f` is
@@ -105,4 +119,21 @@ impl<F: Flight> Simulation<F> {
         let clearance = self.disks.motion[f].y - self.disks.radius[f] - top;
         (clearance > self.margin).then_some(clearance)
     }
+}
+
+/// At a mapping: `true` if disks `i` and `j` are within contact plus `margin` (see
+/// [`Simulation::near_at_mapping`]).
+#[inline(always)]
+fn near_at_mapping(
+    disks: &Disks,
+    sides: SideBounds,
+    top: Top,
+    margin: f64,
+    i: usize,
+    j: usize,
+) -> bool {
+    let (mi, mj) = (&disks.motion[i], &disks.motion[j]);
+    let (dx, dy) = wrap(sides, top, mi.x - mj.x, mi.y - mj.y);
+    let reach = disks.radius[i] + disks.radius[j] + margin;
+    dx * dx + dy * dy <= reach * reach
 }

@@ -128,11 +128,7 @@ impl<F: Flight> Simulation<F> {
             (geometry, mask, margin)
         };
         geometry.check_mask_fits(mask.half_width)?;
-        let shells = local.then(|| {
-            let a = disks.rms_radius();
-            let room = shells::list_room(a, 2.0 * a + margin, shell_packing);
-            shells::Shells::new(n, 0.5 * margin, room)
-        });
+        let shells = local.then(|| shells::Shells::new(n, 0.5 * margin));
         let mut sim = Simulation {
             flight,
             disks,

@@ -41,8 +41,6 @@ const EXIT_SLACK: f64 = 1e-9;
 pub struct Shells {
     /// Shell radius r: how far a disk may move from its anchor.
     pub radius: f64,
-    /// Room per neighbour list to start with ([`list_room`]).
-    pub room: usize,
     /// Where each disk's list was built.
     anchor: Vec<[f64; 2]>,
     /// Re-anchorings since the last whole re-mapping.
@@ -90,20 +88,11 @@ pub fn packing_for_shells(packing: f64, floor: bool) -> f64 {
     }
 }
 
-/// Room per list to start with: the disks of root mean square radius `a` expected within
-/// `reach` at packing `phi`, a third more, and four; a list that outgrows it widens every list.
-pub fn list_room(a: f64, reach: f64, phi: f64) -> usize {
-    let expected = phi * (reach / a).powi(2);
-    (1.33 * expected).ceil() as usize + 4
-}
-
 impl Shells {
-    /// Shells of radius `r` for `n` disks (anchored at the first mapping), with lists of
-    /// `room` entries to start with.
-    pub fn new(n: usize, r: f64, room: usize) -> Shells {
+    /// Shells of radius `r` for `n` disks (anchored at the first mapping).
+    pub fn new(n: usize, r: f64) -> Shells {
         Shells {
             radius: r,
-            room,
             anchor: vec![[0.0; 2]; n],
             since_map: 0,
             found: Vec::new(),
