@@ -10,11 +10,11 @@ use serde::Serialize;
 pub trait States {
     /// Calls `f(i, [x, y, vx, vy])` for every disk `i` (the scenario's numbering), in an
     /// order of the source's choosing.
-    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4]));
+    fn each(&self, f: impl FnMut(usize, [f64; 4]));
 }
 
 impl States for Snapshot {
-    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4])) {
+    fn each(&self, mut f: impl FnMut(usize, [f64; 4])) {
         for i in 0..self.x.len() {
             f(i, [self.x[i], self.y[i], self.vx[i], self.vy[i]]);
         }
@@ -37,10 +37,10 @@ pub struct Observables {
 impl Observables {
     /// Measures the states of `disks` under gravity `g` (two passes: the mean velocity, then
     /// the temperature about it).
-    pub fn of(states: &dyn States, disks: &Disks, g: f64) -> Observables {
+    pub fn of(states: &impl States, disks: &Disks, g: f64) -> Observables {
         let n = disks.len() as f64;
         let (mut m_sum, mut px, mut py, mut ke, mut my) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        states.each(&mut |i, [_, y, vx, vy]| {
+        states.each(|i, [_, y, vx, vy]| {
             let m = disks.mass[i];
             m_sum += m;
             px += m * vx;
@@ -50,7 +50,7 @@ impl Observables {
         });
         let (ux, uy) = (px / m_sum, py / m_sum);
         let (mut tx, mut ty) = (0.0, 0.0);
-        states.each(&mut |i, [_, _, vx, vy]| {
+        states.each(|i, [_, _, vx, vy]| {
             let m = disks.mass[i];
             tx += m * (vx - ux).powi(2);
             ty += m * (vy - uy).powi(2);
@@ -129,11 +129,11 @@ impl Profiles {
     }
 
     /// Adds the disks' states at one instant.
-    pub fn add(&mut self, states: &dyn States, disks: &Disks) {
+    pub fn add(&mut self, states: &impl States, disks: &Disks) {
         let bins = self.count.len();
         let h = (self.top - self.bottom) / bins as f64;
         self.samples += 1;
-        states.each(&mut |i, [_, y, vx, vy]| {
+        states.each(|i, [_, y, vx, vy]| {
             self.add_area(y, disks.radius[i], h);
             let k = ((y - self.bottom) / h).floor();
             if k >= bins as f64 {
@@ -171,7 +171,7 @@ impl Profiles {
 
     /// The profiles of one instant alone over the same bins (the live profiles of a recorded
     /// frame); `self` is left as it is.
-    pub fn of_instant(&self, states: &dyn States, disks: &Disks) -> ProfileTable {
+    pub fn of_instant(&self, states: &impl States, disks: &Disks) -> ProfileTable {
         let mut one = Profiles::new(self.count.len(), self.bottom, self.top, self.width);
         one.add(states, disks);
         one.table()

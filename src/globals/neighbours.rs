@@ -163,9 +163,10 @@ impl NeighbourLists {
         }
         self.room = room.clamp(1, SPILLED as usize - 1);
         self.wide = (most + 1).max(self.room + 2);
-        self.slots.clear();
-        self.slots.resize(n * self.room, 0);
-        self.slots.shrink_to(n * self.room);
+        // Fresh rows (the old ones freed first, if `release` has not): every list is filed
+        // anew, and growing them in place could hold the old rows and the new at once.
+        self.slots = Vec::new();
+        self.slots = vec![0; n * self.room];
         self.len.clear();
         self.len.resize(n, 0);
         self.spill = Vec::new();
@@ -183,6 +184,15 @@ impl NeighbourLists {
         for i in 0..n {
             self.list_mut(i).reverse();
         }
+    }
+
+    /// Disk `i`'s list in the overflow area.
+    #[cold]
+    #[inline(never)]
+    fn spilled(&self, i: usize) -> &[u32] {
+        let c = self.slots[i * self.room] as usize * self.wide;
+        let l = self.spill[c] as usize;
+        &self.spill[c + 1..c + 1 + l]
     }
 
     /// The length of disk `i`'s list.
@@ -210,51 +220,71 @@ impl NeighbourLists {
 
     /// Appends `j` to disk `i`'s list, moving the list to the overflow area when its row is
     /// full (and widening the overflow chunks when its chunk is).
-    #[inline]
+    #[inline(always)]
     fn push(&mut self, i: usize, j: u32) {
-        let s = i * self.room;
-        match self.len[i] {
-            SPILLED => {
-                let c = self.slots[s] as usize;
-                let l = self.spill[c * self.wide] as usize;
-                if l + 1 == self.wide {
-                    self.widen_spill();
-                }
-                let at = c * self.wide;
-                self.spill[at + 1 + l] = j;
-                self.spill[at] += 1;
-            }
-            l if (l as usize) < self.room => {
-                self.slots[s + l as usize] = j;
-                self.len[i] += 1;
-            }
-            _ => {
-                let l = self.room;
-                let c = self.chunk();
-                let at = c as usize * self.wide;
-                self.spill[at] = (l + 1) as u32;
-                self.spill[at + 1..at + 1 + l].copy_from_slice(&self.slots[s..s + l]);
-                self.spill[at + 1 + l] = j;
-                self.slots[s] = c;
-                self.len[i] = SPILLED;
-            }
+        let l = self.len[i];
+        // `SPILLED` is never below `room`.
+        if (l as usize) < self.room {
+            self.slots[i * self.room + l as usize] = j;
+            self.len[i] = l + 1;
+        } else {
+            self.push_long(i, j);
         }
+    }
+
+    /// [`push`](Self::push) to a full row or an overflowing list.
+    #[cold]
+    #[inline(never)]
+    fn push_long(&mut self, i: usize, j: u32) {
+        let s = i * self.room;
+        if self.len[i] == SPILLED {
+            let c = self.slots[s] as usize;
+            let l = self.spill[c * self.wide] as usize;
+            if l + 1 == self.wide {
+                self.widen_spill();
+            }
+            let at = c * self.wide;
+            self.spill[at + 1 + l] = j;
+            self.spill[at] += 1;
+            return;
+        }
+        let l = self.room;
+        let c = self.chunk();
+        let at = c as usize * self.wide;
+        self.spill[at] = (l + 1) as u32;
+        self.spill[at + 1..at + 1 + l].copy_from_slice(&self.slots[s..s + l]);
+        self.spill[at + 1 + l] = j;
+        self.slots[s] = c;
+        self.len[i] = SPILLED;
     }
 
     /// Removes `j` from disk `i`'s list (the last entry takes its place), moving the list back
     /// into its row once it fits.
-    #[inline]
+    #[inline(always)]
     fn remove(&mut self, i: usize, j: u32) {
+        let l = self.len[i];
+        if l == SPILLED {
+            self.remove_long(i, j);
+            return;
+        }
+        let s = i * self.room;
+        let row = &mut self.slots[s..s + l as usize];
+        if let Some(e) = row.iter().position(|&k| k == j) {
+            row[e] = row[l as usize - 1];
+            self.len[i] = l - 1;
+        }
+    }
+
+    /// [`remove`](Self::remove) from an overflowing list.
+    #[cold]
+    #[inline(never)]
+    fn remove_long(&mut self, i: usize, j: u32) {
         let list = self.list_mut(i);
         let Some(e) = list.iter().position(|&k| k == j) else {
             return;
         };
         let last = list.len() - 1;
         list[e] = list[last];
-        if self.len[i] != SPILLED {
-            self.len[i] -= 1;
-            return;
-        }
         self.spill[self.slots[i * self.room] as usize * self.wide] -= 1;
         if last == self.room {
             self.unspill(i, last);
@@ -291,6 +321,19 @@ impl NeighbourLists {
         self.wide = wide;
     }
 
+    /// Frees every list (rows only: the next [`build`](Self::build) files each anew), so that a
+    /// re-mapping's renumbering and build do not hold the old lists beside their own arrays.
+    /// Compressed rows keep their memory for the next build (they are rebuilt at every one
+    /// of Isobe's frequent re-mappings).
+    pub fn release(&mut self) {
+        if self.rows {
+            self.slots = Vec::new();
+            self.len = Vec::new();
+            self.spill = Vec::new();
+            self.free = Vec::new();
+        }
+    }
+
     /// Frees the half lists (they go stale once single lists change).
     pub fn drop_half(&mut self) {
         self.half = Vec::new();
@@ -310,14 +353,11 @@ impl NeighbourLists {
     #[inline(always)]
     pub fn of(&self, i: usize) -> &[u32] {
         if self.rows {
-            let s = i * self.room;
-            match self.len[i] {
-                SPILLED => {
-                    let c = self.slots[s] as usize * self.wide;
-                    let l = self.spill[c] as usize;
-                    &self.spill[c + 1..c + 1 + l]
-                }
-                l => &self.slots[s..s + l as usize],
+            let (s, l) = (i * self.room, self.len[i]);
+            if l != SPILLED {
+                &self.slots[s..s + l as usize]
+            } else {
+                self.spilled(i)
             }
         } else {
             &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize]
@@ -328,19 +368,30 @@ impl NeighbourLists {
     /// lists of all its old neighbours and joins those of all its new ones (cheaper than
     /// sorting out which stay, for lists of a dozen).
     pub fn replace(&mut self, i: usize, new: &[u32]) {
-        for k in 0..self.length(i) {
-            let j = self.of(i)[k];
-            self.remove(j as usize, i as u32);
-        }
-        if self.len[i] == SPILLED {
+        let (s, l) = (i * self.room, self.len[i]);
+        if l != SPILLED {
+            for k in 0..l as usize {
+                let j = self.slots[s + k];
+                self.remove(j as usize, i as u32);
+            }
+        } else {
+            for k in 0..self.length(i) {
+                let j = self.of(i)[k];
+                self.remove(j as usize, i as u32);
+            }
             self.unspill(i, 0);
         }
         self.len[i] = 0;
         for &j in new {
             self.push(j as usize, i as u32);
         }
-        for &j in new {
-            self.push(i, j);
+        if new.len() <= self.room {
+            self.slots[s..s + new.len()].copy_from_slice(new);
+            self.len[i] = new.len() as u8;
+        } else {
+            for &j in new {
+                self.push(i, j);
+            }
         }
     }
 

@@ -30,7 +30,7 @@ pub(super) struct Averages {
 
 impl Averages {
     /// Adds one sample (after the warm-up only).
-    pub(super) fn add(&mut self, states: &dyn States, disks: &Disks, o: &Observables) {
+    pub(super) fn add(&mut self, states: &impl States, disks: &Disks, o: &Observables) {
         self.temperature[0] += o.temperature[0];
         self.temperature[1] += o.temperature[1];
         self.com_height += o.com_height;
@@ -55,14 +55,14 @@ impl Averages {
 pub(super) fn empty_profiles(
     s: &Scenario,
     scene: &Scene,
-    states: &dyn States,
+    states: &impl States,
     disks: &Disks,
 ) -> Option<Profiles> {
     scene.gravity?;
     let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
     let top = s.output.profile_height.unwrap_or_else(|| {
         let mut highest = 0.0f64;
-        states.each(&mut |i, [_, y, _, _]| highest = highest.max(y + disks.radius[i]));
+        states.each(|i, [_, y, _, _]| highest = highest.max(y + disks.radius[i]));
         2.0 * highest.max(bottom + 1.0)
     });
     Some(Profiles::new(

@@ -452,7 +452,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
 pub(super) struct StatesAt<'e, E>(pub(super) &'e E, pub(super) f64);
 
 impl<E: Integrator> States for StatesAt<'_, E> {
-    fn each(&self, f: &mut dyn FnMut(usize, [f64; 4])) {
+    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
         self.0.visit_states(self.1, f)
     }
 }

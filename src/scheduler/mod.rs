@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 pub enum EventQueue {
     /// Tournament tree: O(log N) per change, 8 bytes per disk.
     Tree(CompleteBinaryTree),
-    /// Calendar queue: O(1) per change on average, about 18 bytes per disk.
+    /// Calendar queue: O(1) per change on average, about 10 bytes per disk.
     Calendar(CalendarQueue),
 }
 
@@ -40,12 +40,12 @@ impl EventQueue {
         }
     }
 
-    /// Disk `i`'s event time changed.
+    /// Disk `i`'s event time changed from `old` (the time it was filed at) to `times[i]`.
     #[inline(always)]
-    pub fn update(&mut self, times: &[f64], i: usize) {
+    pub fn update(&mut self, times: &[f64], i: usize, old: f64) {
         match self {
             EventQueue::Tree(t) => t.update(times, i),
-            EventQueue::Calendar(c) => c.update(times, i),
+            EventQueue::Calendar(c) => c.update(times, i, old),
         }
     }
 
@@ -76,11 +76,12 @@ impl EventQueue {
         }
     }
 
-    /// `true` when the queue is shaped for `n` disks (checkpoints are checked before use).
-    pub fn fits(&self, n: usize) -> bool {
+    /// `true` when the queue is shaped for the disks of `times` (`n + 1` entries) and filed as
+    /// they say (checkpoints are checked before use).
+    pub fn fits(&self, times: &[f64]) -> bool {
         match self {
-            EventQueue::Tree(t) => t.fits(n),
-            EventQueue::Calendar(c) => c.fits(n),
+            EventQueue::Tree(t) => t.fits(times.len().saturating_sub(1)),
+            EventQueue::Calendar(c) => c.fits(times),
         }
     }
 

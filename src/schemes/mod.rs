@@ -80,7 +80,7 @@ pub trait Integrator {
     fn advance_to(&mut self, target: f64) -> Result<Progress>;
     /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time `t ≥ time()`
     /// (`i` in the scenario's numbering, in any order; positions wrapped into a periodic box).
-    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4]));
+    fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4]));
     /// The floor's height at absolute time `t` (`None` without a floor).
     fn floor_height_at(&self, t: f64) -> Option<f64>;
     /// Every disk's state at absolute time `t ≥ time()`, in the scenario's numbering.
@@ -136,7 +136,7 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         Simulation::advance_to(self, target)
     }
-    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+    fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         Simulation::visit_states(self, t, visit)
     }
     fn floor_height_at(&self, t: f64) -> Option<f64> {
@@ -218,7 +218,7 @@ pub(crate) fn free_flight_visit<F: Flight>(
     sides: SideBounds,
     top: Top,
     t: f64,
-    visit: &mut dyn FnMut(usize, [f64; 4]),
+    mut visit: impl FnMut(usize, [f64; 4]),
 ) {
     for (i, m) in disks.motion.iter().enumerate() {
         let (mut x, mut y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);

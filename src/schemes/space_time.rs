@@ -509,7 +509,7 @@ impl<F: Flight> Integrator for SpaceTime<F> {
             }
         }
     }
-    fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+    fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
     }
     fn floor_height_at(&self, t: f64) -> Option<f64> {

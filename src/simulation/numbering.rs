@@ -115,17 +115,27 @@ impl<F: Flight> Simulation<F> {
         };
         // Stable: disks of one tile keep their order, so the result depends only on the state.
         let mut keys: Vec<u64> = (0..n).map(key).collect();
-        let from: Vec<u32> = if keys.iter().all(|&k| k < 1 << 32) {
-            // Key and number packed in one word: the sort needs no second array.
+        let owned: Vec<u32>;
+        let from: &[u32] = if keys.iter().all(|&k| k < 1 << 32) {
+            // Key and number packed in one word: the sort needs no second array, and the
+            // numbers are then moved down to the first half of the keys' own memory (word k
+            // takes the low half of key k, never a key not yet read): no second array at the
+            // peak either.
             for (k, key) in keys.iter_mut().enumerate() {
                 *key = *key << 32 | k as u64;
             }
             keys.sort_unstable();
-            keys.iter().map(|&p| p as u32).collect()
+            let words: &mut [u32] = bytemuck::cast_slice_mut(&mut keys);
+            let low = usize::from(cfg!(target_endian = "big"));
+            for k in 0..n {
+                words[k] = words[2 * k + low];
+            }
+            &words[..n]
         } else {
             let mut from: Vec<u32> = (0..n as u32).collect();
             from.sort_by_key(|&k| keys[k as usize]);
-            from
+            owned = from;
+            &owned
         };
         if from.iter().enumerate().all(|(k, &f)| k == f as usize) {
             return;
@@ -145,23 +155,23 @@ impl<F: Flight> Simulation<F> {
                 counter: Vec::new(),
             });
         }
-        self.riders.permute(&from);
+        self.riders.permute(from);
         if self.numbering.id.is_empty() {
             self.numbering.id = (0..n as u32).collect();
         }
-        permute_in_place(&mut self.numbering.id, &from);
+        permute_in_place(&mut self.numbering.id, from);
         let d = &mut self.disks;
-        permute_in_place(&mut d.motion, &from);
-        d.radius.permute(&from);
-        d.mass.permute(&from);
-        d.species.permute(&from);
-        permute_in_place(&mut d.counter, &from);
-        self.restitution.permute(&from);
+        permute_in_place(&mut d.motion, from);
+        d.radius.permute(from);
+        d.mass.permute(from);
+        d.species.permute(from);
+        permute_in_place(&mut d.counter, from);
+        self.restitution.permute(from);
         if !self.same_instant.is_empty() {
-            permute_in_place(&mut self.same_instant, &from);
+            permute_in_place(&mut self.same_instant, from);
         }
         if !self.in_cluster.is_empty() {
-            permute_in_place(&mut self.in_cluster, &from);
+            permute_in_place(&mut self.in_cluster, from);
         }
     }
 }

@@ -182,7 +182,7 @@ impl<F: Flight> Simulation<F> {
     /// disks do not depend on renumbering), positions wrapped into a periodic box, without
     /// touching the engine (so observing never changes the dynamics) and without a copy of
     /// every state.
-    pub fn visit_states(&self, t: f64, visit: &mut dyn FnMut(usize, [f64; 4])) {
+    pub fn visit_states(&self, t: f64, mut visit: impl FnMut(usize, [f64; 4])) {
         let local = self.base.local(t);
         let width = match self.sides {
             SideBounds::Periodic { width } => Some(width),

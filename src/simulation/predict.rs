@@ -56,8 +56,9 @@ impl<F: Flight> Simulation<F> {
     /// Finds disk `i`'s earliest event from now and files it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
         let (best, who, recheck) = self.pair_event(i);
+        let old = self.ev_time[i];
         self.file_event(i, best, who, recheck);
-        self.queue.update(&self.ev_time, i);
+        self.queue.update(&self.ev_time, i, old);
     }
 
     /// Earliest contact of disk `i` with a listed neighbour from now: (time from now, partner,

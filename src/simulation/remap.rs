@@ -15,6 +15,8 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn remap(&mut self) -> Result<()> {
         let now = self.now;
         let n = self.disks.len();
+        // Every list is rebuilt below: rows can go now, before renumbering takes memory.
+        self.lists.release();
         for i in 0..n {
             self.bring(i, now);
             self.disks.motion[i].t = 0.0;

@@ -109,7 +109,7 @@ impl<F: Flight> Simulation<F> {
         if state.ev_time.len() != n + 1
             || state.ev_partner.len() != n
             || state.ev_counter.len() != n
-            || !state.queue.fits(n)
+            || !state.queue.fits(&state.ev_time)
         {
             return Err(mismatch("event tables"));
         }
