@@ -27,6 +27,7 @@ pub mod globals;
 pub mod interactions;
 pub mod locals;
 pub mod measure;
+pub mod memory;
 pub mod output;
 pub mod placement;
 pub mod prefetch;

@@ -70,6 +70,7 @@ pub struct CheckpointPlan {
 
 /// Runs a validated scenario and returns its summary.
 pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
+    crate::memory::for_disks(s.disk_count());
     if (opts.checkpoint.is_some() || opts.resume.is_some())
         && s.engine.scheme != Scheme::EventDriven
     {

@@ -55,8 +55,8 @@ impl NeighbourLists {
     /// `out` the candidates of disk i, each pair offered once (from one of its two disks, as a
     /// half mask does); those that `near(i, j)` accepts are filed in both disks' lists, so
     /// j ∈ list(i) ⇔ i ∈ list(j). The lists are compressed rows, fixed until the next build,
-    /// and the half lists ([`half_of`](Self::half_of)) are kept until
-    /// [`drop_half`](Self::drop_half); or, if [`in_rows`](Self::in_rows) asked for them, rows
+    /// and the half lists ([`half_of`](Self::half_of)) are kept (their memory too, for the next
+    /// build); or, if [`in_rows`](Self::in_rows) asked for them, rows
     /// with room, filed straight from the candidates (no half lists: their memory would add to
     /// the rows' at the peak).
     pub fn build(
@@ -334,15 +334,8 @@ impl NeighbourLists {
         }
     }
 
-    /// Frees the half lists (they go stale once single lists change).
-    pub fn drop_half(&mut self) {
-        self.half = Vec::new();
-        self.half_start = Vec::new();
-    }
-
-    /// Each listed pair once: the partners of disk `i` found from the half mask, while the
-    /// half lists are kept (compressed rows, until [`drop_half`](Self::drop_half); `None`
-    /// for rows with room, which keep none).
+    /// Each listed pair once: the partners of disk `i` found from the half mask, for
+    /// compressed rows (`None` for rows with room, which keep no half lists).
     #[inline]
     pub fn half_of(&self, i: usize) -> Option<&[u32]> {
         (!self.half_start.is_empty())
@@ -447,8 +440,6 @@ mod tests {
             assert!(compressed.half_of(i).is_some());
         }
         assert_eq!(rows.entries(), compressed.entries());
-        rows.drop_half();
-        assert_eq!(rows.of(4), compressed.of(4));
     }
 
     /// Rows sized for all but one list in fifty, the longer ones in the overflow area: the
@@ -476,7 +467,6 @@ mod tests {
         for (i, list) in plain.iter().enumerate() {
             assert_eq!(rows.of(i), &list[..], "disk {i} after the build");
         }
-        rows.drop_half();
         for step in 0..3000 {
             let i = rng.random_range(0..n);
             let size = rng.random_range(0..(if step % 10 == 0 { 3 * most } else { most }));

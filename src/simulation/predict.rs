@@ -292,8 +292,14 @@ impl<F: Flight> Simulation<F> {
         for i in 0..n {
             let mi = &motion[i];
             let riding_i = any_rider && self.is_riding(i);
-            self.half_list_into(i, &mut half);
-            for chunk in half.chunks(CHUNK) {
+            let pairs = match self.lists.half_of(i) {
+                Some(kept) => kept,
+                None => {
+                    self.find_half_list(i, &mut half);
+                    &half[..]
+                }
+            };
+            for chunk in pairs.chunks(CHUNK) {
                 let mut k = 0;
                 for &j in chunk {
                     let mj = &motion[j as usize];

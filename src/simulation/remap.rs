@@ -75,7 +75,6 @@ impl<F: Flight> Simulation<F> {
             self.dutc = Dutc::frozen(64.0 * self.dutc.deadline);
         }
         self.predict_all();
-        self.lists.drop_half();
         self.counts.rebuild += 1;
         Ok(())
     }
@@ -89,15 +88,11 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// At a mapping: the half of disk `i`'s list found from its own half mask (each listed
-    /// pair once over all disks, in the order the lists were built), into `out`: kept by the
-    /// lists for Isobe's re-mapping, found again from the cells for the local one (whose
-    /// lists are rows without the half lists, to save their memory).
-    pub(super) fn half_list_into(&self, i: usize, out: &mut Vec<u32>) {
+    /// pair once over all disks, in the order the lists were built), into `out`, for lists that
+    /// keep no half lists (the local re-mapping's rows: found again from the cells rather than
+    /// held beside the rows).
+    pub(super) fn find_half_list(&self, i: usize, out: &mut Vec<u32>) {
         out.clear();
-        if let Some(half) = self.lists.half_of(i) {
-            out.extend_from_slice(half);
-            return;
-        }
         let m = &self.disks.motion[i];
         let cell = self.geometry.cell_of(m.x, m.y);
         self.cells
