@@ -345,15 +345,14 @@ impl NeighbourLists {
     /// The neighbours of disk `i`.
     #[inline(always)]
     pub fn of(&self, i: usize) -> &[u32] {
-        if self.rows {
-            let (s, l) = (i * self.room, self.len[i]);
-            if l != SPILLED {
-                &self.slots[s..s + l as usize]
-            } else {
-                self.spilled(i)
-            }
+        if !self.rows {
+            return &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize];
+        }
+        let (s, l) = (i * self.room, self.len[i]);
+        if l != SPILLED {
+            &self.slots[s..s + l as usize]
         } else {
-            &self.list[self.start[i + 1] as usize..self.start[i + 2] as usize]
+            self.spilled(i)
         }
     }
 
