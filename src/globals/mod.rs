@@ -120,36 +120,17 @@ impl Cells {
         lists: &mut NeighbourLists,
         near: impl Fn(usize, usize) -> bool,
     ) -> Result<()> {
-        // One build per kind of cells (the scan inlined in the build's loop, as in
-        // `gather_half`, which finds one disk's half again).
         match self {
-            Cells::Dense(d) => {
-                d.map(geometry, n, cell)?;
-                let half =
-                    |i, out: &mut Vec<u32>| d.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                lists.build(n, half, near);
-            }
-            Cells::Sparse(s) if s.several() => {
-                s.map(geometry, n, cell)?;
-                let half = |i, out: &mut Vec<u32>| {
-                    s.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
-                };
-                lists.build(n, half, near);
-            }
-            Cells::Sparse(s) => {
-                s.map(geometry, n, cell)?;
-                let half =
-                    |i, out: &mut Vec<u32>| s.gather_half(geometry, mask, cell(i), |j| out.push(j));
-                lists.build(n, half, near);
-            }
-            Cells::Linked(l) => {
-                l.map(geometry, n, cell);
-                let half = |i, out: &mut Vec<u32>| {
-                    l.gather_half_of(geometry, &mask.half, i as u32, cell(i), |j| out.push(j))
-                };
-                lists.build(n, half, near);
-            }
+            Cells::Dense(d) => d.map(geometry, n, cell)?,
+            Cells::Sparse(s) => s.map(geometry, n, cell)?,
+            Cells::Linked(l) => l.map(geometry, n, cell),
         }
+        let cells = &*self;
+        lists.build(
+            n,
+            |i, out: &mut Vec<u32>| cells.gather_half(geometry, mask, i, cell(i), out),
+            near,
+        );
         Ok(())
     }
 

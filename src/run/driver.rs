@@ -252,23 +252,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
         Ok(())
     }
 
-    /// Every disk's state at the current stop into `snap` (once per stop).
-    fn fill_snapshot(&mut self) {
-        if self.snap.time != self.now || self.snap.x.is_empty() {
-            self.sim.snapshot_into(self.now, &mut self.snap);
-        }
-    }
-
     /// A frame: the disks and the time series, to the sink.
     pub(super) fn frame(&mut self) -> Result<()> {
         self.stops.k_frame += 1;
-        if self.sink.is_none() {
-            return Ok(());
-        }
-        self.fill_snapshot();
         let Some(sink) = self.sink.as_mut() else {
             return Ok(());
         };
+        fill_snapshot(&self.sim, self.now, &mut self.snap);
         let sim = &self.sim;
         let snap = &self.snap;
         let o = Observables::of(snap, sim.disks(), self.g);
@@ -308,13 +298,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A trajectory frame: every disk, to the extended XYZ file.
     pub(super) fn trajectory_frame(&mut self) -> Result<()> {
         self.stops.k_trajectory += 1;
-        if self.trajectory.is_none() {
-            return Ok(());
-        }
-        self.fill_snapshot();
         let Some(w) = self.trajectory.as_mut() else {
             return Ok(());
         };
+        fill_snapshot(&self.sim, self.now, &mut self.snap);
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         w.frame(&frame_view(
@@ -445,6 +432,14 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             approximation: sim.approximation(),
         }
+    }
+}
+
+/// Every disk's state at `now` into `snap`, once per stop (a frame and a trajectory frame at
+/// the same stop share it).
+fn fill_snapshot<E: Integrator>(sim: &E, now: f64, snap: &mut Snapshot) {
+    if snap.time != now || snap.x.is_empty() {
+        sim.snapshot_into(now, snap);
     }
 }
 

@@ -184,20 +184,7 @@ impl<F: Flight> Simulation<F> {
     /// every state.
     pub fn visit_states(&self, t: f64, mut visit: impl FnMut(usize, [f64; 4])) {
         let local = self.base.local(t);
-        let width = match self.sides {
-            SideBounds::Periodic { width } => Some(width),
-            _ => None,
-        };
-        let height = match self.top {
-            Top::Periodic { height } => Some(height),
-            _ => None,
-        };
-        let state = |k: usize| {
-            let (x, y, vx, vy) = self.state_at(k, local);
-            let x = width.map_or(x, |w| into_period(x, w));
-            let y = height.map_or(y, |h| into_period(y, h));
-            [x, y, vx, vy]
-        };
+        let state = |k: usize| self.wrapped_state_at(k, local);
         let Some(id) = self.numbering.ids() else {
             (0..self.disks.len()).for_each(|i| visit(i, state(i)));
             return;
@@ -241,17 +228,17 @@ impl<F: Flight> Simulation<F> {
         s
     }
 
-    /// Disk `k`'s position at local time `local`, wrapped into a periodic box (as
-    /// [`visit_states`](Self::visit_states) gives it).
-    fn position_at(&self, k: usize, local: f64) -> (f64, f64) {
-        let (mut x, mut y, _, _) = self.state_at(k, local);
+    /// Disk `k`'s state `[x, y, vx, vy]` at local time `local`, its position wrapped into a
+    /// periodic box (what [`visit_states`](Self::visit_states) gives).
+    fn wrapped_state_at(&self, k: usize, local: f64) -> [f64; 4] {
+        let (mut x, mut y, vx, vy) = self.state_at(k, local);
         if let SideBounds::Periodic { width } = self.sides {
             x = into_period(x, width);
         }
         if let Top::Periodic { height } = self.top {
             y = into_period(y, height);
         }
-        (x, y)
+        [x, y, vx, vy]
     }
 
     /// Largest overlap between any two listed neighbours at absolute time `t ≥`
@@ -262,10 +249,10 @@ impl<F: Flight> Simulation<F> {
         let local = self.base.local(t);
         let mut worst = (0.0, 0, 0);
         for k in 0..self.disks.len() {
-            let (xk, yk) = self.position_at(k, local);
+            let [xk, yk, _, _] = self.wrapped_state_at(k, local);
             for &l in self.lists.of(k) {
                 let l = l as usize;
-                let (xl, yl) = self.position_at(l, local);
+                let [xl, yl, _, _] = self.wrapped_state_at(l, local);
                 let (dx, dy) = self.wrap(xk - xl, yk - yl);
                 let s = self.disks.radius[k] + self.disks.radius[l];
                 let o = s - (dx * dx + dy * dy).sqrt();
