@@ -157,6 +157,57 @@ fn check_notes_a_width_of_a_whole_number_of_diameters() {
     assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
 }
 
+/// A bed that can rest, with inelastic collisions and no cure, gets a note that it may collapse
+/// (valid, exit 0); with a cure, elastic collisions, or a floor that throws the bed off, none.
+#[test]
+fn check_notes_a_resting_bed_without_a_cure() {
+    let file = "scenarios/hard/bed_at_rest_tc.json";
+    let bare = |e: &str| format!(r#"collisions={{"restitution": {e}}}"#);
+    let out = vibrobed(&["check", file, "--set", &bare("0.5")]);
+    assert_ok(&out);
+    assert!(
+        stderr(&out).contains("note: collisions.restitution = 0.5 with no cure"),
+        "{}",
+        describe(&out)
+    );
+    let out = vibrobed(&["check", file, "--set", &bare("1.0")]);
+    assert_ok(&out);
+    assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
+    let thrown = [
+        "check",
+        file,
+        "--set",
+        &bare("0.5"),
+        "--set",
+        r#"floor={"gamma": 2.0, "frequency": 1.0, "restitution": 0.5}"#,
+    ];
+    let out = vibrobed(&thrown);
+    assert_ok(&out);
+    assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
+}
+
+/// A deep pile that can rest with the speed cutoff gets a note that it may keep rattling; a
+/// shallow one, or one with TC, does not.
+#[test]
+fn check_notes_the_speed_cutoff_in_a_deep_pile() {
+    let file = "scenarios/hard/pile_poly_walls_cutoff.json";
+    let deep = ["particles.count=400", "domain.width=20.3"];
+    let mut args = vec!["check", file];
+    for set in deep {
+        args.extend(["--set", set]);
+    }
+    let out = vibrobed(&args);
+    assert_ok(&out);
+    assert!(
+        stderr(&out).contains("note: collisions.speed_cutoff = 0.01 in a pile about 20 layers"),
+        "{}",
+        describe(&out)
+    );
+    let out = vibrobed(&["check", file]);
+    assert_ok(&out);
+    assert!(!stderr(&out).contains("note:"), "{}", describe(&out));
+}
+
 #[test]
 fn run_prints_the_summary_on_stdout() {
     let dir = scratch("stdout");

@@ -21,14 +21,25 @@ use crate::locals::SideBounds;
 /// stops a disk moving deeper into it (see `stop_in_slot`).
 pub const WEDGE: f64 = 0.1;
 
+/// A slot whose two contact normals sum to less than this (within ~0.06° of opposite) has no
+/// deeper end: a disk that bounces across it between supports that do not slide, barely moving
+/// along it (slower than the sleep speed), would bounce at least ~π/10⁻³ times before it left,
+/// either way (see `stop_in_slot`).
+pub const PARALLEL: f64 = 1e-3;
+
 /// More events than this for one flying disk at one instant stop it (see `stop_zeno`).
 pub const ZENO: u32 = 64;
+
+/// Events of one disk closer together than this many time units `√(a/g)` count as at one
+/// instant (see `stop_zeno`): a disk at the sleep speed crosses 10⁻¹² radii in that time.
+pub const INSTANT: f64 = 1e-9;
 
 impl<F: Flight> Simulation<F> {
     /// Flying disk `k` hits disk `s` at rest (contact normal `n` from `s` to `k`) while it touches,
     /// on the other side, a disk at rest or a side wall whose normal is nearly opposite (the two
     /// sum to less than [`WEDGE`]): a slot between supports that do not give, and k moves deeper
-    /// into it. Between rigid walls it would collide ~π/|n_s + n_c| times at once and stop (for
+    /// into it (or, in a slot within [`PARALLEL`] of straight, which has no deeper end, barely
+    /// moves along it). Between rigid walls it would collide ~π/|n_s + n_c| times at once and stop (for
     /// e < 1; with a cure it would rattle in zero gaps for ever): it stops at once — it comes to
     /// rest if the place holds it, else it is left still to fall out of the slot. Returns
     /// whether it stopped (the collision is then done).
@@ -46,9 +57,13 @@ impl<F: Flight> Simulation<F> {
         let vs = self.disks.motion[s].vx;
         let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
         let (vx, vy) = (vxk - vs, vyk - hd);
+        // A parallel slot holds a disk barely moving along it, between supports that do not
+        // slide (a sliding one would close or open it).
+        let (along, gentle, still) = ((vx * ny - vy * nx).abs(), self.sleep_speed(k), vs == 0.0);
         let into = |(cx, cy): (f64, f64)| {
             let (bx, by) = (nx + cx, ny + cy);
-            bx.hypot(by) < WEDGE && vx * bx + vy * by < 0.0
+            let b = bx.hypot(by);
+            b < WEDGE && (vx * bx + vy * by < 0.0 || (b < PARALLEL && along < gentle && still))
         };
         let wall = match self.sides {
             SideBounds::Walls { width, .. } => {
@@ -96,18 +111,28 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// A flying disk whose events keep happening at one instant — more than [`ZENO`] after the
-    /// first — is caught in a closed wedge of neighbours and walls that do not give, where a cure makes
-    /// the collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
+    /// first, all within [`INSTANT`] — is caught in a closed wedge of neighbours and walls that
+    /// do not give, or rings with its neighbours in gaps of round-off, where a cure makes the
+    /// collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
     /// rest among them). It stops: it takes the floor's velocity (kinetic energy relative to the
-    /// floor booked as dissipated, the rest as floor work), and flies on from there. Returns
-    /// whether it did (the event is then dropped; its partner's prediction is renewed as stale).
+    /// floor booked as dissipated, the rest as floor work) and comes to rest if its place holds
+    /// it, or flies on from there. Returns whether it did (the event is then dropped; its
+    /// partner's prediction is renewed as stale).
     pub(super) fn stop_zeno(&mut self, i: usize) -> bool {
         let now = self.now;
         if self.same_instant.is_empty() || self.is_riding(i) {
             return false;
         }
+        let floor = self.floor.as_ref().expect("riders need a floor");
+        let press = self.flight.g() + floor.max_acceleration();
+        let instant = if press > 0.0 {
+            INSTANT * (self.disks.radius[i] / press).sqrt()
+        } else {
+            0.0
+        };
         let seen = &mut self.same_instant[i];
-        if seen.0 != now {
+        // (Also a first event, NaN, or one from before the clock was re-based.)
+        if !(now >= seen.0 && now - seen.0 <= instant) {
             *seen = (now, 0);
             return false;
         }
@@ -118,7 +143,25 @@ impl<F: Flight> Simulation<F> {
         seen.1 = 0;
         self.counts.zeno += 1;
         self.bring(i, now);
-        let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        // At rest where it is, if the floor presses and the place holds it (on the floor, or
+        // between disks at rest that do not slide, or walls): still, it would be pressed back
+        // into the same neighbours at once. A flying disk about to hit it wakes it as usual.
+        let place = if self.near_lid(i) || self.sleep_speed(i) == 0.0 {
+            None
+        } else if self.touches_floor(i, h) {
+            Some([NO_DISK; 2])
+        } else {
+            self.stable_place(i, None, |c| {
+                self.is_riding(c) && self.disks.motion[c].vx == 0.0
+            })
+        };
+        if let Some(place) = place {
+            if self.come_to_rest(i, h, place, (0.0, hd)) {
+                self.settle_cluster(i);
+                return true;
+            }
+        }
         self.take_velocity(i, (0.0, hd));
         self.moved(i);
         true
