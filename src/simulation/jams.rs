@@ -15,6 +15,7 @@ use super::riders::{NO_DISK, RIGHT_WALL};
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::error::Result;
+use crate::locals::floor::Floor;
 use crate::locals::SideBounds;
 
 /// A slot whose two contact normals sum to less than this (they are within ~6° of opposite)
@@ -33,6 +34,18 @@ pub const ZENO: u32 = 64;
 /// Events of one disk closer together than this many time units `√(a/g)` count as at one
 /// instant (see `stop_zeno`): a disk at the sleep speed crosses 10⁻¹² radii in that time.
 pub const INSTANT: f64 = 1e-9;
+
+/// The square of [`INSTANT`] time units per unit radius, `INSTANT² / (g + h''_max)`, for disks
+/// pressed by gravity `g` and the floor's largest acceleration (0, exactly one instant, if
+/// nothing presses).
+pub fn instant2(g: f64, floor: Option<&Floor>) -> f64 {
+    let press = g + floor.map_or(0.0, |f| f.max_acceleration());
+    if press > 0.0 {
+        INSTANT * INSTANT / press
+    } else {
+        0.0
+    }
+}
 
 impl<F: Flight> Simulation<F> {
     /// Flying disk `k` hits disk `s` at rest (contact normal `n` from `s` to `k`) while it touches,
@@ -118,21 +131,19 @@ impl<F: Flight> Simulation<F> {
     /// floor booked as dissipated, the rest as floor work) and comes to rest if its place holds
     /// it, or flies on from there. Returns whether it did (the event is then dropped; its
     /// partner's prediction is renewed as stale).
+    #[inline]
     pub(super) fn stop_zeno(&mut self, i: usize) -> bool {
         let now = self.now;
         if self.same_instant.is_empty() || self.is_riding(i) {
             return false;
         }
-        let floor = self.floor.as_ref().expect("riders need a floor");
-        let press = self.flight.g() + floor.max_acceleration();
-        let instant = if press > 0.0 {
-            INSTANT * (self.disks.radius[i] / press).sqrt()
-        } else {
-            0.0
-        };
-        let seen = &mut self.same_instant[i];
-        // (Also a first event, NaN, or one from before the clock was re-based.)
-        if !(now >= seen.0 && now - seen.0 <= instant) {
+        let (seen, radius) = (&mut self.same_instant[i], &self.disks.radius);
+        // Within `INSTANT √(a/g)` of the first, squared (no square root per event); not so a
+        // first event (NaN), or one from before the clock was re-based. Most events come long
+        // after: rejected on the largest radius's bound, without reading the disk's.
+        let dt = now - seen.0;
+        let near = dt >= 0.0 && dt * dt <= self.zeno_instant2_max;
+        if !(near && dt * dt <= self.zeno_instant2 * radius[i]) {
             *seen = (now, 0);
             return false;
         }
@@ -141,6 +152,16 @@ impl<F: Flight> Simulation<F> {
             return false;
         }
         seen.1 = 0;
+        self.stop_caught(i);
+        true
+    }
+
+    /// Disk `i`, caught at one instant (see [`stop_zeno`](Self::stop_zeno)), stops: at rest
+    /// if its place holds it, else still relative to the floor.
+    #[cold]
+    #[inline(never)]
+    fn stop_caught(&mut self, i: usize) {
+        let now = self.now;
         self.counts.zeno += 1;
         self.bring(i, now);
         let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
@@ -159,12 +180,11 @@ impl<F: Flight> Simulation<F> {
         if let Some(place) = place {
             if self.come_to_rest(i, h, place, (0.0, hd)) {
                 self.settle_cluster(i);
-                return true;
+                return;
             }
         }
         self.take_velocity(i, (0.0, hd));
         self.moved(i);
-        true
     }
 
     /// Flying disk `k` (brought to now) reaches a side wall while it slides, in gentle hops, on

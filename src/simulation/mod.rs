@@ -117,6 +117,11 @@ pub struct Simulation<F: Flight> {
     /// Per disk: the instant of its last event and how many it had at that instant (scenes
     /// with a floor and resting contacts; see `stop_zeno`).
     same_instant: Vec<(f64, u32)>,
+    /// Events of disk i within `√(zeno_instant² · a_i)` of its first count as at one instant
+    /// for `same_instant`: the square of `jams::INSTANT` time units per radius.
+    zeno_instant2: f64,
+    /// `zeno_instant2` times the largest radius: a bound for every disk.
+    zeno_instant2_max: f64,
     /// The event loop prefetches what it will read (from
     /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,

@@ -4,6 +4,7 @@
 use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
+use super::jams;
 use super::numbering::Numbering;
 use super::predict::partner;
 use super::riders::{self, Riders};
@@ -180,12 +181,16 @@ impl<F: Flight> Simulation<F> {
             cluster: Vec::new(),
             in_cluster: Vec::new(),
             same_instant: Vec::new(),
+            zeno_instant2: 0.0,
+            zeno_instant2_max: 0.0,
             prefetching: n >= crate::prefetch::PREFETCH_FROM,
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));
             if sim.resting_contacts {
                 sim.same_instant = vec![(f64::NAN, 0); n];
+                sim.zeno_instant2 = jams::instant2(sim.flight.g(), sim.floor.as_ref());
+                sim.zeno_instant2_max = sim.zeno_instant2 * a_max;
             }
         }
         sim.check_initial_state()?;
