@@ -752,12 +752,14 @@ fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
 /// on the support elastic, so frictionless it would slide to the wall and back for ever (4.6·10³
 /// events per unit time before the pocket rule). It comes to rest against the wall, on its
 /// support, and from then on the run costs no events (its invariants and energy balance are
-/// checked with the hard cases).
+/// checked with the hard cases). Since its gentle hops no longer knock the support off its
+/// place, it reaches the wall at t ≈ 0.17 and rests there at once (97 collisions in all; 1580,
+/// and 3990 floor impacts of the knocked support, before).
 #[test]
 fn a_disk_in_a_pocket_by_an_elastic_wall_comes_to_rest() {
     let s = load("pocket_by_a_wall.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
-    sim.advance_to(0.5).unwrap();
+    sim.advance_to(0.1).unwrap();
     assert!(sim.riders() < 2, "the upper disk slides at first");
     sim.advance_to(5.0).unwrap();
     assert_eq!(sim.riders(), 2, "both at rest by t = 5");

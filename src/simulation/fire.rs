@@ -238,7 +238,7 @@ impl<F: Flight> Simulation<F> {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
             // Separation from the disk at rest to the flying one.
             let (sx, sy) = if k == i { (dx, dy) } else { (-dx, -dy) };
-            if sy >= 0.0 && self.in_jammed_row(s, -sx) {
+            if sy >= 0.0 && (self.pushed_gently(k, s, (sx, sy)) || self.in_jammed_row(s, -sx)) {
                 return self.meet_jammed_row(k, s, (sx, sy));
             }
         }

@@ -129,8 +129,9 @@ impl<F: Flight> Simulation<F> {
     /// collisions elastic (with e < 1 the sequence would be infinite too, its limit a disk at
     /// rest among them). It stops: it takes the floor's velocity (kinetic energy relative to the
     /// floor booked as dissipated, the rest as floor work) and comes to rest if its place holds
-    /// it, or flies on from there. Returns whether it did (the event is then dropped; its
-    /// partner's prediction is renewed as stale).
+    /// it, or else flies on from there, and the slow flying disks it touches stop with it.
+    /// Returns whether it did (the event is then dropped; its partner's prediction is renewed
+    /// as stale).
     #[inline]
     pub(super) fn stop_zeno(&mut self, i: usize) -> bool {
         let now = self.now;
@@ -157,7 +158,8 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Disk `i`, caught at one instant (see [`stop_zeno`](Self::stop_zeno)), stops: at rest
-    /// if its place holds it, else still relative to the floor.
+    /// if its place holds it, else still relative to the floor together with the slow flying
+    /// disks it touches, directly or through each other.
     #[cold]
     #[inline(never)]
     fn stop_caught(&mut self, i: usize) {
@@ -184,7 +186,27 @@ impl<F: Flight> Simulation<F> {
             }
         }
         self.take_velocity(i, (0.0, hd));
-        self.moved(i);
+        if self.sleep_speed(i) == 0.0 {
+            self.moved(i);
+            return;
+        }
+        // The slow flying disks it touches, directly or through each other, ring with it (a
+        // push passes round them and back at one instant): they stop with it.
+        let mut member = std::mem::take(&mut self.in_cluster);
+        member.resize(self.disks.len(), false);
+        let mut cluster = std::mem::take(&mut self.cluster);
+        self.gather_slow(i, hd, &mut member, &mut cluster);
+        for &c in &cluster[1..] {
+            self.bring(c as usize, now);
+            self.take_velocity(c as usize, (0.0, hd));
+        }
+        for &c in &cluster {
+            self.moved(c as usize);
+            member[c as usize] = false;
+        }
+        cluster.clear();
+        self.cluster = cluster;
+        self.in_cluster = member;
     }
 
     /// Flying disk `k` (brought to now) reaches a side wall while it slides, in gentle hops, on
@@ -278,8 +300,27 @@ impl<F: Flight> Simulation<F> {
         false
     }
 
+    /// Whether flying disk `k` (brought to now, `(sx, sy)` from `s` to it) pushes disk `s`, at
+    /// rest and not sliding, slower than the sleep speed: too gently to move it (the static
+    /// friction of resting contacts). Without this a push passes along a row of disks at rest,
+    /// each knocked off its supports and at rest again at once, and back, at one instant.
+    pub(super) fn pushed_gently(&self, k: usize, s: usize, (sx, sy): (f64, f64)) -> bool {
+        if self.disks.motion[s].vx != 0.0 {
+            return false;
+        }
+        let (_, hd) = self
+            .floor
+            .as_ref()
+            .expect("riders need a floor")
+            .ride(self.now);
+        let mk = &self.disks.motion[k];
+        let u = (mk.vx * sx + (mk.vy - hd) * sy) / sx.hypot(sy);
+        -u < self.sleep_speed(k)
+    }
+
     /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) hits disk `s` of a jammed
-    /// row (see [`in_jammed_row`](Self::in_jammed_row)). Its restitution is that of an impact on
+    /// row (see [`in_jammed_row`](Self::in_jammed_row)), or pushes it gently (see
+    /// [`pushed_gently`](Self::pushed_gently)): `s` does not give. Its restitution is that of an impact on
     /// a boundary (a cure acts only through k's own past, as at a wall: the row, hit over and
     /// over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
     /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
@@ -326,31 +367,21 @@ impl<F: Flight> Simulation<F> {
         Ok(())
     }
 
-    /// Disk `seed` has just come to rest, or is a slow flying disk that has just met another.
-    /// The flying disks touching it (and `seed` itself, if it flies), directly or through each
-    /// other, that move slower than the sleep speed relative to the floor (a jammed layer or an
-    /// arch, held only as a whole) come to rest together: those of them that are in a stable
-    /// place among the disks at rest that do not slide, the side walls, the floor and each other —
-    /// dropping, until none is left, any that is not. Each would land where it is, gently, within
-    /// [`TOUCH`] radii; without this such a cluster rattles on its supports for ever.
-    pub(super) fn settle_cluster(&mut self, seed: usize) {
-        let n = self.disks.len();
+    /// Gathers into `cluster` (marking `member`) disk `seed` if it flies, and the flying disks
+    /// touching it, directly or through each other, that move slower than the sleep speed
+    /// relative to the floor (moving at `hd`): breadth first from the seed.
+    fn gather_slow(&self, seed: usize, hd: f64, member: &mut [bool], cluster: &mut Vec<u32>) {
         let now = self.now;
-        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let mut member = std::mem::take(&mut self.in_cluster);
-        member.resize(n, false);
-        let mut cluster = std::mem::take(&mut self.cluster);
         if !self.is_riding(seed) {
             member[seed] = true;
             cluster.push(seed as u32);
         }
-        // Gather: breadth first from the seed, through slow flying disks that touch.
         let mut from = seed;
         let mut next = 0;
         loop {
             let (xs, ys, _, _) = self.state_at(from, now);
-            for idx in 0..self.lists.of(from).len() {
-                let c = self.lists.of(from)[idx] as usize;
+            for &c in self.lists.of(from) {
+                let c = c as usize;
                 if member[c] || self.is_riding(c) {
                     continue;
                 }
@@ -367,6 +398,23 @@ impl<F: Flight> Simulation<F> {
             from = c as usize;
             next += 1;
         }
+    }
+
+    /// Disk `seed` has just come to rest, or is a slow flying disk that has just met another.
+    /// The flying disks touching it (and `seed` itself, if it flies), directly or through each
+    /// other, that move slower than the sleep speed relative to the floor (a jammed layer or an
+    /// arch, held only as a whole) come to rest together: those of them that are in a stable
+    /// place among the disks at rest that do not slide, the side walls, the floor and each other —
+    /// dropping, until none is left, any that is not. Each would land where it is, gently, within
+    /// [`TOUCH`] radii; without this such a cluster rattles on its supports for ever.
+    pub(super) fn settle_cluster(&mut self, seed: usize) {
+        let n = self.disks.len();
+        let now = self.now;
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let mut member = std::mem::take(&mut self.in_cluster);
+        member.resize(n, false);
+        let mut cluster = std::mem::take(&mut self.cluster);
+        self.gather_slow(seed, hd, &mut member, &mut cluster);
         // Prune: drop the members that no place holds, until every remaining one is held.
         let place = |sim: &Self, c: usize, member: &[bool]| -> Option<[u32; 2]> {
             if sim.squeezed(c, 0.0, hd) || sim.near_lid(c) {
