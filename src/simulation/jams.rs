@@ -4,11 +4,11 @@
 //! - **a slot** between supports at rest that do not give (`stop_in_slot`);
 //! - **a jammed cluster** of slow flying disks that only hold as a whole (`settle_cluster`);
 //! - **a jammed row**, disks at rest side by side from wall to wall (`in_jammed_row`,
-//!   `meet_jammed_row`);
+//!   `meet_jammed_row`), and a **gentle push** on a disk at rest (`pushed_gently`);
 //! - **a pocket** by a side wall, where a frictionless disk slides to the wall and back
 //!   (`rest_in_pocket`);
-//! - **a closed wedge**, where a flying disk has events at one instant without end
-//!   (`stop_zeno`).
+//! - **a closed wedge**, or disks ringing in gaps of round-off, where a flying disk has events
+//!   at one instant without end (`stop_zeno`).
 
 use super::resting::TOUCH;
 use super::riders::{NO_DISK, RIGHT_WALL};
@@ -52,10 +52,10 @@ impl<F: Flight> Simulation<F> {
     /// on the other side, a disk at rest or a side wall whose normal is nearly opposite (the two
     /// sum to less than [`WEDGE`]): a slot between supports that do not give, and k moves deeper
     /// into it (or, in a slot within [`PARALLEL`] of straight, which has no deeper end, barely
-    /// moves along it). Between rigid walls it would collide ~π/|n_s + n_c| times at once and stop (for
-    /// e < 1; with a cure it would rattle in zero gaps for ever): it stops at once — it comes to
-    /// rest if the place holds it, else it is left still to fall out of the slot. Returns
-    /// whether it stopped (the collision is then done).
+    /// moves along it). Between rigid walls it would collide ~π/|n_s + n_c| times at once and
+    /// stop (for e < 1; with a cure it would rattle in zero gaps for ever): it stops at once —
+    /// it comes to rest if the place holds it, else it is left still to fall out of the slot.
+    /// Returns whether it stopped (the collision is then done).
     pub(super) fn stop_in_slot(
         &mut self,
         k: usize,
@@ -320,8 +320,9 @@ impl<F: Flight> Simulation<F> {
 
     /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) hits disk `s` of a jammed
     /// row (see [`in_jammed_row`](Self::in_jammed_row)), or pushes it gently (see
-    /// [`pushed_gently`](Self::pushed_gently)): `s` does not give. Its restitution is that of an impact on
-    /// a boundary (a cure acts only through k's own past, as at a wall: the row, hit over and
+    /// [`pushed_gently`](Self::pushed_gently)): `s` does not give. Its restitution is that of
+    /// an impact on a boundary (a cure acts only through k's own past, as at a wall: the row, hit
+    /// over and
     /// over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
     /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
     /// disk moving with the floor, and the row stays at rest. The exact engine would send the
