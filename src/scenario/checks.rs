@@ -559,8 +559,9 @@ const DEEP: f64 = 15.0;
 
 /// A deep pile that can come to rest, its collapse cured by the speed cutoff: collisions slower
 /// than v_min are elastic, so motion between the sleep speed (≈ 10⁻³ √(g a), below which
-/// disks come to rest) and v_min is never dissipated (4 of 12 400-disk piles, about 20 layers,
-/// kept rattling until the event limit; every one with TC came to rest).
+/// disks come to rest) and v_min is never dissipated (of twelve 400-disk piles, about 20
+/// layers, two kept rattling until the event limit — four before the resting-contact rules of
+/// the stop that added this note; every one with TC came to rest).
 fn cutoff_in_a_deep_pile(s: &Scenario) -> Option<String> {
     let c = &s.collisions;
     let v_min = c.speed_cutoff?;

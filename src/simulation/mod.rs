@@ -114,11 +114,11 @@ pub struct Simulation<F: Flight> {
     /// Scratch of the settling of clusters: the candidates, and who is one.
     cluster: Vec<u32>,
     in_cluster: Vec<bool>,
-    /// Per disk: the instant of its last event and how many it had at that instant (scenes
-    /// with a floor and resting contacts; see `stop_zeno`).
+    /// Per disk: the first event of its latest burst at one instant and how many it has had
+    /// since (scenes with a floor and resting contacts; see `stop_zeno`).
     same_instant: Vec<(f64, u32)>,
-    /// Events of disk i within `√(zeno_instant² · a_i)` of its first count as at one instant
-    /// for `same_instant`: the square of `jams::INSTANT` time units per radius.
+    /// Events of disk i within `√(zeno_instant2 · a_i)` of the first of a burst count as at one
+    /// instant for `same_instant`: the square of `jams::INSTANT` time units per unit radius.
     zeno_instant2: f64,
     /// `zeno_instant2` times the largest radius: a bound for every disk.
     zeno_instant2_max: f64,
