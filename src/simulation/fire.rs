@@ -239,7 +239,7 @@ impl<F: Flight> Simulation<F> {
             // Separation from the disk at rest to the flying one.
             let (sx, sy) = if k == i { (dx, dy) } else { (-dx, -dy) };
             if sy >= 0.0 && (self.pushed_gently(k, s, (sx, sy)) || self.in_jammed_row(s, -sx)) {
-                return self.meet_jammed_row(k, s, (sx, sy));
+                return self.meet_held(k, s, (sx, sy));
             }
         }
         let d = &self.disks;

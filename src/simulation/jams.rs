@@ -4,7 +4,7 @@
 //! - **a slot** between supports at rest that do not give (`stop_in_slot`);
 //! - **a jammed cluster** of slow flying disks that only hold as a whole (`settle_cluster`);
 //! - **a jammed row**, disks at rest side by side from wall to wall (`in_jammed_row`,
-//!   `meet_jammed_row`), and a **gentle push** on a disk at rest (`pushed_gently`);
+//!   `meet_held`), and a **gentle push** on a disk at rest (`pushed_gently`);
 //! - **a pocket** by a side wall, where a frictionless disk slides to the wall and back
 //!   (`rest_in_pocket`);
 //! - **a closed wedge**, or disks ringing in gaps of round-off, where a flying disk has events
@@ -138,13 +138,12 @@ impl<F: Flight> Simulation<F> {
         if self.same_instant.is_empty() || self.is_riding(i) {
             return false;
         }
-        let (seen, radius) = (&mut self.same_instant[i], &self.disks.radius);
+        let instant2 = self.zeno_instant2 * self.disks.radius[i];
+        let seen = &mut self.same_instant[i];
         // Within `INSTANT √(a/g)` of the first, squared (no square root per event); not so a
-        // first event (NaN), or one from before the clock was re-based. Most events come long
-        // after: rejected on the largest radius's bound, without reading the disk's.
+        // first event (NaN), or one from before the clock was re-based.
         let dt = now - seen.0;
-        let near = dt >= 0.0 && dt * dt <= self.zeno_instant2_max;
-        if !(near && dt * dt <= self.zeno_instant2 * radius[i]) {
+        if !(dt >= 0.0 && dt * dt <= instant2) {
             *seen = (now, 0);
             return false;
         }
@@ -167,10 +166,11 @@ impl<F: Flight> Simulation<F> {
         self.counts.zeno += 1;
         self.bring(i, now);
         let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let pressed = self.sleep_speed(i) > 0.0;
         // At rest where it is, if the floor presses and the place holds it (on the floor, or
         // between disks at rest that do not slide, or walls): still, it would be pressed back
         // into the same neighbours at once. A flying disk about to hit it wakes it as usual.
-        let place = if self.near_lid(i) || self.sleep_speed(i) == 0.0 {
+        let place = if !pressed || self.near_lid(i) {
             None
         } else if self.touches_floor(i, h) {
             Some([NO_DISK; 2])
@@ -186,7 +186,7 @@ impl<F: Flight> Simulation<F> {
             }
         }
         self.take_velocity(i, (0.0, hd));
-        if self.sleep_speed(i) == 0.0 {
+        if !pressed {
             self.moved(i);
             return;
         }
@@ -322,18 +322,12 @@ impl<F: Flight> Simulation<F> {
     /// row (see [`in_jammed_row`](Self::in_jammed_row)), or pushes it gently (see
     /// [`pushed_gently`](Self::pushed_gently)): `s` does not give. Its restitution is that of
     /// an impact on a boundary (a cure acts only through k's own past, as at a wall: the row, hit
-    /// over and
-    /// over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
+    /// over and over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
     /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
     /// disk moving with the floor, and the row stays at rest. The exact engine would send the
     /// push through the row to the wall and back in a chain of collisions at one instant, for
     /// ever under a cure (the *exact jam*).
-    pub(super) fn meet_jammed_row(
-        &mut self,
-        k: usize,
-        s: usize,
-        (sx, sy): (f64, f64),
-    ) -> Result<()> {
+    pub(super) fn meet_held(&mut self, k: usize, s: usize, (sx, sy): (f64, f64)) -> Result<()> {
         let now = self.now;
         let (_, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
         let dist = (sx * sx + sy * sy).sqrt();

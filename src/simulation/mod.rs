@@ -120,8 +120,6 @@ pub struct Simulation<F: Flight> {
     /// Events of disk i within `√(zeno_instant2 · a_i)` of the first of a burst count as at one
     /// instant for `same_instant`: the square of `jams::INSTANT` time units per unit radius.
     zeno_instant2: f64,
-    /// `zeno_instant2` times the largest radius: a bound for every disk.
-    zeno_instant2_max: f64,
     /// The event loop prefetches what it will read (from
     /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,

@@ -182,7 +182,6 @@ impl<F: Flight> Simulation<F> {
             in_cluster: Vec::new(),
             same_instant: Vec::new(),
             zeno_instant2: 0.0,
-            zeno_instant2_max: 0.0,
             prefetching: n >= crate::prefetch::PREFETCH_FROM,
         };
         if sim.floor.is_some() {
@@ -190,7 +189,6 @@ impl<F: Flight> Simulation<F> {
             if sim.resting_contacts {
                 sim.same_instant = vec![(f64::NAN, 0); n];
                 sim.zeno_instant2 = jams::instant2(sim.flight.g(), sim.floor.as_ref());
-                sim.zeno_instant2_max = sim.zeno_instant2 * a_max;
             }
         }
         sim.check_initial_state()?;
