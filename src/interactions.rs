@@ -66,6 +66,17 @@ pub fn paths_meet(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> bool {
     (b < 0.0) & (b * b - dv2 * c >= 0.0)
 }
 
+/// [`paths_meet`], and `false` too for pairs that [`contact_time_within`] turns down for a
+/// `horizon` from now (apart, and unable to touch before it). Branch-free.
+#[inline(always)]
+pub fn paths_meet_within(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, horizon: f64) -> bool {
+    let b = dx * dvx + dy * dvy;
+    let c = dx * dx + dy * dy - s * s;
+    let dv2 = dvx * dvx + dvy * dvy;
+    let too_late = (c > 0.0) & (c >= -2.0 * b * horizon * (1.0 + 1e-12));
+    (b < 0.0) & (b * b - dv2 * c >= 0.0) & !too_late
+}
+
 /// Outcome of one pair collision.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impulse {

@@ -17,7 +17,8 @@ use proptest::prelude::*;
 use proptest::test_runner::Config;
 use std::f64::consts::{PI, TAU};
 use vibrobed::interactions::{
-    collide, collide_rebounding, contact_time, rider_contact, RiderContact,
+    collide, collide_rebounding, contact_time, contact_time_within, paths_meet_within,
+    rider_contact, RiderContact,
 };
 use vibrobed::locals::floor::{Floor, FloorEvent};
 use vibrobed::scenario::{FloorModel, Waveform};
@@ -282,6 +283,43 @@ proptest! {
         let (dx, dy) = rot(th, -dist * s, p);
         let (dvx, dvy) = rot(th, v, 0.0);
         check_pair(&Pair { dx: dx * len, dy: dy * len, dvx: dvx * speed, dvy: dvy * speed, s: s * len })?;
+    }
+
+    /// The prediction's first pass (`paths_meet_within`) keeps every pair that touches before
+    /// the horizon: whenever `contact_time_within` finds a contact earlier than the horizon,
+    /// the pair was kept — near the horizon too (contacts at 1 ± 10^-k of it).
+    #[test]
+    fn first_pass_keeps_every_contact_before_the_horizon(
+        th in 0.0f64..TAU, aim in -1.2f64..1.2,
+        dist in 1.0f64..8.0,
+        v in 0.01f64..3.0,
+        s in 0.1f64..3.0,
+        k in 1i32..=15, later in any::<bool>(), at_contact in any::<bool>(),
+        len in scale(), speed in scale(),
+    ) {
+        let (dx, dy) = rot(th, -dist * s * len, aim * s * len);
+        let (dvx, dvy) = rot(th, v * speed, 0.0);
+        let s = s * len;
+        let Some(t) = contact_time(dx, dy, dvx, dvy, s, 0.0) else {
+            return Ok(());
+        };
+        // A horizon just before or after the contact, or anywhere.
+        let horizon = if at_contact {
+            t * (1.0 + if later { 1.0 } else { -1.0 } * 10f64.powi(-k))
+        } else {
+            t * 10f64.powi(k - 8)
+        };
+        if let Some(tw) = contact_time_within(dx, dy, dvx, dvy, s, 0.0, horizon) {
+            if tw < horizon {
+                prop_assert!(
+                    paths_meet_within(dx, dy, dvx, dvy, s, horizon),
+                    "contact at {tw} before the horizon {horizon} dropped by the first pass"
+                );
+            }
+        }
+        if !paths_meet_within(dx, dy, dvx, dvy, s, horizon) {
+            prop_assert!(t >= horizon, "dropped a contact at {t} before the horizon {horizon}");
+        }
     }
 
     /// Near-zero relative speed: |Δv| down to 10^-12 of the scale, approaching in any direction.

@@ -142,7 +142,9 @@ impl Dutc {
         self.since = now;
         self.vmax = vmax;
         self.accel = accel;
-        self.deadline = self.horizon();
+        // Faster bounds only bring the deadline forward; the minimum keeps round-off from
+        // moving it back (predictions leave out contacts after it).
+        self.deadline = self.horizon().min(self.deadline);
     }
 
     /// A disk now moves at speed √`speed_sq` (falling frame); tightens the deadline if it is a
