@@ -324,6 +324,11 @@ impl DenseCells {
         (iy + self.pad) as usize * self.stride + (ix + self.pad) as usize
     }
 
+    /// Width of the halo, in cells.
+    pub fn pad(&self) -> u32 {
+        self.pad
+    }
+
     /// Calls `found` with every disk in the mask `rows` around `(ix, iy)`, reading each row
     /// as one run of slots (the halo makes every row contiguous).
     #[inline]
@@ -391,11 +396,9 @@ impl CellMap for DenseCells {
         let p = self.pad as usize;
         self.stride = nx + 2 * p;
         let n = self.stride * (ny + 2 * p);
-        if self.slots.len() != n {
-            self.slots = vec![0; n];
-        } else {
-            self.slots.fill(0);
-        }
+        // Emptied in place: a window re-mapped over a changing number of rows keeps its room.
+        self.slots.clear();
+        self.slots.resize(n, 0);
         for i in 0..count {
             let (ix, iy) = cell(i);
             let k = self.index(ix, iy);
@@ -508,9 +511,35 @@ pub struct SparseCells {
     several: bool,
     /// How many entries bucket k holds.
     d: Vec<u32>,
+    /// One disk per cell: at a mapping whose disks all lie in few enough rows (see
+    /// [`WINDOW_CELLS_PER_DISK`]), they go into dense slots over those rows instead of A, BX,
+    /// BY, C, D, and the mask is read row by row from the slots (branch-free, as on a closed
+    /// domain's dense grid). Its halo is as wide as the scene's mask: a map made with
+    /// [`Default`] has none and never uses it.
+    #[serde(default)]
+    window: DenseCells,
+    /// The last mapping used the window, over this many rows (0: it did not).
+    #[serde(default)]
+    window_rows: u32,
 }
 
+/// Largest dense window, in cells per disk (plus [`WINDOW_CELLS_FLOOR`]): above it (a disk
+/// far above the others, a dilute bed spread high) the mapping keeps Isobe's arrays, whose
+/// size does not depend on where the disks are.
+pub const WINDOW_CELLS_PER_DISK: u64 = 64;
+/// Cells any window may have, whatever the number of disks.
+pub const WINDOW_CELLS_FLOOR: u64 = 1 << 16;
+
 impl SparseCells {
+    /// A map of one disk per cell, with a dense window's halo wide enough for masks of
+    /// half-width `pad`.
+    pub fn with_window(pad: u32) -> SparseCells {
+        SparseCells {
+            window: DenseCells::with_pad(pad),
+            ..SparseCells::default()
+        }
+    }
+
     #[inline(always)]
     fn bucket(&self, ix: u32, iy: u32) -> usize {
         let serial = self.nx * iy as u64 + ix as u64; // N_G − 1
@@ -559,6 +588,20 @@ impl CellMap for SparseCells {
         cell: impl Fn(usize) -> (u32, u32),
     ) -> Result<()> {
         self.nx = geometry.nx as u64;
+        self.window_rows = 0;
+        if !self.several && self.window.pad() > 0 {
+            let rows = (0..n).map(|i| cell(i).1 as u64 + 1).max().unwrap_or(1);
+            let pad = 2 * self.window.pad() as u64;
+            let cells = (self.nx + pad) * (rows + pad);
+            if cells <= WINDOW_CELLS_PER_DISK * n as u64 + WINDOW_CELLS_FLOOR {
+                let mut band = geometry.clone();
+                band.ny = Some(rows as u32);
+                band.y_periodic = false;
+                self.window.map(&band, n, cell)?;
+                self.window_rows = rows as u32;
+                return Ok(());
+            }
+        }
         let m = (n / 2).max(1).next_power_of_two();
         self.fold = m as u64 - 1;
         self.d.clear();
@@ -607,6 +650,13 @@ impl CellMap for SparseCells {
 
     #[inline(always)]
     fn disk_at(&self, ix: u32, iy: u32) -> Option<u32> {
+        if self.window_rows > 0 {
+            return if iy < self.window_rows {
+                self.window.disk_at(ix, iy)
+            } else {
+                None
+            };
+        }
         let k = self.bucket(ix, iy);
         let start = self.c[k] as usize;
         let end = start + self.d[k] as usize;
@@ -616,6 +666,10 @@ impl CellMap for SparseCells {
     }
 
     fn insert(&mut self, _: &GridGeometry, (ix, iy): (u32, u32), i: u32) -> Result<bool> {
+        if self.window_rows > 0 {
+            // The window is for whole mappings: one disk moving re-maps them all.
+            return Ok(false);
+        }
         if let Some(j) = self.disk_at(ix, iy).filter(|_| !self.several) {
             if j != i {
                 return Err(shared_cell(j, i));
@@ -635,6 +689,9 @@ impl CellMap for SparseCells {
     }
 
     fn remove(&mut self, _: &GridGeometry, (ix, iy): (u32, u32), i: u32) {
+        if self.window_rows > 0 {
+            return;
+        }
         let k = self.bucket(ix, iy);
         let start = self.c[k] as usize;
         let last = start + self.d[k] as usize - 1;
@@ -661,6 +718,13 @@ impl CellMap for SparseCells {
         (ix, iy): (u32, u32),
         mut found: impl FnMut(u32),
     ) {
+        if self.window_rows > 0 {
+            if mask.half_width as u32 <= self.window.pad() {
+                return self.window.gather_rows(&mask.half_rows, (ix, iy), found);
+            }
+            // A mask wider than the halo: cell by cell (the window answers each cell).
+            return self.gather(geometry, &mask.half, (ix, iy), found);
+        }
         /// Longest row read in one go (masks up to R10 have rows of 19 cells).
         const ROW: usize = 32;
         let cell_by_cell = |dy: i32, lo: i32, hi: i32, found: &mut dyn FnMut(u32)| {
@@ -715,6 +779,7 @@ impl CellMap for SparseCells {
             + self.by.capacity()
             + self.c.capacity()
             + self.d.capacity())
+            + self.window.bytes()
     }
 }
 
@@ -761,6 +826,49 @@ mod tests {
                         mask.name
                     );
                 }
+            }
+        }
+    }
+
+    /// A mapping whose disks lie in few rows uses the dense window, and finds the half mask in
+    /// the same order as Isobe's arrays; a disk far up sends it back to the arrays.
+    #[test]
+    fn the_dense_window_finds_what_the_arrays_find() {
+        let mut rng = Xoshiro256StarStar::seed_from_u64(11);
+        for k in 0..9 {
+            let mask = Mask::table(k);
+            for periodic in [true, false] {
+                let geometry = GridGeometry::new(0.5, 30.0, periodic, 0.0, None, false);
+                let mut cells = Vec::new();
+                for ix in 0..geometry.nx {
+                    for iy in 0..12 {
+                        if rng.random::<f64>() < 0.4 {
+                            cells.push((ix, iy));
+                        }
+                    }
+                }
+                for i in (1..cells.len()).rev() {
+                    cells.swap(i, rng.random_range(0..=i));
+                }
+                let mut window = SparseCells::with_window(mask.half_width as u32);
+                window.map(&geometry, cells.len(), |i| cells[i]).unwrap();
+                assert!(window.window_rows > 0, "{}: the window is used", mask.name);
+                let mut arrays = SparseCells::default();
+                arrays.map(&geometry, cells.len(), |i| cells[i]).unwrap();
+                assert_eq!(arrays.window_rows, 0);
+                for &cell in &cells {
+                    let (mut w, mut a) = (Vec::new(), Vec::new());
+                    window.gather_half(&geometry, &mask, cell, |j| w.push(j));
+                    arrays.gather_half(&geometry, &mask, cell, |j| a.push(j));
+                    assert_eq!(w, a, "{} periodic {periodic} {cell:?}", mask.name);
+                    for dy in 0..3 {
+                        let up = (cell.0, cell.1 + dy);
+                        assert_eq!(window.disk_at(up.0, up.1), arrays.disk_at(up.0, up.1));
+                    }
+                }
+                cells.push((0, 1 << 30));
+                window.map(&geometry, cells.len(), |i| cells[i]).unwrap();
+                assert_eq!(window.window_rows, 0, "a disk far up: Isobe's arrays");
             }
         }
     }

@@ -38,7 +38,7 @@ impl Cells {
         match (geometry.ny.is_some() && !hashed, anchors) {
             (true, false) => Cells::Dense(DenseCells::with_pad(mask.half_width as u32)),
             (true, true) => Cells::Linked(LinkedCells::default()),
-            (false, false) => Cells::Sparse(SparseCells::default()),
+            (false, false) => Cells::Sparse(SparseCells::with_window(mask.half_width as u32)),
             (false, true) => Cells::Sparse(SparseCells::for_anchors()),
         }
     }
