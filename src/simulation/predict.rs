@@ -309,6 +309,9 @@ impl<F: Flight> Simulation<F> {
         who.fill(partner::NONE);
         let any_rider = self.riders.any();
         let (motion, radius) = (&self.disks.motion, &self.disks.radius);
+        // Contacts after the next re-mapping do not matter (see `pair_horizon`).
+        let limit = self.pair_horizon();
+        let within = limit.is_finite();
         // Two passes per chunk of each half list, as in `pair_event_in_flight`.
         const CHUNK: usize = 16;
         let mut meeting = [0u32; CHUNK];
@@ -331,8 +334,14 @@ impl<F: Flight> Simulation<F> {
                     let s = radius[i] + radius[j as usize];
                     // Pairs with a rider are done disk by disk below.
                     let flying = !riding_i & !(any_rider && self.is_riding(j as usize));
+                    let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
+                    let meet = if within {
+                        paths_meet_within(dx, dy, dvx, dvy, s, limit)
+                    } else {
+                        paths_meet(dx, dy, dvx, dvy, s)
+                    };
                     meeting[k] = j;
-                    k += (flying & paths_meet(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s)) as usize;
+                    k += (flying & meet) as usize;
                 }
                 for &j in &meeting[..k] {
                     let j = j as usize;
@@ -340,7 +349,7 @@ impl<F: Flight> Simulation<F> {
                     let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
                     let s = radius[i] + radius[j];
                     let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
-                    let horizon = best[i].max(best[j]);
+                    let horizon = best[i].max(best[j]).min(limit);
                     if let Some(dt) =
                         contact_time_within(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed, horizon)
                     {
