@@ -10,7 +10,10 @@
 //!   bucket k starts in A and `D(k)` how many entries it holds. Isobe's direct bucket index needs
 //!   `N_Gmax/L` buckets, which grows with the height of the highest disk; folding it modulo
 //!   `M` (a power of two ≈ N/2) keeps memory O(N) whatever the height, at the price of buckets
-//!   that may mix far-apart rows (a look-up still checks BX and BY).
+//!   that may mix far-apart rows (a look-up still checks BX and BY). A mapping whose disks all
+//!   lie in few enough rows uses a [`DenseCells`] window over those rows instead (one disk per
+//!   cell, so the scene's mask is read without branches), and falls back to the arrays when a
+//!   disk is far above the rest: both give the same disks in the same order.
 
 use crate::error::{Error, Result};
 
