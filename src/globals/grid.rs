@@ -519,10 +519,8 @@ pub struct SparseCells {
     /// BY, C, D, and the mask is read row by row from the slots (branch-free, as on a closed
     /// domain's dense grid). Its halo is as wide as the scene's mask: a map made with
     /// [`Default`] has none and never uses it.
-    #[serde(default)]
     window: DenseCells,
     /// The last mapping used the window, over this many rows (0: it did not).
-    #[serde(default)]
     window_rows: u32,
 }
 
