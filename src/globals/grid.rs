@@ -590,7 +590,9 @@ impl CellMap for SparseCells {
     ) -> Result<()> {
         self.nx = geometry.nx as u64;
         self.window_rows = 0;
-        if !self.several && self.window.pad() > 0 {
+        // Not where y is periodic: the window's rows do not wrap (mask rows would miss the
+        // pairs across the top and bottom edges).
+        if !self.several && self.window.pad() > 0 && !geometry.y_periodic {
             let rows = (0..n).map(|i| cell(i).1 as u64 + 1).max().unwrap_or(1);
             let pad = 2 * self.window.pad() as u64;
             let cells = (self.nx + pad) * (rows + pad);
@@ -872,5 +874,22 @@ mod tests {
                 assert_eq!(window.window_rows, 0, "a disk far up: Isobe's arrays");
             }
         }
+    }
+
+    /// A closed box with periodic y on the compressed array (`engine.grid = "hashed"`): the
+    /// mask wraps round the top and bottom, which a window over rows cannot; the arrays are
+    /// kept and find the pairs across that edge.
+    #[test]
+    fn a_box_periodic_in_y_keeps_the_arrays() {
+        let mask = Mask::table(2);
+        let geometry = GridGeometry::new(0.5, 10.0, true, 0.0, Some(10.0), true);
+        let ny = geometry.ny.unwrap();
+        let cells = [(3, 0), (3, ny - 1), (7, 5)];
+        let mut sparse = SparseCells::with_window(mask.half_width as u32);
+        sparse.map(&geometry, cells.len(), |i| cells[i]).unwrap();
+        assert_eq!(sparse.window_rows, 0);
+        let mut found = Vec::new();
+        sparse.gather_half(&geometry, &mask, cells[1], |j| found.push(j));
+        assert_eq!(found, [0], "the disk across the periodic edge");
     }
 }
