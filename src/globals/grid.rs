@@ -728,7 +728,11 @@ impl CellMap for SparseCells {
             // A mask wider than the halo: cell by cell (the window answers each cell).
             return self.gather(geometry, &mask.half, (ix, iy), found);
         }
-        /// Longest row read in one go (masks up to R10 have rows of 19 cells).
+        debug_assert!(
+            !self.several,
+            "one disk per cell (anchors use gather_half_of)"
+        );
+        /// Longest row read in one go, plus one (masks up to R10 have rows of 19 cells).
         const ROW: usize = 32;
         let cell_by_cell = |dy: i32, lo: i32, hi: i32, found: &mut dyn FnMut(u32)| {
             for dx in lo..=hi {
@@ -751,7 +755,8 @@ impl CellMap for SparseCells {
             let first = (self.nx * y as u64 + x0 as u64) / BUCKET_CELLS;
             let last = (self.nx * y as u64 + x1 as u64) / BUCKET_CELLS;
             let straight = x1 >= x0 && (x1 - x0) as i64 == (hi - lo) as i64;
-            if !straight || (hi - lo) as usize >= ROW || last - first > self.fold {
+            // Room for every cell of the row and one more write (the last, unkept, entry).
+            if !straight || (hi - lo) as usize + 1 >= ROW || last - first > self.fold {
                 cell_by_cell(dy, lo, hi, &mut found);
                 continue;
             }
