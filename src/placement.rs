@@ -7,6 +7,7 @@
 //! in a few seconds for 10⁶ disks.
 
 use crate::error::{Error, Result};
+use crate::locals::nearest_image;
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -323,10 +324,10 @@ pub fn melt_mc(
                         let mut dx = p[0] - pos[j][0];
                         let mut dy = p[1] - pos[j][1];
                         if r.x_periodic {
-                            dx -= width * (dx / width).round();
+                            dx = nearest_image(dx, width);
                         }
                         if r.y_periodic {
-                            dy -= height * (dy / height).round();
+                            dy = nearest_image(dy, height);
                         }
                         let s = (a + radius[j]) * (1.0 + 1e-9);
                         if dx * dx + dy * dy < s * s {
@@ -481,8 +482,8 @@ mod tests {
                 let mut dx = pos[i][0] - pos[j][0];
                 let mut dy = pos[i][1] - pos[j][1];
                 if let Some((w, h)) = period {
-                    dx -= w * (dx / w).round();
-                    dy -= h * (dy / h).round();
+                    dx = nearest_image(dx, w);
+                    dy = nearest_image(dy, h);
                 }
                 worst = worst.min((dx * dx + dy * dy).sqrt() / (radius[i] + radius[j]));
             }

@@ -23,6 +23,26 @@ pub enum SideBounds {
     },
 }
 
+/// `d − period · round(d / period)` (rounding half away from zero), the separation `d` brought
+/// to its nearest periodic image: the same value, bit for bit, without a call to libm's `round`
+/// when `|d|` is less than 1.5 periods (the common case: positions within one period).
+#[inline(always)]
+pub fn nearest_image(d: f64, period: f64) -> f64 {
+    let q = d / period;
+    if q.abs() < 0.5 {
+        d
+    } else if q.abs() < 1.5 {
+        // round(q) = ±1, and d − period · (±1) is exactly d ∓ period.
+        if q > 0.0 {
+            d - period
+        } else {
+            d + period
+        }
+    } else {
+        d - period * q.round()
+    }
+}
+
 /// Which side wall a disk hits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Side {
@@ -160,4 +180,34 @@ fn rebound(v: &mut f64, after: f64, m: f64) -> f64 {
 #[inline]
 pub fn static_floor_impact(y: f64, vy: f64, a: f64, g: f64) -> Option<f64> {
     time_to_fall(y - a, vy, g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_image_is_the_rounding_form_bit_for_bit() {
+        let period = 7.3;
+        let mut d = -30.0f64;
+        while d < 30.0 {
+            for x in [
+                d,
+                d.next_up(),
+                d.next_down(),
+                0.5 * period,
+                -0.5 * period,
+                1.5 * period,
+                -1.5 * period,
+            ] {
+                let expected = x - period * (x / period).round();
+                assert_eq!(
+                    nearest_image(x, period).to_bits(),
+                    expected.to_bits(),
+                    "{x}"
+                );
+            }
+            d += 0.0137;
+        }
+    }
 }

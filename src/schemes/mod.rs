@@ -19,7 +19,7 @@ pub mod time_step;
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::{Error, Result};
-use crate::locals::{SideBounds, Top};
+use crate::locals::{nearest_image, SideBounds, Top};
 use crate::simulation::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, Snapshot};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
@@ -188,10 +188,10 @@ impl<F: Flight> Integrator for Simulation<F> {
 #[inline(always)]
 pub(crate) fn min_image(sides: SideBounds, top: Top, mut dx: f64, mut dy: f64) -> (f64, f64) {
     if let SideBounds::Periodic { width } = sides {
-        dx -= width * (dx / width).round();
+        dx = nearest_image(dx, width);
     }
     if let Top::Periodic { height } = top {
-        dy -= height * (dy / height).round();
+        dy = nearest_image(dy, height);
     }
     (dx, dy)
 }
