@@ -36,8 +36,7 @@ pub fn contact_time_within(
         return None;
     }
     let c = dx * dx + dy * dy - s * s;
-    // The factor keeps the rejection clear of the round-off of the division below.
-    if c > 0.0 && c >= -2.0 * b * horizon * (1.0 + 1e-12) {
+    if beyond(b, c, horizon) {
         return None;
     }
     let dv2 = dvx * dvx + dvy * dvy;
@@ -66,15 +65,21 @@ pub fn paths_meet(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64) -> bool {
     (b < 0.0) & (b * b - dv2 * c >= 0.0)
 }
 
+/// `true` for an approaching pair apart (`b = Δr·Δv < 0`, `c = Δr² − s² > 0`) that cannot
+/// touch within `horizon`: its contact time is at least `c / (−2b)`. The factor keeps the test
+/// clear of the round-off of the contact time's division.
+#[inline(always)]
+fn beyond(b: f64, c: f64, horizon: f64) -> bool {
+    (c > 0.0) & (c >= -2.0 * b * horizon * (1.0 + 1e-12))
+}
+
 /// [`paths_meet`], and `false` too for pairs that [`contact_time_within`] turns down for a
 /// `horizon` from now (apart, and unable to touch before it). Branch-free.
 #[inline(always)]
 pub fn paths_meet_within(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, horizon: f64) -> bool {
     let b = dx * dvx + dy * dvy;
     let c = dx * dx + dy * dy - s * s;
-    let dv2 = dvx * dvx + dvy * dvy;
-    let too_late = (c > 0.0) & (c >= -2.0 * b * horizon * (1.0 + 1e-12));
-    (b < 0.0) & (b * b - dv2 * c >= 0.0) & !too_late
+    paths_meet(dx, dy, dvx, dvy, s) & !beyond(b, c, horizon)
 }
 
 /// Outcome of one pair collision.

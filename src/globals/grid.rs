@@ -795,8 +795,25 @@ impl CellMap for SparseCells {
 mod tests {
     use super::*;
     use crate::globals::Mask;
+    use rand::seq::SliceRandom;
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256StarStar;
+
+    /// Disks in four cells of ten of the lowest twelve rows of `nx` columns, and in `extra`,
+    /// numbered in no particular order of the cells.
+    fn random_cells(
+        rng: &mut Xoshiro256StarStar,
+        nx: u32,
+        extra: &[(u32, u32)],
+    ) -> Vec<(u32, u32)> {
+        let mut cells: Vec<(u32, u32)> = (0..nx)
+            .flat_map(|ix| (0..12).map(move |iy| (ix, iy)))
+            .filter(|_| rng.random::<f64>() < 0.4)
+            .chain(extra.iter().copied())
+            .collect();
+        cells.shuffle(rng);
+        cells
+    }
 
     /// The row-by-row scan of the compressed array finds the disks of the half mask in exactly
     /// the order of the cell-by-cell scan: every mask, periodic sides and walls, disks on the
@@ -808,20 +825,8 @@ mod tests {
             let mask = Mask::table(k);
             for periodic in [true, false] {
                 let geometry = GridGeometry::new(0.5, 30.0, periodic, 0.0, None, false);
-                let (nx, mut cells) = (geometry.nx, Vec::new());
-                for ix in 0..nx {
-                    for iy in 0..12 {
-                        if rng.random::<f64>() < 0.4 {
-                            cells.push((ix, iy));
-                        }
-                    }
-                }
-                cells.push((nx / 2, u32::MAX - 3));
-                cells.push((0, u32::MAX - 2));
-                // Disk numbers in no particular order of the cells.
-                for i in (1..cells.len()).rev() {
-                    cells.swap(i, rng.random_range(0..=i));
-                }
+                let far = [(geometry.nx / 2, u32::MAX - 3), (0, u32::MAX - 2)];
+                let cells = random_cells(&mut rng, geometry.nx, &far);
                 let mut sparse = SparseCells::default();
                 sparse.map(&geometry, cells.len(), |i| cells[i]).unwrap();
                 for &cell in &cells {
@@ -847,17 +852,7 @@ mod tests {
             let mask = Mask::table(k);
             for periodic in [true, false] {
                 let geometry = GridGeometry::new(0.5, 30.0, periodic, 0.0, None, false);
-                let mut cells = Vec::new();
-                for ix in 0..geometry.nx {
-                    for iy in 0..12 {
-                        if rng.random::<f64>() < 0.4 {
-                            cells.push((ix, iy));
-                        }
-                    }
-                }
-                for i in (1..cells.len()).rev() {
-                    cells.swap(i, rng.random_range(0..=i));
-                }
+                let mut cells = random_cells(&mut rng, geometry.nx, &[]);
                 let mut window = SparseCells::with_window(mask.half_width as u32);
                 window.map(&geometry, cells.len(), |i| cells[i]).unwrap();
                 assert!(window.window_rows > 0, "{}: the window is used", mask.name);

@@ -49,6 +49,23 @@ fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
+/// Asserts that `a` and `b` (with summaries `sa` and `sb` from [`summary`]) are one run: the
+/// first has more than `min_pairs` pair collisions to compare, the summaries are equal, and the
+/// final states are the same bit for bit.
+pub fn assert_same_runs(
+    what: &str,
+    (a, sa): (&Scenario, &Value),
+    (b, sb): (&Scenario, &Value),
+    min_pairs: u64,
+) {
+    assert!(
+        sa["events"]["pair"].as_u64().unwrap() > min_pairs,
+        "{what}: too few collisions to compare"
+    );
+    assert_eq!(sa, sb, "{what}: summaries differ");
+    same_final_state(what, a, b);
+}
+
 /// Asserts that `a` and `b` end in the same state, bit for bit.
 pub fn same_final_state(what: &str, a: &Scenario, b: &Scenario) {
     let ((sa, ca, va), (sb, cb, vb)) = (final_state(a), final_state(b));
