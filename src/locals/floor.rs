@@ -617,14 +617,14 @@ mod tests {
         for k in 0..200_000 {
             let fl = &floors[k % floors.len()];
             let (a, g) = (0.5, if k % 7 == 0 { 0.0 } else { 1.0 });
-            let y = rng.gen_range(-0.2..3.0);
-            let vy = rng.gen_range(-2.0..2.0);
-            let now = rng.gen_range(0.0..10.0);
+            let y = rng.random_range(-0.2..3.0);
+            let vy = rng.random_range(-2.0..2.0);
+            let now = rng.random_range(0.0..10.0);
             // Limits around the fall to the floor's reach, where the shortcut decides.
             let h = y - a - fl.amplitude;
             let fall = time_to_fall(h, vy, g).unwrap_or(1.0);
             let limit = now
-                + fall * rng.gen_range(0.0..2.0)
+                + fall * rng.random_range(0.0..2.0)
                 + if k % 11 == 0 { f64::INFINITY } else { 0.0 };
             let full = fl.next_event_within_reach(y, vy, a, g, now, limit);
             assert_eq!(
