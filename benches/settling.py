@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""Do poured piles and jammed beds come to rest, and what do they cost once there?
+
+The two matrices the README's stability section quotes, run with a built vibrobed:
+
+- piles: 400 disks poured from a random start onto a static floor (seed 1, width 20.3, floor
+  restitution 0.5, 60 time units): equal (radius 0.5) or polydisperse (radii 0.4-0.6) disks,
+  side walls or periodic sides, pair restitution e = 0, 0.5, 0.95, with TC (t_c = 1e-3) or the
+  speed cutoff (0.01); 24 runs. The target of the resting-contacts issue: every disk at rest,
+  and at most one event per disk per unit time averaged over the last half (t = 30-60).
+- jam: the *exact jam*, 24 equal disks in a width of exactly 3, 4 or 5 diameters
+  (scenarios/hard/bed_at_rest_tc.json), seeds 3-6, 60 time units; 12 runs.
+
+Each run goes to t = 30, writes a checkpoint and is resumed to t = 60, so that the events of the
+last half are counted exactly (a resumed run is the uninterrupted run, bit for bit). Runs go two
+at a time (--jobs). Wall times are whole-process and only indicative.
+
+Usage, from the project root (builds the engine without the recorder first):
+    benches/settling.py                 # both matrices (about 10 minutes on 2 cores)
+    benches/settling.py piles           # one of them
+    benches/settling.py --bin PATH jam  # another build
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PILE = os.path.join(ROOT, "scenarios/hard/pile_poly_walls_cutoff.json")
+JAM = os.path.join(ROOT, "scenarios/hard/bed_at_rest_tc.json")
+HALF, DURATION = 30.0, 60.0
+
+
+def pile_runs():
+    for radius in ("equal", "poly"):
+        for sides in ("walls", "periodic"):
+            for e in (0.0, 0.5, 0.95):
+                for cure in ("tc", "cutoff"):
+                    s = json.load(open(PILE))
+                    s["name"] = f"pile of 400, {radius}, {sides}, e = {e}, {cure}"
+                    s["particles"]["count"] = 400
+                    s["particles"]["radius"] = 0.5 if radius == "equal" else {"min": 0.4, "max": 0.6}
+                    s["domain"]["width"] = 20.3
+                    s["domain"]["x_boundary"] = sides
+                    s["floor"]["restitution"] = 0.5
+                    s["collisions"] = {"restitution": e}
+                    s["collisions"]["tc" if cure == "tc" else "speed_cutoff"] = 1e-3 if cure == "tc" else 0.01
+                    s["seed"] = 1
+                    s["run"] = {"duration": HALF, "max_events": 50_000_000}
+                    s["engine"] = {"check_invariants": False}
+                    yield f"{radius:5} {sides:8} e={e:<4} {cure:6}", s
+
+
+def jam_runs():
+    for width in (3, 4, 5):
+        for seed in (3, 4, 5, 6):
+            s = json.load(open(JAM))
+            s["name"] = f"exact jam, width {width}, seed {seed}"
+            s["domain"]["width"] = float(width)
+            s["seed"] = seed
+            s["run"]["duration"] = HALF
+            s["engine"] = {"check_invariants": False}
+            yield f"width {width} seed {seed}", s
+
+
+def events(summary):
+    return sum(summary["events"].values())
+
+
+def run_one(binary, label, scenario, work):
+    key = "".join(c if c.isalnum() else "_" for c in label)
+    path = os.path.join(work, key + ".json")
+    ckpt = os.path.join(work, key + ".ckpt")
+    first, second = (os.path.join(work, key + s) for s in (".a.json", ".b.json"))
+    json.dump(scenario, open(path, "w"))
+    t0 = time.perf_counter()
+    quiet = dict(stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([binary, "run", path, "--quiet", "--checkpoint", ckpt, "--summary", first], **quiet)
+    a = json.load(open(first))
+    b = a
+    if a["ending"] == "completed":
+        subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={DURATION}",
+                        "--summary", second], **quiet)
+        b = json.load(open(second))
+    wall = time.perf_counter() - t0
+    n = a["particles"]
+    last = (events(b) - events(a)) / n / (DURATION - HALF) if b["ending"] == "completed" else None
+    rest = b.get("at_rest_since")
+    ok = b["ending"] == "completed" and rest is not None and last is not None and last <= 1.0
+    return label, b["ending"], b["sim_time"], rest, events(b), last, ok, wall
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("matrix", nargs="*", help="piles, jam (default: both)")
+    p.add_argument("--bin", help="vibrobed binary (default: build and use target/release/vibrobed)")
+    p.add_argument("--jobs", type=int, default=2)
+    args = p.parse_args()
+    matrices = args.matrix or ["piles", "jam"]
+    unknown = [m for m in matrices if m not in ("piles", "jam")]
+    if unknown:
+        p.error(f"unknown matrix {unknown[0]!r} (piles or jam)")
+    binary = args.bin
+    if binary is None:
+        subprocess.run(["cargo", "build", "--release", "--no-default-features", "-q"], cwd=ROOT, check=True)
+        target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
+        binary = os.path.join(target, "release", "vibrobed")
+    work = tempfile.mkdtemp(prefix="vibrobed-settling-")
+    for name in matrices:
+        runs = list(pile_runs() if name == "piles" else jam_runs())
+        print(f"\n{name}: at rest from (first sample time after which every disk stays at rest), "
+              f"events per disk per unit time over t = {HALF:g}-{DURATION:g}")
+        print(f"{'run':34}{'ending':>13}{'t':>7}{'at rest':>9}{'events':>12}{'last half':>11}  target")
+        with cf.ThreadPoolExecutor(args.jobs) as pool:
+            futures = [pool.submit(run_one, binary, label, s, work) for label, s in runs]
+            results = [f.result() for f in futures]
+        for label, ending, t, rest, ev, last, ok, wall in results:
+            rest_s = "-" if rest is None else f"{rest:g}"
+            last_s = "-" if last is None else f"{last:.3g}"
+            print(f"{label:34}{ending:>13}{t:>7.2f}{rest_s:>9}{ev:>12}{last_s:>11}  {'met' if ok else 'not met'}")
+        print(f"{sum(r[6] for r in results)} of {len(results)} meet the target "
+              f"({sum(r[7] for r in results):.0f} s of runs)")
+    print(f"\nsummaries and checkpoints: {work}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
