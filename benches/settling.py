@@ -78,13 +78,17 @@ def run_one(binary, label, scenario, work):
     first, second = (os.path.join(work, key + s) for s in (".a.json", ".b.json"))
     json.dump(scenario, open(path, "w"))
     t0 = time.perf_counter()
-    quiet = dict(stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    subprocess.run([binary, "run", path, "--quiet", "--checkpoint", ckpt, "--summary", first], **quiet)
+    run = subprocess.run([binary, "run", path, "--quiet", "--checkpoint", ckpt, "--summary", first],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if not os.path.exists(first):
+        return label, f"failed ({run.returncode})", 0.0, None, 0, None, False, time.perf_counter() - t0
     a = json.load(open(first))
     b = a
     if a["ending"] == "completed":
-        subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={DURATION}",
-                        "--summary", second], **quiet)
+        run = subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={DURATION}",
+                              "--summary", second], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if not os.path.exists(second):
+            return label, f"failed ({run.returncode})", HALF, None, events(a), None, False, time.perf_counter() - t0
         b = json.load(open(second))
     wall = time.perf_counter() - t0
     n = a["particles"]
