@@ -16,11 +16,12 @@ last half are counted exactly (a resumed run is the uninterrupted run, bit for b
 at a time (--jobs). Wall times are whole-process and only indicative.
 
 Usage, from the project root (builds the engine without the recorder first):
-    benches/settling.py                 # both matrices (about 10 minutes on 2 cores)
+    benches/settling.py                 # both matrices (about 3.5 minutes on 2 cores)
     benches/settling.py piles           # one of them
     benches/settling.py --bin PATH jam  # another build
 """
 import argparse
+import collections
 import concurrent.futures as cf
 import json
 import os
@@ -33,6 +34,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PILE = os.path.join(ROOT, "scenarios/hard/pile_poly_walls_cutoff.json")
 JAM = os.path.join(ROOT, "scenarios/hard/bed_at_rest_tc.json")
 HALF, DURATION = 30.0, 60.0
+
+Result = collections.namedtuple("Result", "label ending t rest events last ok wall")
 
 
 def pile_runs():
@@ -81,21 +84,28 @@ def run_one(binary, label, scenario, work):
     run = subprocess.run([binary, "run", path, "--quiet", "--checkpoint", ckpt, "--summary", first],
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if not os.path.exists(first):
-        return label, f"failed ({run.returncode})", 0.0, None, 0, None, False, time.perf_counter() - t0
+        return failed(label, run, 0.0, 0, t0)
     a = json.load(open(first))
     b = a
     if a["ending"] == "completed":
         run = subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={DURATION}",
                               "--summary", second], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if not os.path.exists(second):
-            return label, f"failed ({run.returncode})", HALF, None, events(a), None, False, time.perf_counter() - t0
+            return failed(label, run, HALF, events(a), t0)
         b = json.load(open(second))
     wall = time.perf_counter() - t0
     n = a["particles"]
     last = (events(b) - events(a)) / n / (DURATION - HALF) if b["ending"] == "completed" else None
     rest = b.get("at_rest_since")
     ok = b["ending"] == "completed" and rest is not None and last is not None and last <= 1.0
-    return label, b["ending"], b["sim_time"], rest, events(b), last, ok, wall
+    return Result(label, b["ending"], b["sim_time"], rest, events(b), last, ok, wall)
+
+
+def failed(label, run, t, ev, t0):
+    """A run that wrote no summary: its exit code, and the last line it printed."""
+    said = run.stderr.strip().splitlines()[-1:] or [""]
+    print(f"{label}: exit {run.returncode}: {said[0]}", file=sys.stderr)
+    return Result(label, f"failed ({run.returncode})", t, None, ev, None, False, time.perf_counter() - t0)
 
 
 def main():
@@ -122,12 +132,13 @@ def main():
         with cf.ThreadPoolExecutor(args.jobs) as pool:
             futures = [pool.submit(run_one, binary, label, s, work) for label, s in runs]
             results = [f.result() for f in futures]
-        for label, ending, t, rest, ev, last, ok, wall in results:
-            rest_s = "-" if rest is None else f"{rest:g}"
-            last_s = "-" if last is None else f"{last:.3g}"
-            print(f"{label:34}{ending:>13}{t:>7.2f}{rest_s:>9}{ev:>12}{last_s:>11}  {'met' if ok else 'not met'}")
-        print(f"{sum(r[6] for r in results)} of {len(results)} meet the target "
-              f"({sum(r[7] for r in results):.0f} s of runs)")
+        for r in results:
+            rest_s = "-" if r.rest is None else f"{r.rest:g}"
+            last_s = "-" if r.last is None else f"{r.last:.3g}"
+            print(f"{r.label:34}{r.ending:>13}{r.t:>7.2f}{rest_s:>9}{r.events:>12}{last_s:>11}  "
+                  f"{'met' if r.ok else 'not met'}")
+        print(f"{sum(r.ok for r in results)} of {len(results)} meet the target "
+              f"({sum(r.wall for r in results):.0f} s of runs)")
     print(f"\nsummaries and checkpoints: {work}")
 
 
