@@ -313,6 +313,9 @@ hard_cases! {
     pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.2e4: from 15]
     // Without the pocket rule: 4.6e3, the disk sliding to the wall and back for ever.
     pocket_by_a_wall: "pocket_by_a_wall.json", 2e3; // [2.8e2: at rest from t = 2]
+    // The exact jam's wedges: a slot a hair too narrow, a full row a hair above a row at rest.
+    slot_a_hair_narrow: "slot_a_hair_narrow.json", 100.0; // [2: at rest from t = 1]
+    row_ringing_on_a_row_at_rest: "row_ringing_on_a_row_at_rest.json", 100.0; // [2.6]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]
@@ -728,23 +731,87 @@ fn beds_at_rest_press_on_the_floor_with_their_weight() {
 /// widths (deeper beds can still jam in a row that has not come to rest).
 #[test]
 fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
-    for seed in ["seed=3", "seed=4"] {
-        let s = load("bed_at_rest_tc.json", &["domain.width=4", seed]);
+    for (width, seed) in [
+        ("domain.width=4", "seed=3"),
+        ("domain.width=4", "seed=4"),
+        ("domain.width=3", "seed=4"),
+        ("domain.width=3", "seed=5"),
+    ] {
+        let s = load("bed_at_rest_tc.json", &[width, seed]);
         assert_eq!(s.advisories().len(), 1);
         let sum = run(&s, RunOptions::default()).unwrap();
         eprintln!(
-            "jammed bed ({seed}): {:?} at t = {}, at rest since {:?} after {:?}",
+            "jammed bed ({width}, {seed}): {:?} at t = {}, at rest since {:?} after {:?}",
             sum.ending, sum.sim_time, sum.at_rest_since, sum.events
         );
-        assert_eq!(sum.ending, Ending::Completed, "{seed}");
+        assert_eq!(sum.ending, Ending::Completed, "{width}, {seed}");
         assert!(
             sum.at_rest_since.is_some_and(|t| t <= 0.5 * s.run.duration),
-            "{seed}: at rest since {:?}",
+            "{width}, {seed}: at rest since {:?}",
             sum.at_rest_since
         );
         assert!(sum.max_overlap < TOLERANCE);
         assert!(sum.energy.balance_error < 1e-9);
     }
+}
+
+/// A row of two disks at rest on the floor came to rest a hair apart (10⁻⁵, within the
+/// resting contacts' touch), leaving the last slot of a width of exactly three diameters a hair
+/// too narrow. A disk dropped into it would rest wedged 4.5·10⁻³ up between its neighbour and
+/// the wall, on a contact 4.5·10⁻³ from horizontal, and tilt every column above it (the exact
+/// jam's wedge). It is let down onto the floor instead, the row pushed aside by the hair to the
+/// wall: the three disks at rest side by side on the floor, touching, and no events after.
+#[test]
+fn a_disk_in_a_slot_a_hair_too_narrow_is_let_down_onto_the_floor() {
+    let s = load("slot_a_hair_narrow.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.riders(), 3, "all at rest by t = 1");
+    let still = sim.snapshot(1.0);
+    for k in 0..3 {
+        assert!(
+            (still.y[k] - 0.5).abs() < 1e-12,
+            "disk {k} on the floor: {}",
+            still.y[k]
+        );
+        let x = 0.5 + k as f64;
+        assert!(
+            (still.x[k] - x).abs() < 1e-12,
+            "disk {k} at {x}: {}",
+            still.x[k]
+        );
+    }
+    let before = sim.counts();
+    sim.advance_to(s.run.duration).unwrap();
+    assert_eq!(sim.counts().popped(), before.popped(), "events at rest");
+}
+
+/// A full row of three flying disks 10⁻⁴ above a row at rest in a width of exactly three
+/// diameters, two of them meeting sideways at 0.01: a row with no room but round-off, whose
+/// collisions a cure keeps elastic. At their first collision the row is seated on the row below,
+/// each disk on the top of its seat, at rest, and the run costs no events after.
+#[test]
+fn a_full_row_a_hair_above_a_row_at_rest_is_seated_on_it() {
+    let s = load("row_ringing_on_a_row_at_rest.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.riders(), 6, "all at rest by t = 1");
+    assert!(sim.counts().pair <= 2, "seated at once: {:?}", sim.counts());
+    let still = sim.snapshot(1.0);
+    for k in 3..6 {
+        assert!(
+            (still.y[k] - 1.5).abs() < 1e-12,
+            "disk {k} on its seat: {}",
+            still.y[k]
+        );
+        assert!(
+            (still.x[k] - still.x[k - 3]).abs() < 1e-12,
+            "disk {k} straight above"
+        );
+    }
+    let before = sim.counts();
+    sim.advance_to(s.run.duration).unwrap();
+    assert_eq!(sim.counts().popped(), before.popped(), "events at rest");
 }
 
 /// A disk on top of a smaller one, a little off its top towards a side wall: it slides down

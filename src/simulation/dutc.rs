@@ -147,6 +147,16 @@ impl Dutc {
         self.deadline = self.horizon().min(self.deadline);
     }
 
+    /// A disk was moved by `d` at once (a rule of the resting contacts): two disks may be `d`
+    /// closer than their speeds allow.
+    pub fn displaced(&mut self, now: f64, d: f64) {
+        if self.frozen {
+            return;
+        }
+        self.used += d;
+        self.deadline = self.horizon().max(now).min(self.deadline);
+    }
+
     /// A disk now moves at speed √`speed_sq` (falling frame); tightens the deadline if it is a
     /// new maximum.
     #[inline]
@@ -205,6 +215,22 @@ mod tests {
         let d = Dutc::with_isolated(1e9, 1.0, 2.0, 100.0, 999.0);
         let t = (-1000.0 + (1e6f64 + 400.0).sqrt()) / 2.0;
         assert!((d.deadline - t).abs() < 1e-12, "{} vs {t}", d.deadline);
+    }
+
+    #[test]
+    fn a_disk_moved_at_once_uses_the_margin() {
+        // Margin 1 at speeds 1: deadline 0.5. At t = 0.1 a disk moves by 0.2 at once: 0.4 of
+        // the margin is used, 0.6 left at 2 → 0.4.
+        let mut d = Dutc::new(1.0, 1.0, 0.0);
+        d.displaced(0.1, 0.2);
+        assert!((d.deadline - 0.4).abs() < 1e-15, "{}", d.deadline);
+        // More than the margin left: re-map now, never in the past.
+        d.displaced(0.3, 1.0);
+        assert_eq!(d.deadline, 0.3);
+        // The local re-mapping's frozen deadline does not move.
+        let mut f = Dutc::frozen(7.0);
+        f.displaced(1.0, 5.0);
+        assert_eq!(f.deadline, 7.0);
     }
 
     #[test]

@@ -264,6 +264,15 @@ impl<F: Flight> Simulation<F> {
         if rode[0] && rode[1] && self.resting_contacts && self.rest_together(i, j, dx, dy)? {
             return Ok(());
         }
+        if !rode[0]
+            && !rode[1]
+            && self.resting_contacts
+            && self.riders.any()
+            && dy.abs() <= super::jams::WEDGE_DROP * dx.abs()
+            && self.seat_row(i, j)
+        {
+            return Ok(());
+        }
         if rode[0] != rode[1] && self.resting_contacts {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
             if self.try_rest_on(k, s, e)? {

@@ -8,7 +8,12 @@
 //! - **a pocket** by a side wall, where a frictionless disk slides to the wall and back
 //!   (`rest_in_pocket`);
 //! - **a closed wedge**, or disks ringing in gaps of round-off, where a flying disk has events
-//!   at one instant without end (`stop_zeno`).
+//!   at one instant without end (`stop_zeno`);
+//! - **a slot on the floor a hair too narrow**, left by a row of disks that came to rest a hair
+//!   apart, where a disk would stay wedged above the floor and tilt every column above it
+//!   (`room_on_floor`, `make_room`); and **a full row of flying disks seated on a row at
+//!   rest**, each a hair from the top of the disk below it, ringing sideways between the walls
+//!   (`seat_row`).
 
 use super::resting::TOUCH;
 use super::riders::{NO_DISK, RIGHT_WALL};
@@ -34,6 +39,29 @@ pub const ZENO: u32 = 64;
 /// Events of one disk closer together than this many time units `√(a/g)` count as at one
 /// instant (see `stop_zeno`): a disk at the sleep speed crosses 10⁻¹² radii in that time.
 pub const INSTANT: f64 = 1e-9;
+
+/// A flying disk within this many radii of the floor may be let down onto it (see
+/// `room_on_floor`).
+pub const WEDGE_DROP: f64 = 0.02;
+
+/// The most, in radii of the landing disk, that a row of disks at rest on the floor is pushed
+/// aside to make room for it (see `room_on_floor`).
+pub const ROOM: f64 = 1e-4;
+
+/// Round-off allowed when a row pushed aside fills the width exactly, in radii.
+const TIGHT: f64 = 1e-12;
+
+/// The longest row pushed aside (see `room_on_floor`).
+const ROOM_ROW: usize = 64;
+
+/// How to let a disk down onto the floor (see `room_on_floor`): move the disks `shifts` in the
+/// direction `dir` (±1 in x), each by its distance (the landing disk first, by a negative one:
+/// away from the row), and lower the landing disk by `drop`.
+pub(super) struct Room {
+    dir: f64,
+    drop: f64,
+    shifts: Vec<(u32, f64)>,
+}
 
 /// The square of [`INSTANT`] time units per unit radius, `INSTANT² / (g + h''_max)`, for disks
 /// pressed by gravity `g` and the floor's largest acceleration (0, exactly one instant, if
@@ -101,16 +129,25 @@ impl<F: Flight> Simulation<F> {
         }
         self.check_contact(k, s, dist)?;
         self.counts.pair += 1;
-        let held = if self.touches_floor(k, h) {
+        let on_floor = self.touches_floor(k, h);
+        let room = if on_floor {
+            None
+        } else {
+            self.room_on_floor(k, h)
+        };
+        let held = if on_floor || room.is_some() {
             Some([NO_DISK; 2])
         } else {
             self.stable_supports(k, s, None)
         };
         if let Some(supports) = held {
-            if !self.squeezed(k, vs, hd)
-                && !self.near_lid(k)
-                && self.come_to_rest(k, h, supports, (vs, hd))
-            {
+            let free = !self.squeezed(k, vs, hd) && !self.near_lid(k);
+            if free {
+                if let Some(room) = room {
+                    self.make_room(k, room);
+                }
+            }
+            if free && self.come_to_rest(k, h, supports, (vs, hd)) {
                 self.predict(s);
                 self.settle_cluster(k);
                 return Ok(true);
@@ -462,5 +499,291 @@ impl<F: Flight> Simulation<F> {
         cluster.clear();
         self.cluster = cluster;
         self.in_cluster = member;
+    }
+    /// Flying disk `k` (at now), within [`WEDGE_DROP`] radii above the floor's surface `h`, would
+    /// rest on the floor but for one disk at rest on the floor (not sliding) beside it, which
+    /// overlaps its place there by at most [`ROOM`] radii: a row at rest that came to rest a hair
+    /// apart (gaps within [`TOUCH`]) and left a slot a hair too narrow. Left there, k rests wedged
+    /// between that disk and a wall (or another disk) on a contact a few milliradians from
+    /// horizontal — held by a sideways force hundreds of times its weight, which the row's own
+    /// gaps could not take — and every column that comes to rest above it stands tilted, so that
+    /// the rows above ring sideways for ever under a cure (the exact jam). Frictionless, k would
+    /// slide down, pushing the row aside. Returns how: k moves away from the row as far as it
+    /// can, the row (disks at rest on the floor, each pushing the next) takes the rest, if it has
+    /// the play before a side wall and nothing else (a disk it carries, a flying disk) is in the
+    /// way; `None` otherwise.
+    pub(super) fn room_on_floor(&self, k: usize, h: f64) -> Option<Room> {
+        let now = self.now;
+        let (xk, yk, _, _) = self.state_at(k, now);
+        let a = self.disks.radius[k];
+        let drop = yk - h - a;
+        if drop <= 0.0 || drop > WEDGE_DROP * a {
+            return None;
+        }
+        let at_rest = |c: usize| {
+            self.is_riding(c) && self.riders.on_floor(c) && self.disks.motion[c].vx == 0.0
+        };
+        // What is in k's place on the floor: one disk at rest, a hair in; and how far k can
+        // move the other way (to a side wall or the next disk).
+        let mut blocker = None;
+        for &c in self.lists.of(k) {
+            let c = c as usize;
+            let (xc, yc, _, _) = self.state_at(c, now);
+            let (dx, dy) = self.wrap(xc - xk, yc - (h + a));
+            let reach = a + self.disks.radius[c];
+            if dx * dx + dy * dy >= reach * reach {
+                continue;
+            }
+            if blocker.is_some() || !at_rest(c) || dx == 0.0 {
+                return None;
+            }
+            let need = (reach * reach - dy * dy).sqrt() - dx.abs();
+            if need > ROOM * a {
+                return None;
+            }
+            blocker = Some((c, dx.signum(), need));
+        }
+        let (first, dir, need) = blocker?;
+        let mut free = f64::INFINITY;
+        if let SideBounds::Walls { width, .. } = self.sides {
+            free = if dir > 0.0 { xk - a } else { width - xk - a };
+        }
+        for &c in self.lists.of(k) {
+            let c = c as usize;
+            let (xc, yc, _, _) = self.state_at(c, now);
+            let (dx, dy) = self.wrap(xc - xk, yc - (h + a));
+            let reach = a + self.disks.radius[c];
+            if dx * dir < 0.0 && dy.abs() < reach {
+                free = free.min(dx.abs() - (reach * reach - dy * dy).sqrt());
+            }
+        }
+        let aside = free.clamp(0.0, need);
+        let mut shifts = vec![(k as u32, -aside)];
+        // The row from the blocker on, each pushed as far as it must be.
+        let (mut cur, mut rest) = (first, need - aside);
+        for _ in 0..ROOM_ROW {
+            if rest <= 0.0 {
+                return Some(Room { dir, drop, shifts });
+            }
+            shifts.push((cur as u32, rest));
+            let (x, y, _, _) = self.state_at(cur, now);
+            let ac = self.disks.radius[cur];
+            if let SideBounds::Walls { width, .. } = self.sides {
+                let gap = if dir < 0.0 { x - ac } else { width - x - ac };
+                // (A row that fills the width exactly has no play but round-off.)
+                if gap < rest - TIGHT * ac {
+                    return None;
+                }
+            }
+            let mut next = None;
+            for &c in self.lists.of(cur) {
+                let c = c as usize;
+                if shifts.iter().any(|&(d, _)| d as usize == c) {
+                    continue;
+                }
+                let (xc, yc, _, _) = self.state_at(c, now);
+                let (dx, dy) = self.wrap(xc - x, yc - y);
+                let reach = ac + self.disks.radius[c];
+                let sx = dx - dir * rest;
+                if sx * sx + dy * dy >= reach * reach {
+                    continue;
+                }
+                if next.is_some() || !at_rest(c) || dx * dir <= 0.0 {
+                    return None;
+                }
+                let room = dx.abs() - (reach * reach - dy * dy).sqrt();
+                next = Some((c, rest - room.max(0.0)));
+            }
+            match next {
+                None => return Some(Room { dir, drop, shifts }),
+                Some((c, r)) => (cur, rest) = (c, r),
+            }
+        }
+        None
+    }
+
+    /// Does what [`room_on_floor`](Self::room_on_floor) found: moves the landing disk `k` (at
+    /// now) aside and down onto the floor, its potential energy booked as dissipated (taken by
+    /// the row's contacts), and pushes the row aside (each disk of it lets go of what rests on
+    /// it, which falls the hair back onto it). The DUTC margin is charged with the largest move.
+    pub(super) fn make_room(&mut self, k: usize, room: Room) {
+        let now = self.now;
+        let mut most = room.drop;
+        for &(c, d) in &room.shifts {
+            let c = c as usize;
+            self.bring(c, now);
+            self.disks.motion[c].x += room.dir * d;
+            self.wrap_position(c);
+            most = most.max(d.abs());
+        }
+        let mass = self.disks.mass[k];
+        self.flow.dissipated += mass * self.flight.g() * room.drop;
+        self.disks.motion[k].y -= room.drop;
+        self.dutc.displaced(now, most);
+        for &(c, _) in &room.shifts[1..] {
+            let c = c as usize;
+            self.release_carried(c, None);
+            self.disks.counter[c] = self.disks.counter[c].wrapping_add(1);
+            self.predict(c);
+        }
+    }
+
+    /// Flying disks `i` and `j` (brought to now) meet side by side. If they belong to a *full
+    /// row seated on a row at rest* — disks side by side from side wall to side wall (or round
+    /// the periodic sides), each at rest (not sliding, on one support) or flying within [`ROOM`]
+    /// radii sideways and [`WEDGE_DROP`] radii up from the top of a disk at rest, not sliding,
+    /// straight below it — the row comes to rest seated: each flying disk on the top of its
+    /// seat, its kinetic energy relative to the seat and the potential energy of the hair it
+    /// drops booked as dissipated. Returns whether it did (the collision is then done).
+    ///
+    /// Such a row has no room sideways but round-off: its disks ring between each other and the
+    /// walls in gaps of 10⁻⁶ radii, and under a cure every such collision is elastic, so the row
+    /// never slows; a disk a hair out of line stands a few milliradians up on its neighbour and
+    /// turns the bouncing of the rows above into sideways motion (the exact jam). Without a
+    /// cure the sideways motion would collapse inelastically, in infinitely many collisions, to
+    /// the row at rest on its seats: the rule goes there at once.
+    pub(super) fn seat_row(&mut self, i: usize, j: usize) -> bool {
+        let now = self.now;
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let (xi, _, _, _) = self.state_at(i, now);
+        let (xj, _, _, _) = self.state_at(j, now);
+        let (left, right) = if self.wrap(xj - xi, 0.0).0 > 0.0 {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        let mut row = std::mem::take(&mut self.cluster);
+        row.clear();
+        let mut seats = Vec::new();
+        let ok = self.row_from(left, -1.0, &mut row)
+            && self.row_from(right, 1.0, &mut row)
+            && row.iter().all(|&m| match self.seat_of(m as usize) {
+                Some(seat) => {
+                    seats.push(seat);
+                    true
+                }
+                None => false,
+            })
+            && self.seats_hold(&row, &seats);
+        if ok {
+            for (&m, &(seat, x, y)) in row.iter().zip(&seats) {
+                let m = m as usize;
+                if self.is_riding(m) {
+                    continue;
+                }
+                self.bring(m, now);
+                let mass = self.disks.mass[m];
+                let (x0, y0) = (self.disks.motion[m].x, self.disks.motion[m].y);
+                self.flow.dissipated += mass * self.flight.g() * (y0 - y);
+                self.take_velocity(m, (0.0, hd));
+                self.disks.motion[m].x = x;
+                self.disks.motion[m].y = y;
+                self.wrap_position(m);
+                self.dutc.displaced(now, (x - x0).hypot(y - y0));
+                if self.riders.mount_on_disks(m, y - h, [seat, NO_DISK]) {
+                    self.counts.rest += 1;
+                }
+            }
+            self.counts.pair += 1;
+            for &m in &row {
+                self.moved(m as usize);
+            }
+        }
+        row.clear();
+        self.cluster = row;
+        ok
+    }
+
+    /// Adds to `row` disk `start` and the disks side by side with it in direction `dir` (±1),
+    /// up to a side wall; `true` if the chain reaches the wall (or comes round to a disk already
+    /// in `row`, where the sides are periodic).
+    fn row_from(&self, start: usize, dir: f64, row: &mut Vec<u32>) -> bool {
+        let now = self.now;
+        let mut cur = start;
+        for _ in 0..ROOM_ROW {
+            if row.contains(&(cur as u32)) {
+                return matches!(self.sides, SideBounds::Periodic { .. });
+            }
+            row.push(cur as u32);
+            let (x, y, _, _) = self.state_at(cur, now);
+            let a = self.disks.radius[cur];
+            if let SideBounds::Walls { width, .. } = self.sides {
+                let gap = if dir < 0.0 { x - a } else { width - x - a };
+                if gap <= ROOM * a {
+                    return true;
+                }
+            }
+            let next = self.lists.of(cur).iter().map(|&c| c as usize).find(|&c| {
+                let (xc, yc, _, _) = self.state_at(c, now);
+                let (dx, dy) = self.wrap(xc - x, yc - y);
+                let reach = a + self.disks.radius[c];
+                dx * dir > 0.0 && dx.abs() - reach <= ROOM * a && dy.abs() <= WEDGE_DROP * a
+            });
+            match next {
+                Some(c) => cur = c,
+                None => return false,
+            }
+        }
+        false
+    }
+
+    /// The seat of disk `m` (at now), and where `m` sits on it: a disk at rest, not sliding,
+    /// straight below it to within [`ROOM`] radii sideways, whose top is at most
+    /// [`WEDGE_DROP`] radii below `m`'s bottom. A disk at rest on one disk, not sliding, is
+    /// seated where it is.
+    fn seat_of(&self, m: usize) -> Option<(u32, f64, f64)> {
+        let now = self.now;
+        let (x, y, _, _) = self.state_at(m, now);
+        if self.is_riding(m) {
+            let [s, other] = self.riders.supports(m);
+            return (self.disks.motion[m].vx == 0.0 && s != NO_DISK && other == NO_DISK)
+                .then_some((s, x, y));
+        }
+        let a = self.disks.radius[m];
+        self.lists.of(m).iter().find_map(|&c| {
+            let c = c as usize;
+            if !self.is_riding(c) || self.disks.motion[c].vx != 0.0 {
+                return None;
+            }
+            let (xc, yc, _, _) = self.state_at(c, now);
+            let (dx, dy) = self.wrap(x - xc, y - yc);
+            let reach = a + self.disks.radius[c];
+            let above = dy - reach;
+            (dx.abs() <= ROOM * a && above <= WEDGE_DROP * a && above >= -ROOM * a)
+                .then_some((c as u32, x - dx, y - above))
+        })
+    }
+
+    /// Whether the row's disks, each on its seat, overlap nothing: the side walls, each other,
+    /// or any other disk near them (round-off aside).
+    fn seats_hold(&self, row: &[u32], seats: &[(u32, f64, f64)]) -> bool {
+        let now = self.now;
+        let place = |m: usize| {
+            row.iter()
+                .position(|&r| r as usize == m)
+                .map(|k| (seats[k].1, seats[k].2))
+        };
+        row.iter().zip(seats).all(|(&m, &(seat, x, y))| {
+            let m = m as usize;
+            let a = self.disks.radius[m];
+            if let SideBounds::Walls { width, .. } = self.sides {
+                if x - a < -TIGHT * a || width - x - a < -TIGHT * a {
+                    return false;
+                }
+            }
+            self.lists.of(m).iter().all(|&c| {
+                let c = c as usize;
+                if c == seat as usize {
+                    return true;
+                }
+                let (xc, yc) = place(c).unwrap_or_else(|| {
+                    let (xc, yc, _, _) = self.state_at(c, now);
+                    (xc, yc)
+                });
+                let (dx, dy) = self.wrap(x - xc, y - yc);
+                let reach = a + self.disks.radius[c];
+                dx * dx + dy * dy >= reach * reach * (1.0 - 2.0 * TIGHT)
+            })
+        })
     }
 }

@@ -69,8 +69,14 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let (h, hd) = floor.ride(now);
         let rest_v = (ms.vx, hd);
-        let supports = if self.touches_floor(k, h) {
-            [NO_DISK; 2] // beside s, on the floor
+        let on_floor = self.touches_floor(k, h);
+        let room = if on_floor {
+            None
+        } else {
+            self.room_on_floor(k, h)
+        };
+        let supports = if on_floor || room.is_some() {
+            [NO_DISK; 2] // beside s, on the floor (once there is room)
         } else {
             match self.stable_supports(k, s, Some(rest_v)) {
                 Some(supports) => supports,
@@ -100,6 +106,9 @@ impl<F: Flight> Simulation<F> {
             return Ok(false);
         }
         self.check_contact(k, s, dist)?;
+        if let Some(room) = room {
+            self.make_room(k, room);
+        }
         if !self.come_to_rest(k, h, supports, rest_v) {
             return Ok(false);
         }
