@@ -749,8 +749,11 @@ impl<F: Flight> Simulation<F> {
             let (dx, dy) = self.wrap(x - xc, y - yc);
             let reach = a + self.disks.radius[c];
             let above = dy - reach;
-            (dx.abs() <= ROOM * a && above <= WEDGE_DROP * a && above >= -ROOM * a)
-                .then_some((c as u32, x - dx, y - above))
+            (dx.abs() <= ROOM * a && above <= WEDGE_DROP * a && above >= -ROOM * a).then_some((
+                c as u32,
+                x - dx,
+                y - above,
+            ))
         })
     }
 
