@@ -116,6 +116,17 @@ fn periodic_gas_at_low_density() {
     both_remaps(json, 3000, false);
 }
 
+/// A dilute gas between side walls (periodic in height): the local re-mapping anchors a disk
+/// that leaves its shell ahead of it, but not beyond a wall.
+#[test]
+fn dilute_gas_between_side_walls() {
+    let json = r#"{"name": "bf", "seed": 15,
+        "domain": {"width": 14, "x_boundary": "walls", "y_boundary": "periodic", "height": 12},
+        "particles": {"count": 30, "radius": 0.5},
+        "run": {"duration": 1}}"#;
+    both_remaps(json, 3000, false);
+}
+
 #[test]
 fn periodic_gas_at_high_density() {
     let json = r#"{"name": "bf", "seed": 12,

@@ -129,7 +129,12 @@ impl<F: Flight> Simulation<F> {
             (geometry, mask, margin)
         };
         geometry.check_mask_fits(mask.half_width)?;
-        let shells = local.then(|| shells::Shells::new(n, 0.5 * margin));
+        let shells = local.then(|| {
+            let gravity = flight.g() != 0.0 || scene.floor.is_some();
+            let ahead =
+                shells::anchor_ahead(0.5 * margin, disks.rms_radius(), shell_packing, gravity);
+            shells::Shells::new(n, 0.5 * margin, ahead)
+        });
         let mut sim = Simulation {
             flight,
             disks,

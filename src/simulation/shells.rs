@@ -41,6 +41,9 @@ const EXIT_SLACK: f64 = 1e-9;
 pub struct Shells {
     /// Shell radius r: how far a disk may move from its anchor.
     pub radius: f64,
+    /// How far ahead of a disk leaving its shell, along its velocity, its new anchor goes (see
+    /// [`anchor_ahead`]).
+    ahead: f64,
     /// Where each disk's list was built.
     anchor: Vec<[f64; 2]>,
     /// Re-anchorings since the last whole re-mapping.
@@ -72,6 +75,53 @@ pub fn local_margin(skin: Option<f64>, a_min: f64, a: f64, phi: f64) -> f64 {
     }
 }
 
+/// Mean free path of hard disks of radius `a` at packing `phi` (Enskog, with Henderson's
+/// contact value of the pair correlation `g(σ) = (1 − 7φ/16)/(1 − φ)²`): `λ = 1/(2√2 n σ g(σ))`,
+/// `σ = 2a`, `n σ² = 4φ/π`. 2.4σ at φ = 0.1, 0.52σ at 0.3, 0.05σ at 0.7.
+pub fn mean_free_path(a: f64, phi: f64) -> f64 {
+    let phi = phi.clamp(1e-3, 0.9);
+    let n_sigma2 = 4.0 * phi / std::f64::consts::PI;
+    let contact = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    2.0 * a / (2.0 * std::f64::consts::SQRT_2 * n_sigma2 * contact)
+}
+
+/// How far ahead of a disk leaving its shell (along its velocity) its new anchor goes, for
+/// shells of radius `r` and disks of root mean square radius `a` at packing `phi` with no
+/// gravity: a disk that leaves its shell is mostly in flight, and flies on about a mean free
+/// path λ; anchored ahead of itself it can fly on farther before it leaves again. Where λ is
+/// short (dense gases) the next collision turns it back: the shift is `min(r/2, 0.7 λ)`, and
+/// none where that is less than `r/4` (a disk rattling in its cage gains nothing; from
+/// φ ≈ 0.5 on). Measured at N = 2500 (shell exits per collision; collisions per second, single
+/// runs): φ = 0.1 2.53 → 1.87, 1.17×; φ = 0.3 0.96 → 0.77, 1.08×; φ = 0.45 0.44 → 0.39, 1.02×;
+/// a shift of `r/2` at every packing was 0.95× at φ = 0.55 and 0.93× at φ = 0.7, and
+/// `min(r/2, 0.7 λ)` there 1.00× and 0.99×. Under gravity, 0 (flights bend, beds rattle).
+pub fn anchor_ahead(r: f64, a: f64, phi: f64, gravity: bool) -> f64 {
+    let ahead = (0.5 * r).min(0.7 * mean_free_path(a, phi));
+    if gravity || ahead < 0.25 * r {
+        0.0
+    } else {
+        ahead
+    }
+}
+
+/// `x`, less than one period outside `[0, period)`, brought back into it (without a remainder).
+#[inline]
+fn back_into_period(x: f64, period: f64) -> f64 {
+    let x = if x < 0.0 {
+        x + period
+    } else if x >= period {
+        x - period
+    } else {
+        x
+    };
+    // x + period rounds to period for the smallest negative x.
+    if x >= period {
+        0.0
+    } else {
+        x
+    }
+}
+
 /// Packing of a settled bed: what a bed on a floor under gravity compacts to, whatever its
 /// initial placement.
 pub const SETTLED_BED_PACKING: f64 = 0.7;
@@ -89,10 +139,12 @@ pub fn packing_for_shells(packing: f64, floor: bool) -> f64 {
 }
 
 impl Shells {
-    /// Shells of radius `r` for `n` disks (anchored at the first mapping).
-    pub fn new(n: usize, r: f64) -> Shells {
+    /// Shells of radius `r` for `n` disks (anchored at the first mapping), re-anchored
+    /// `ahead` ahead of a disk that leaves its shell.
+    pub fn new(n: usize, r: f64, ahead: f64) -> Shells {
         Shells {
             radius: r,
+            ahead: ahead.clamp(0.0, r),
             anchor: vec![[0.0; 2]; n],
             since_map: 0,
             found: Vec::new(),
@@ -184,24 +236,29 @@ impl<F: Flight> Simulation<F> {
         now + a.max(b)
     }
 
-    /// Disk `i` reaches the edge of its shell: it is anchored where it is, moved in the grid,
-    /// and its list alone is rebuilt; then it is re-predicted.
+    /// Disk `i` reaches the edge of its shell: it is anchored anew (where it is, or a little
+    /// ahead of it: [`anchor_ahead`]), moved in the grid, and its list alone is rebuilt; then it
+    /// is re-predicted.
     pub(super) fn leave_shell(&mut self, i: usize) -> Result<()> {
         let now = self.now;
         self.bring(i, now);
         self.wrap_position(i);
         let m = self.disks.motion[i];
+        let Some(ahead) = self.shells.as_ref().map(|sh| sh.ahead) else {
+            return Ok(());
+        };
+        let a = self.anchor_for(m, ahead);
         let Some(sh) = self.shells.as_mut() else {
             return Ok(());
         };
         let [ox, oy] = sh.anchor[i];
-        sh.anchor[i] = [m.x, m.y];
+        sh.anchor[i] = a;
         sh.since_map += 1;
         let due = sh.since_map >= REMAP_EVERY * sh.anchor.len() as u64
             || self.numbering.due(self.counts.pair, sh.anchor.len());
         self.counts.shell += 1;
         let from = self.geometry.cell_of(ox, oy);
-        let to = self.geometry.cell_of(m.x, m.y);
+        let to = self.geometry.cell_of(a[0], a[1]);
         if from != to && !self.cells.relocate(&self.geometry, from, to, i as u32)? {
             // The grid's storage is full where the disk goes: re-map everything now.
             return self.remap();
@@ -212,6 +269,34 @@ impl<F: Flight> Simulation<F> {
         }
         self.predict(i);
         Ok(())
+    }
+
+    /// Where a disk in motion `m` (at now, in the period) is anchored when it leaves its shell:
+    /// `ahead` ahead of it along its velocity (see [`anchor_ahead`]), if that point is inside
+    /// the box (or brought into the period); where it is otherwise. Any anchor within the shell
+    /// radius of the disk keeps the lists complete.
+    fn anchor_for(&self, m: crate::disks::Motion, ahead: f64) -> [f64; 2] {
+        let v = m.vx.hypot(m.vy);
+        if ahead <= 0.0 || v == 0.0 {
+            return [m.x, m.y];
+        }
+        let k = ahead / v;
+        let (mut x, mut y) = (m.x + k * m.vx, m.y + k * m.vy);
+        let mut inside = true;
+        match self.sides {
+            SideBounds::Periodic { width } => x = back_into_period(x, width),
+            SideBounds::Walls { width, .. } => inside &= (0.0..=width).contains(&x),
+        }
+        match self.top {
+            Top::Periodic { height } => y = back_into_period(y, height),
+            Top::Lid { height, .. } => inside &= (0.0..=height).contains(&y),
+            Top::Open => inside = false,
+        }
+        if inside {
+            [x, y]
+        } else {
+            [m.x, m.y]
+        }
     }
 
     /// Rebuilds disk `i`'s list from the anchors in the mask around its cell `cell`.
@@ -265,5 +350,46 @@ impl<F: Flight> Simulation<F> {
         if let Top::Periodic { height } = self.top {
             m.y = into_period(m.y, height);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mean_free_path_is_enskogs() {
+        // σ = 1: 0.522 at φ = 0.3 (n σ² = 1.2/π, g(σ) = 0.86875/0.49).
+        let n = 1.2 / std::f64::consts::PI;
+        let g = (1.0 - 2.1 / 16.0) / 0.49;
+        let expected = 1.0 / (2.0 * std::f64::consts::SQRT_2 * n * g);
+        assert!((mean_free_path(0.5, 0.3) - expected).abs() < 1e-12);
+        assert!(mean_free_path(0.5, 0.1) > 2.0 && mean_free_path(0.5, 0.7) < 0.06);
+    }
+
+    #[test]
+    fn disks_are_anchored_ahead_only_in_dilute_gases_without_gravity() {
+        let r = |phi: f64| 0.5 * local_margin(None, 0.5, 0.5, phi);
+        // Dilute: half the shell radius ahead.
+        assert_eq!(anchor_ahead(r(0.3), 0.5, 0.3, false), 0.5 * r(0.3));
+        assert_eq!(anchor_ahead(r(0.1), 0.5, 0.1, false), 0.5 * r(0.1));
+        // Between: 0.7 λ; dense (a quarter of the shell or less): none; gravity: none.
+        let mid = anchor_ahead(r(0.45), 0.5, 0.45, false);
+        assert!((mid - 0.7 * mean_free_path(0.5, 0.45)).abs() < 1e-15);
+        assert!(mid > 0.25 * r(0.45) && mid < 0.5 * r(0.45));
+        assert_eq!(anchor_ahead(r(0.55), 0.5, 0.55, false), 0.0);
+        assert_eq!(anchor_ahead(r(0.7), 0.5, 0.7, false), 0.0);
+        assert_eq!(anchor_ahead(r(0.3), 0.5, 0.3, true), 0.0);
+    }
+
+    #[test]
+    fn a_point_just_outside_the_period_comes_back_into_it() {
+        assert_eq!(back_into_period(-0.25, 10.0), 9.75);
+        assert_eq!(back_into_period(10.25, 10.0), 0.25);
+        assert_eq!(back_into_period(3.0, 10.0), 3.0);
+        assert_eq!(back_into_period(10.0, 10.0), 0.0);
+        // The smallest negative x: x + period rounds to the period itself.
+        let x = back_into_period(-1e-17, 10.0);
+        assert!((0.0..10.0).contains(&x), "{x}");
     }
 }
