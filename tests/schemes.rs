@@ -64,6 +64,18 @@ fn assert_falls(what: &str, errors: &[f64]) {
     );
 }
 
+/// As [`assert_falls`], for an error measured against the exact engine's own noisy value: it
+/// falls from step to step until it is within `floor`, and stays there.
+fn assert_falls_to(what: &str, errors: &[f64], floor: f64) {
+    eprintln!("{what}: errors {errors:?} (noise floor {floor})");
+    assert!(
+        errors.windows(2).all(|w| w[1] < w[0] || w[1] < floor),
+        "{what}: error does not fall as the step shrinks: {errors:?}"
+    );
+    let last = *errors.last().expect("errors");
+    assert!(last < floor, "{what}: the finest step is off by {last}");
+}
+
 fn pair_rate(s: &Summary) -> f64 {
     s.events.pair as f64 / s.sim_time
 }
@@ -200,7 +212,11 @@ fn space_time_converges_in_an_elastic_gas() {
             s.approximation.unwrap().missed as f64
         }));
     }
-    assert_falls("collision rate", &rate_err);
+    // Two seeds of this gas differ by up to 2.5% in their collision rate (measured: 404–414
+    // collisions per unit time for seeds 5–8), so the mean of two is known to about 1.5%: the
+    // rate's error falls until it reaches that (it fell from 15% to 1% between D = 24 and 12,
+    // then met the noise). The missed collisions are the scheme's own and fall throughout.
+    assert_falls_to("collision rate", &rate_err, 0.03);
     assert_falls("missed collisions", &missed);
     // Small enough, nothing is missed: the exact formulas then make it exact but for the order
     // of round-off.
