@@ -608,7 +608,8 @@ impl<F: Flight> Simulation<F> {
     /// it, which falls the hair back onto it). The DUTC margin is charged with the largest move.
     pub(super) fn make_room(&mut self, k: usize, room: Room) {
         let now = self.now;
-        let mut most = room.drop;
+        // k moves aside (its shift, the first) and down.
+        let mut most = room.shifts[0].1.hypot(room.drop);
         for &(c, d) in &room.shifts {
             let c = c as usize;
             self.bring(c, now);
