@@ -755,6 +755,30 @@ fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
     }
 }
 
+/// Runs the hard case `file` to `t`, where all `riders` disks must be at rest, and on to its
+/// end, which must cost no events: the state at `t` and the events up to it.
+fn at_rest_by_and_after(
+    file: &str,
+    t: f64,
+    riders: usize,
+) -> (
+    vibrobed::simulation::Snapshot,
+    vibrobed::simulation::EventCounts,
+) {
+    let s = load(file, &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    sim.advance_to(t).unwrap();
+    assert_eq!(sim.riders(), riders, "{file}: all at rest by t = {t}");
+    let (still, before) = (sim.snapshot(t), sim.counts());
+    sim.advance_to(s.run.duration).unwrap();
+    assert_eq!(
+        sim.counts().popped(),
+        before.popped(),
+        "{file}: events at rest"
+    );
+    (still, before)
+}
+
 /// A row of two disks at rest on the floor came to rest a hair apart (10⁻⁵, within the
 /// resting contacts' touch), leaving the last slot of a width of exactly three diameters a hair
 /// too narrow. A disk dropped into it would rest wedged 4.5·10⁻³ up between its neighbour and
@@ -763,11 +787,7 @@ fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
 /// wall: the three disks at rest side by side on the floor, touching, and no events after.
 #[test]
 fn a_disk_in_a_slot_a_hair_too_narrow_is_let_down_onto_the_floor() {
-    let s = load("slot_a_hair_narrow.json", &[]);
-    let mut sim = common::ballistic(&json_of(&s));
-    sim.advance_to(1.0).unwrap();
-    assert_eq!(sim.riders(), 3, "all at rest by t = 1");
-    let still = sim.snapshot(1.0);
+    let (still, _) = at_rest_by_and_after("slot_a_hair_narrow.json", 1.0, 3);
     for k in 0..3 {
         assert!(
             (still.y[k] - 0.5).abs() < 1e-12,
@@ -781,9 +801,6 @@ fn a_disk_in_a_slot_a_hair_too_narrow_is_let_down_onto_the_floor() {
             still.x[k]
         );
     }
-    let before = sim.counts();
-    sim.advance_to(s.run.duration).unwrap();
-    assert_eq!(sim.counts().popped(), before.popped(), "events at rest");
 }
 
 /// A full row of three flying disks 10⁻⁴ above a row at rest in a width of exactly three
@@ -792,12 +809,8 @@ fn a_disk_in_a_slot_a_hair_too_narrow_is_let_down_onto_the_floor() {
 /// each disk on the top of its seat, at rest, and the run costs no events after.
 #[test]
 fn a_full_row_a_hair_above_a_row_at_rest_is_seated_on_it() {
-    let s = load("row_ringing_on_a_row_at_rest.json", &[]);
-    let mut sim = common::ballistic(&json_of(&s));
-    sim.advance_to(1.0).unwrap();
-    assert_eq!(sim.riders(), 6, "all at rest by t = 1");
-    assert!(sim.counts().pair <= 2, "seated at once: {:?}", sim.counts());
-    let still = sim.snapshot(1.0);
+    let (still, counts) = at_rest_by_and_after("row_ringing_on_a_row_at_rest.json", 1.0, 6);
+    assert!(counts.pair <= 2, "seated at once: {counts:?}");
     for k in 3..6 {
         assert!(
             (still.y[k] - 1.5).abs() < 1e-12,
@@ -809,9 +822,6 @@ fn a_full_row_a_hair_above_a_row_at_rest_is_seated_on_it() {
             "disk {k} straight above"
         );
     }
-    let before = sim.counts();
-    sim.advance_to(s.run.duration).unwrap();
-    assert_eq!(sim.counts().popped(), before.popped(), "events at rest");
 }
 
 /// A disk on top of a smaller one, a little off its top towards a side wall: it slides down

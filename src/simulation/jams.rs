@@ -129,13 +129,10 @@ impl<F: Flight> Simulation<F> {
         }
         self.check_contact(k, s, dist)?;
         self.counts.pair += 1;
-        let on_floor = self.touches_floor(k, h);
-        let room = if on_floor {
-            None
-        } else {
-            self.room_on_floor(k, h)
-        };
-        let held = if on_floor || room.is_some() {
+        let floor = self.floor_place(k, h);
+        let on_floor = floor.is_some();
+        let room = floor.flatten();
+        let held = if on_floor {
             Some([NO_DISK; 2])
         } else {
             self.stable_supports(k, s, None)
@@ -500,6 +497,17 @@ impl<F: Flight> Simulation<F> {
         self.cluster = cluster;
         self.in_cluster = member;
     }
+    /// Whether flying disk `k` (at now) can rest on the floor's surface `h`: `Some(None)` if it
+    /// touches it, `Some(room)` if it can be let down onto it ([`room_on_floor`](Self::room_on_floor),
+    /// to be done with [`make_room`](Self::make_room)), `None` otherwise.
+    pub(super) fn floor_place(&self, k: usize, h: f64) -> Option<Option<Room>> {
+        if self.touches_floor(k, h) {
+            Some(None)
+        } else {
+            self.room_on_floor(k, h).map(Some)
+        }
+    }
+
     /// Flying disk `k` (at now), within [`WEDGE_DROP`] radii above the floor's surface `h`, would
     /// rest on the floor but for one disk at rest on the floor (not sliding) beside it, which
     /// overlaps its place there by at most [`ROOM`] radii: a row at rest that came to rest a hair
@@ -667,6 +675,8 @@ impl<F: Flight> Simulation<F> {
             })
             && self.seats_hold(&row, &seats);
         if ok {
+            // Two seated disks may close in by both their moves: the margin is charged the sum.
+            let mut moved = 0.0;
             for (&m, &(seat, x, y)) in row.iter().zip(&seats) {
                 let m = m as usize;
                 if self.is_riding(m) {
@@ -680,11 +690,12 @@ impl<F: Flight> Simulation<F> {
                 self.disks.motion[m].x = x;
                 self.disks.motion[m].y = y;
                 self.wrap_position(m);
-                self.dutc.displaced(now, (x - x0).hypot(y - y0));
+                moved += (x - x0).hypot(y - y0);
                 if self.riders.mount_on_disks(m, y - h, [seat, NO_DISK]) {
                     self.counts.rest += 1;
                 }
             }
+            self.dutc.displaced(now, moved);
             self.counts.pair += 1;
             for &m in &row {
                 self.moved(m as usize);

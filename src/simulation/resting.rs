@@ -69,13 +69,10 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         let (h, hd) = floor.ride(now);
         let rest_v = (ms.vx, hd);
-        let on_floor = self.touches_floor(k, h);
-        let room = if on_floor {
-            None
-        } else {
-            self.room_on_floor(k, h)
-        };
-        let supports = if on_floor || room.is_some() {
+        let floor = self.floor_place(k, h);
+        let on_floor = floor.is_some();
+        let room = floor.flatten();
+        let supports = if on_floor {
             [NO_DISK; 2] // beside s, on the floor (once there is room)
         } else {
             match self.stable_supports(k, s, Some(rest_v)) {
