@@ -1,21 +1,21 @@
-//! Linked cells: a dense grid whose cells hold any number of disks, as a head per cell and a
-//! link per disk. The local re-mapping files its anchors here: its shells are wider than a
-//! disk, so anchors may lie closer than EEPGM's one-per-cell grid allows, and a cell at least
-//! as wide as the longest listed pair makes the 3 × 3 block around a disk's cell hold every
-//! anchor it can list (the peer codes' cell list).
+//! Linked cells (the cell-list method): a dense grid whose cells hold any number of disks,
+//! stored as one row with room per cell (not as a chain of links, whose walk waits on each
+//! link and mispredicts each chain's end). The local re-mapping files its anchors here: its
+//! shells are wider than a disk, so anchors may lie closer than EEPGM's one-per-cell grid
+//! allows, and a cell at least as wide as the longest listed pair makes the 3 × 3 block around
+//! a disk's cell hold every anchor it can list (the peer codes' cell list).
 
 use super::grid::{GridGeometry, SeveralPerCell};
+use super::rows::{Rows, GROUP};
 
-/// End of a cell's chain (and an empty cell).
-const END: u32 = u32::MAX;
-
-/// Disks by cell, several per cell: `head[c]` is the first disk of cell `c`, `next[i]` the one
-/// after disk `i`, `END` (`u32::MAX`) closes a chain.
+/// Disks by cell, several per cell: one list per cell, in [`Rows`] with room (about two disks
+/// per cell on average, four slots per cell cover nearly all of them). Reading a cell copies
+/// its row a group of slots at a time: no chain of links to follow (one dependent load and one
+/// unpredictable loop exit per disk).
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct LinkedCells {
     nx: usize,
-    head: Vec<u32>,
-    next: Vec<u32>,
+    cells: Rows,
 }
 
 impl LinkedCells {
@@ -24,60 +24,69 @@ impl LinkedCells {
         iy as usize * self.nx + ix as usize
     }
 
-    /// Files `n` disks, disk i in cell `cell(i)` (a bounded grid).
+    /// Files `n` disks, disk i in cell `cell(i)` (a bounded grid), each cell's in increasing
+    /// disk number.
     pub fn map(&mut self, geometry: &GridGeometry, n: usize, cell: impl Fn(usize) -> (u32, u32)) {
         let ny = geometry.ny.expect("linked cells need a bounded height") as usize;
         self.nx = geometry.nx as usize;
-        self.head.clear();
-        self.head.resize(self.nx * ny, END);
-        self.next.clear();
-        self.next.resize(n, END);
-        // Filed from the last disk down, so that each chain runs in increasing disk number.
-        for i in (0..n).rev() {
-            let c = self.index(cell(i));
-            self.next[i] = self.head[c];
-            self.head[c] = i as u32;
+        let mut count = vec![0u32; self.nx * ny];
+        for i in 0..n {
+            count[self.index(cell(i))] += 1;
+        }
+        self.cells = Rows::default();
+        self.cells = Rows::sized_for(count.len(), |c| count[c] as usize);
+        drop(count);
+        for i in 0..n {
+            self.cells.push(self.index(cell(i)), i as u32);
         }
     }
 
     /// Puts disk `i` in cell `cell`.
     pub fn insert(&mut self, cell: (u32, u32), i: u32) {
-        let c = self.index(cell);
-        self.next[i as usize] = self.head[c];
-        self.head[c] = i;
+        self.cells.push(self.index(cell), i);
     }
 
     /// Takes disk `i` out of cell `cell` (nothing if it is not there).
     pub fn remove(&mut self, cell: (u32, u32), i: u32) {
-        let c = self.index(cell);
-        if self.head[c] == i {
-            self.head[c] = self.next[i as usize];
-            return;
+        self.cells.remove(self.index(cell), i);
+    }
+
+    /// Writes to `out` from its start every disk in `cell` and in the cells at `offsets`
+    /// around it, and returns how many; `out` is scratch room (lengthened if it is too short
+    /// for the copies' whole groups, never shortened).
+    #[inline]
+    pub fn gather_into(
+        &self,
+        geometry: &GridGeometry,
+        offsets: &[(i32, i32)],
+        cell: (u32, u32),
+        out: &mut Vec<u32>,
+    ) -> usize {
+        // Each cell's row or overflowing list, and a group past it.
+        let need = (offsets.len() + 1) * (self.cells.room().max(self.cells.wide()) + GROUP);
+        if out.len() < need {
+            out.resize(need, 0);
         }
-        let mut k = self.head[c];
-        while k != END {
-            let after = self.next[k as usize];
-            if after == i {
-                self.next[k as usize] = self.next[i as usize];
-                return;
+        let mut n = self.cells.copy_into(self.index(cell), out, 0);
+        for &(dx, dy) in offsets {
+            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
+                n += self.cells.copy_into(self.index(c), out, n);
             }
-            k = after;
         }
+        n
     }
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity())
+        self.cells.bytes()
     }
 }
 
 impl SeveralPerCell for LinkedCells {
     #[inline(always)]
     fn each(&self, cell: (u32, u32), mut found: impl FnMut(u32)) {
-        let mut k = self.head[self.index(cell)];
-        while k != END {
-            found(k);
-            k = self.next[k as usize];
+        for &j in self.cells.of(self.index(cell)) {
+            found(j);
         }
     }
 }
@@ -107,6 +116,43 @@ mod tests {
         seen.clear();
         c.each((2, 2), |j| seen.push(j));
         assert_eq!(seen, [1]);
+    }
+
+    /// A cell fuller than its row's room (its list in the overflow area) and rows of every
+    /// length: the group copies find what `each` finds, and nothing else.
+    #[test]
+    fn the_group_copies_find_every_disk_of_the_block() {
+        // 10 × 6 cells, periodic in x: one list in fifty may overflow its row.
+        let g = GridGeometry::with_cell_at_least(1.0, 10.0, true, 0.0, Some(6.0), false);
+        // Cell (1, 1) holds nine disks, the others one or none: rows of room 1.
+        let mut cells_of = vec![(1, 1); 9];
+        cells_of.extend([(0, 0), (2, 2), (3, 1), (0, 2), (2, 0), (9, 1), (5, 5)]);
+        let mut c = LinkedCells::default();
+        c.map(&g, cells_of.len(), |i| cells_of[i]);
+        assert_eq!(c.cells.room(), 1);
+        let mask = super::super::Mask::circle("B1", 2);
+        let mut scratch = Vec::new();
+        let mut check = |c: &LinkedCells| {
+            for iy in 0..6 {
+                for ix in 0..10 {
+                    let mut want = Vec::new();
+                    c.gather_all(&g, &mask.offsets, (ix, iy), |j| want.push(j));
+                    let n = c.gather_into(&g, &mask.offsets, (ix, iy), &mut scratch);
+                    let mut got = scratch[..n].to_vec();
+                    want.sort_unstable();
+                    got.sort_unstable();
+                    assert_eq!(got, want, "around ({ix}, {iy})");
+                }
+            }
+        };
+        check(&c);
+        // Moving disks in and out keeps it so (the full cell back into its row, another
+        // overflowing).
+        for i in 0..8 {
+            c.remove((1, 1), i);
+            c.insert((3, 2), i);
+        }
+        check(&c);
     }
 
     #[test]

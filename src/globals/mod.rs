@@ -5,6 +5,7 @@ pub mod grid;
 pub mod linked;
 pub mod masks;
 pub mod neighbours;
+pub mod rows;
 
 pub use grid::{CellMap, DenseCells, GridGeometry, SeveralPerCell, SparseCells};
 pub use linked::LinkedCells;
@@ -82,6 +83,27 @@ impl Cells {
             Cells::Dense(d) => d.gather_rows(&mask.rows, cell, found),
             Cells::Sparse(s) => s.gather_all(geometry, &mask.offsets, cell, found),
             Cells::Linked(l) => l.gather_all(geometry, &mask.offsets, cell, found),
+        }
+    }
+
+    /// Writes to `out` from its start every disk in `mask` around `cell` and the disks in
+    /// `cell` (as [`gather`](Self::gather)), and returns how many; `out` is scratch room,
+    /// which may be left longer.
+    #[inline]
+    pub fn gather_into(
+        &self,
+        geometry: &GridGeometry,
+        mask: &Mask,
+        cell: (u32, u32),
+        out: &mut Vec<u32>,
+    ) -> usize {
+        match self {
+            Cells::Linked(l) => l.gather_into(geometry, &mask.offsets, cell, out),
+            _ => {
+                out.clear();
+                self.gather(geometry, mask, cell, |j| out.push(j));
+                out.len()
+            }
         }
     }
 

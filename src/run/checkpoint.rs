@@ -29,7 +29,7 @@ use std::sync::LazyLock;
 
 const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// Bumped whenever the payload's layout changes.
-const FORMAT_VERSION: u32 = 9;
+const FORMAT_VERSION: u32 = 10;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

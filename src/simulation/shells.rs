@@ -106,24 +106,6 @@ pub fn anchor_ahead(r: f64, a: f64, phi: f64, gravity: bool) -> f64 {
     }
 }
 
-/// `x`, less than one period outside `[0, period)`, brought back into it (without a remainder).
-#[inline]
-fn back_into_period(x: f64, period: f64) -> f64 {
-    let x = if x < 0.0 {
-        x + period
-    } else if x >= period {
-        x - period
-    } else {
-        x
-    };
-    // x + period rounds to period for the smallest negative x.
-    if x >= period {
-        0.0
-    } else {
-        x
-    }
-}
-
 /// Packing of a settled bed: what a bed on a floor under gravity compacts to, whatever its
 /// initial placement.
 pub const SETTLED_BED_PACKING: f64 = 0.7;
@@ -278,7 +260,7 @@ impl<F: Flight> Simulation<F> {
     /// the box (or brought into the period); where it is otherwise. Any anchor within the shell
     /// radius of the disk keeps the lists complete.
     fn anchor_for(&self, m: crate::disks::Motion, ahead: f64) -> [f64; 2] {
-        let v = m.vx.hypot(m.vy);
+        let v = (m.vx * m.vx + m.vy * m.vy).sqrt();
         if ahead <= 0.0 || v == 0.0 {
             return [m.x, m.y];
         }
@@ -286,11 +268,11 @@ impl<F: Flight> Simulation<F> {
         let (mut x, mut y) = (m.x + k * m.vx, m.y + k * m.vy);
         let mut inside = true;
         match self.sides {
-            SideBounds::Periodic { width } => x = back_into_period(x, width),
+            SideBounds::Periodic { width } => x = into_period(x, width),
             SideBounds::Walls { width, .. } => inside &= (0.0..=width).contains(&x),
         }
         match self.top {
-            Top::Periodic { height } => y = back_into_period(y, height),
+            Top::Periodic { height } => y = into_period(y, height),
             Top::Lid { height, .. } => inside &= (0.0..=height).contains(&y),
             Top::Open => inside = false,
         }
@@ -308,19 +290,20 @@ impl<F: Flight> Simulation<F> {
             return;
         };
         let (anchor, found) = (&sh.anchor, &mut sh.found);
-        found.clear();
-        self.cells.gather(&self.geometry, &self.mask, cell, |j| {
-            found.push(j);
-            if hint {
-                // Read just below.
+        let n = self
+            .cells
+            .gather_into(&self.geometry, &self.mask, cell, found);
+        if hint {
+            // Read just below.
+            for &j in &found[..n] {
                 crate::prefetch::prefetch(anchor, j as usize);
             }
-        });
+        }
         // Kept without a branch per candidate (about a third are kept, at random).
         let [xi, yi] = anchor[i];
         let ai = self.disks.radius[i] + self.margin;
         let mut kept = 0;
-        for k in 0..found.len() {
+        for k in 0..n {
             let j = found[k] as usize;
             let [xj, yj] = anchor[j];
             let (dx, dy) = wrap(self.sides, self.top, xi - xj, yi - yj);
@@ -328,8 +311,7 @@ impl<F: Flight> Simulation<F> {
             found[kept] = j as u32;
             kept += (dx * dx + dy * dy <= reach * reach && j != i) as usize;
         }
-        found.truncate(kept);
-        self.lists.replace(i, found);
+        self.lists.replace(i, &found[..kept]);
     }
 
     /// At a whole re-mapping: every disk is anchored where it is.
@@ -382,16 +364,5 @@ mod tests {
         assert_eq!(anchor_ahead(r(0.55), 0.5, 0.55, false), 0.0);
         assert_eq!(anchor_ahead(r(0.7), 0.5, 0.7, false), 0.0);
         assert_eq!(anchor_ahead(r(0.3), 0.5, 0.3, true), 0.0);
-    }
-
-    #[test]
-    fn a_point_just_outside_the_period_comes_back_into_it() {
-        assert_eq!(back_into_period(-0.25, 10.0), 9.75);
-        assert_eq!(back_into_period(10.25, 10.0), 0.25);
-        assert_eq!(back_into_period(3.0, 10.0), 3.0);
-        assert_eq!(back_into_period(10.0, 10.0), 0.0);
-        // The smallest negative x: x + period rounds to the period itself.
-        let x = back_into_period(-1e-17, 10.0);
-        assert!((0.0..10.0).contains(&x), "{x}");
     }
 }
