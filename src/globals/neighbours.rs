@@ -178,6 +178,17 @@ impl NeighbourLists {
         self.rows.of(i)
     }
 
+    /// Hints that the lists of disk `i`'s neighbours will change soon (rows only): `i`
+    /// leaves them at [`replace`](Self::replace).
+    #[inline]
+    pub fn prefetch_neighbours(&self, i: usize) {
+        if self.in_rows {
+            for &j in self.rows.of(i) {
+                self.rows.prefetch(j as usize);
+            }
+        }
+    }
+
     /// Makes `new` disk `i`'s list (rows only), keeping the lists symmetric: `i` leaves the
     /// lists of all its old neighbours and joins those of all its new ones (cheaper than
     /// sorting out which stay, for lists of a dozen).

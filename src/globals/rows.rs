@@ -100,6 +100,13 @@ impl Rows {
         }
     }
 
+    /// Hints that list `i` will be changed soon (its row and its length).
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        crate::prefetch::prefetch(&self.slots, i * self.room);
+        crate::prefetch::prefetch(&self.len, i);
+    }
+
     /// List `i` in the overflow area.
     #[cold]
     #[inline(never)]

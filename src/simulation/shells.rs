@@ -225,6 +225,9 @@ impl<F: Flight> Simulation<F> {
     /// is re-predicted.
     pub(super) fn leave_shell(&mut self, i: usize) -> Result<()> {
         let now = self.now;
+        if self.prefetching {
+            self.lists.prefetch_neighbours(i);
+        }
         self.bring(i, now);
         self.wrap_position(i);
         let m = self.disks.motion[i];
