@@ -87,6 +87,14 @@ impl<F: Flight> Simulation<F> {
             };
             return (best, who, f64::INFINITY);
         }
+        self.pair_event_with_riders(i, horizon)
+    }
+
+    /// [`pair_event`](Self::pair_event) while some disks ride the floor or rest: pairs of a
+    /// rider and a flyer need the floor's motion. Out of line: scenes where no disk rides keep
+    /// a compact loop (it is cold there).
+    #[inline(never)]
+    fn pair_event_with_riders(&self, i: usize, horizon: f64) -> (f64, u32, f64) {
         let now = self.now;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
         let speed_i = vxi.abs() + vyi.abs();
