@@ -269,6 +269,16 @@ impl<F: Flight> Simulation<F> {
         if rode[0] && rode[1] && self.resting_contacts && self.rest_together(i, j, dx, dy)? {
             return Ok(());
         }
+        if rode[0]
+            && rode[1]
+            && self.resting_contacts
+            && self.riders.on_floor(i)
+            && self.riders.on_floor(j)
+            && dy.abs() <= super::jams::WEDGE_DROP * dx.abs()
+            && self.stop_floor_row(i, j)
+        {
+            return Ok(());
+        }
         if !rode[0]
             && !rode[1]
             && self.resting_contacts

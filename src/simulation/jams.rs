@@ -706,6 +706,59 @@ impl<F: Flight> Simulation<F> {
         ok
     }
 
+    /// Disks `i` and `j` (brought to now), both riding on the floor, meet side by side. If they
+    /// belong to a *full row on the floor* — disks side by side from side wall to side wall
+    /// (or round the periodic sides) with no more than [`ROOM`] radii of play anywhere, each
+    /// on the floor or flying within [`WEDGE_DROP`] radii above it (wedged a hair high) — the
+    /// row stops: every disk takes the floor's velocity, its kinetic energy relative to the
+    /// floor booked as dissipated. Returns whether it did (the collision is then done).
+    ///
+    /// Such a row has no room but round-off (the exact jam): its disks ring between each
+    /// other and the walls, every collision elastic under a cure; without one the sideways
+    /// motion would collapse inelastically to the row at rest.
+    pub(super) fn stop_floor_row(&mut self, i: usize, j: usize) -> bool {
+        let now = self.now;
+        let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
+        let (xi, _, _, _) = self.state_at(i, now);
+        let (xj, _, _, _) = self.state_at(j, now);
+        let (left, right) = if self.wrap(xj - xi, 0.0).0 > 0.0 {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        let mut row = std::mem::take(&mut self.cluster);
+        row.clear();
+        let ok = self.row_from(left, -1.0, &mut row)
+            && self.row_from(right, 1.0, &mut row)
+            && row.iter().all(|&m| {
+                let m = m as usize;
+                if self.is_riding(m) {
+                    return self.riders.on_floor(m);
+                }
+                let (_, y, _, _) = self.state_at(m, now);
+                let a = self.disks.radius[m];
+                y - a - h <= WEDGE_DROP * a
+            });
+        if ok {
+            for &m in &row {
+                let m = m as usize;
+                self.bring(m, now);
+                self.take_velocity(m, (0.0, hd));
+            }
+            self.counts.pair += 1;
+            for &m in &row {
+                let m = m as usize;
+                self.moved(m);
+                if self.is_riding(m) {
+                    self.release_carried(m, None);
+                }
+            }
+        }
+        row.clear();
+        self.cluster = row;
+        ok
+    }
+
     /// Adds to `row` disk `start` and the disks side by side with it in direction `dir` (±1),
     /// up to a side wall; `true` if the chain reaches the wall (or comes round to a disk already
     /// in `row`, where the sides are periodic).
