@@ -11,9 +11,10 @@
 //!   at one instant without end (`stop_zeno`);
 //! - **a slot on the floor a hair too narrow**, left by a row of disks that came to rest a hair
 //!   apart, where a disk would stay wedged above the floor and tilt every column above it
-//!   (`room_on_floor`, `make_room`); and **a full row of flying disks seated on a row at
+//!   (`room_on_floor`, `make_room`); **a full row of flying disks seated on a row at
 //!   rest**, each a hair from the top of the disk below it, ringing sideways between the walls
-//!   (`seat_row`).
+//!   (`seat_row`); and **a full row on the floor** with no play but round-off, ringing sideways
+//!   between the walls (`stop_floor_row`).
 
 use super::resting::TOUCH;
 use super::riders::{NO_DISK, RIGHT_WALL};
