@@ -709,8 +709,9 @@ impl<F: Flight> Simulation<F> {
 
     /// Disks `i` and `j` (brought to now), both riding on the floor, meet side by side. If they
     /// belong to a *full row on the floor* — disks side by side from side wall to side wall
-    /// (or round the periodic sides) with no more than [`ROOM`] radii of play anywhere, each
-    /// on the floor or flying within [`WEDGE_DROP`] radii above it (wedged a hair high) — the
+    /// (or round the periodic sides), no gap between neighbours or at a wall wider than
+    /// [`ROOM`] radii, each on the floor or flying within [`WEDGE_DROP`] radii above it
+    /// (wedged a hair high) — the
     /// row stops: every disk takes the floor's velocity, its kinetic energy relative to the
     /// floor booked as dissipated. Returns whether it did (the collision is then done).
     ///
