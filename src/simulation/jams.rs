@@ -655,18 +655,9 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn seat_row(&mut self, i: usize, j: usize) -> bool {
         let now = self.now;
         let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let (xi, _, _, _) = self.state_at(i, now);
-        let (xj, _, _, _) = self.state_at(j, now);
-        let (left, right) = if self.wrap(xj - xi, 0.0).0 > 0.0 {
-            (i, j)
-        } else {
-            (j, i)
-        };
         let mut row = std::mem::take(&mut self.cluster);
-        row.clear();
         let mut seats = Vec::new();
-        let ok = self.row_from(left, -1.0, &mut row)
-            && self.row_from(right, 1.0, &mut row)
+        let ok = self.full_row(i, j, &mut row)
             && row.iter().all(|&m| match self.seat_of(m as usize) {
                 Some(seat) => {
                     seats.push(seat);
@@ -711,8 +702,7 @@ impl<F: Flight> Simulation<F> {
     /// belong to a *full row on the floor* — disks side by side from side wall to side wall
     /// (or round the periodic sides), no gap between neighbours or at a wall wider than
     /// [`ROOM`] radii, each on the floor or flying within [`WEDGE_DROP`] radii above it
-    /// (wedged a hair high) — the
-    /// row stops: every disk takes the floor's velocity, its kinetic energy relative to the
+    /// (wedged a hair high) — the row stops: every disk takes the floor's velocity, its kinetic energy relative to the
     /// floor booked as dissipated. Returns whether it did (the collision is then done).
     ///
     /// Such a row has no room but round-off (the exact jam): its disks ring between each
@@ -721,17 +711,8 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn stop_floor_row(&mut self, i: usize, j: usize) -> bool {
         let now = self.now;
         let (h, hd) = self.floor.as_ref().expect("riders need a floor").ride(now);
-        let (xi, _, _, _) = self.state_at(i, now);
-        let (xj, _, _, _) = self.state_at(j, now);
-        let (left, right) = if self.wrap(xj - xi, 0.0).0 > 0.0 {
-            (i, j)
-        } else {
-            (j, i)
-        };
         let mut row = std::mem::take(&mut self.cluster);
-        row.clear();
-        let ok = self.row_from(left, -1.0, &mut row)
-            && self.row_from(right, 1.0, &mut row)
+        let ok = self.full_row(i, j, &mut row)
             && row.iter().all(|&m| {
                 let m = m as usize;
                 if self.is_riding(m) {
@@ -759,6 +740,22 @@ impl<F: Flight> Simulation<F> {
         row.clear();
         self.cluster = row;
         ok
+    }
+
+    /// Puts in `row` (cleared first) the row through disks `i` and `j` (side by side, at now):
+    /// the disks side by side with them leftwards, then rightwards; `true` if it reaches from
+    /// side wall to side wall (or round the periodic sides). See [`row_from`](Self::row_from).
+    fn full_row(&self, i: usize, j: usize, row: &mut Vec<u32>) -> bool {
+        let now = self.now;
+        let (xi, _, _, _) = self.state_at(i, now);
+        let (xj, _, _, _) = self.state_at(j, now);
+        let (left, right) = if self.wrap(xj - xi, 0.0).0 > 0.0 {
+            (i, j)
+        } else {
+            (j, i)
+        };
+        row.clear();
+        self.row_from(left, -1.0, row) && self.row_from(right, 1.0, row)
     }
 
     /// Adds to `row` disk `start` and the disks side by side with it in direction `dir` (±1),
