@@ -362,6 +362,35 @@ impl DenseCells {
         }
     }
 
+    /// [`gather_rows`](Self::gather_rows) appending to `out`: each run's occupied slots are
+    /// packed without a branch and copied in one go (no per-disk call or capacity check).
+    #[inline]
+    pub fn gather_rows_into(
+        &self,
+        rows: &[(i32, i32, i32)],
+        (ix, iy): (u32, u32),
+        out: &mut Vec<u32>,
+    ) {
+        let base = self.index(ix, iy) as isize;
+        let stride = self.stride as isize;
+        // Room in `out` for every cell of the mask: the disks found are packed there without a
+        // branch, and what is left over is cut off.
+        let from = out.len();
+        let cells: usize = rows.iter().map(|&(_, lo, hi)| (hi - lo + 1) as usize).sum();
+        out.resize(from + cells, 0);
+        let packed = &mut out[from..];
+        let mut k = 0;
+        for &(dy, lo, hi) in rows {
+            let start = (base + dy as isize * stride + lo as isize) as usize;
+            let end = (base + dy as isize * stride + hi as isize) as usize;
+            for &s in &self.slots[start..=end] {
+                packed[k] = s.wrapping_sub(1);
+                k += (s != 0) as usize;
+            }
+        }
+        out.truncate(from + k);
+    }
+
     /// Writes one cell's slot and its images in the halo where periodic.
     fn write(&mut self, geometry: &GridGeometry, ix: u32, iy: u32, value: u32) {
         let (p, nx) = (self.pad as i64, geometry.nx as i64);
@@ -560,6 +589,22 @@ impl SparseCells {
             several: true,
             ..SparseCells::default()
         }
+    }
+
+    /// [`gather_half`](CellMap::gather_half) appending to `out`; through the dense window
+    /// (rows copied in runs, see [`DenseCells::gather_rows_into`]) where the mapping has one.
+    #[inline]
+    pub fn gather_half_into(
+        &self,
+        geometry: &GridGeometry,
+        mask: &super::Mask,
+        cell: (u32, u32),
+        out: &mut Vec<u32>,
+    ) {
+        if self.window_rows > 0 && mask.half_width as u32 <= self.window.pad() {
+            return self.window.gather_rows_into(&mask.half_rows, cell, out);
+        }
+        self.gather_half(geometry, mask, cell, |j| out.push(j))
     }
 
     /// `true` if cells may hold several disks.
@@ -844,7 +889,8 @@ mod tests {
     }
 
     /// A mapping whose disks lie in few rows uses the dense window, and finds the half mask in
-    /// the same order as Isobe's arrays; a disk far up sends it back to the arrays.
+    /// the same order as Isobe's arrays (one disk at a time, or appended in runs); a disk far
+    /// up sends it back to the arrays.
     #[test]
     fn the_dense_window_finds_what_the_arrays_find() {
         let mut rng = Xoshiro256StarStar::seed_from_u64(11);
@@ -864,6 +910,11 @@ mod tests {
                     window.gather_half(&geometry, &mask, cell, |j| w.push(j));
                     arrays.gather_half(&geometry, &mask, cell, |j| a.push(j));
                     assert_eq!(w, a, "{} periodic {periodic} {cell:?}", mask.name);
+                    // Appended in runs (what the lists are built from), after what was there.
+                    let mut into = vec![7, 8];
+                    window.gather_half_into(&geometry, &mask, cell, &mut into);
+                    assert_eq!(into[..2], [7, 8]);
+                    assert_eq!(into[2..], w, "{} periodic {periodic} {cell:?}", mask.name);
                     for dy in 0..3 {
                         let up = (cell.0, cell.1 + dy);
                         assert_eq!(window.disk_at(up.0, up.1), arrays.disk_at(up.0, up.1));

@@ -120,11 +120,11 @@ impl Cells {
         out: &mut Vec<u32>,
     ) {
         match self {
-            Cells::Dense(d) => d.gather_half(geometry, mask, cell, |j| out.push(j)),
+            Cells::Dense(d) => d.gather_rows_into(&mask.half_rows, cell, out),
             Cells::Sparse(s) if s.several() => {
                 s.gather_half_of(geometry, &mask.half, i as u32, cell, |j| out.push(j))
             }
-            Cells::Sparse(s) => s.gather_half(geometry, mask, cell, |j| out.push(j)),
+            Cells::Sparse(s) => s.gather_half_into(geometry, mask, cell, out),
             Cells::Linked(l) => {
                 l.gather_half_of(geometry, &mask.half, i as u32, cell, |j| out.push(j))
             }
