@@ -86,6 +86,8 @@ pub struct Simulation<F: Flight> {
     lists: NeighbourLists,
     sides: SideBounds,
     top: Top,
+    /// The periodic images of `sides` and `top`, for minimum-image separations.
+    images: motion::Images,
     floor: Option<Floor>,
     restitution: CollisionLaw,
     margin: f64,

@@ -2,12 +2,12 @@
 //! is re-based, the grid and neighbour lists are rebuilt and every event re-predicted.
 
 use super::dutc::Dutc;
-use super::motion::wrap;
+use super::motion::Images;
 use super::Simulation;
 use crate::disks::Disks;
 use crate::dynamics::Flight;
 use crate::error::Result;
-use crate::locals::{SideBounds, Top};
+use crate::locals::Top;
 
 impl<F: Flight> Simulation<F> {
     /// Brings every disk to the present, re-bases the clock to it, re-maps the grid, rebuilds
@@ -33,8 +33,8 @@ impl<F: Flight> Simulation<F> {
         // lists keep only the closer ones (the mask guarantees every closer disk is seen).
         let (disks, geometry) = (&self.disks, &self.geometry);
         let cell = |i: usize| geometry.cell_of(disks.motion[i].x, disks.motion[i].y);
-        let (sides, top, margin) = (self.sides, self.top, self.margin);
-        let near = |i: usize, j: usize| near_at_mapping(disks, sides, top, margin, i, j);
+        let (images, margin) = (self.images, self.margin);
+        let near = |i: usize, j: usize| near_at_mapping(disks, images, margin, i, j);
         // Under the local re-mapping the lists change one at a time from here: rows with room.
         if self.shells.is_some() {
             self.lists.in_rows();
@@ -84,7 +84,7 @@ impl<F: Flight> Simulation<F> {
     /// such pairs).
     #[inline(always)]
     pub(super) fn near_at_mapping(&self, i: usize, j: usize) -> bool {
-        near_at_mapping(&self.disks, self.sides, self.top, self.margin, i, j)
+        near_at_mapping(&self.disks, self.images, self.margin, i, j)
     }
 
     /// At a mapping: the half of disk `i`'s list found from its own half mask (each listed
@@ -121,16 +121,9 @@ impl<F: Flight> Simulation<F> {
 /// At a mapping: `true` if disks `i` and `j` are within contact plus `margin` (see
 /// [`Simulation::near_at_mapping`]).
 #[inline(always)]
-fn near_at_mapping(
-    disks: &Disks,
-    sides: SideBounds,
-    top: Top,
-    margin: f64,
-    i: usize,
-    j: usize,
-) -> bool {
+fn near_at_mapping(disks: &Disks, images: Images, margin: f64, i: usize, j: usize) -> bool {
     let (mi, mj) = (&disks.motion[i], &disks.motion[j]);
-    let (dx, dy) = wrap(sides, top, mi.x - mj.x, mi.y - mj.y);
+    let (dx, dy) = images.wrap(mi.x - mj.x, mi.y - mj.y);
     let reach = disks.radius[i] + disks.radius[j] + margin;
     dx * dx + dy * dy <= reach * reach
 }

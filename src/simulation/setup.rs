@@ -156,6 +156,7 @@ impl<F: Flight> Simulation<F> {
             lists: NeighbourLists::default(),
             sides: scene.sides,
             top: scene.top,
+            images: super::motion::Images::of(scene.sides, scene.top),
             floor,
             restitution: CollisionLaw::new(
                 Restitution {

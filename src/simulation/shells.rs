@@ -23,7 +23,6 @@
 //! the floor's travel, so the event comes a little early, never late.
 
 use super::clock::into_period;
-use super::motion::wrap;
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::error::Result;
@@ -309,7 +308,7 @@ impl<F: Flight> Simulation<F> {
         for k in 0..n {
             let j = found[k] as usize;
             let [xj, yj] = anchor[j];
-            let (dx, dy) = wrap(self.sides, self.top, xi - xj, yi - yj);
+            let (dx, dy) = self.images.wrap(xi - xj, yi - yj);
             let reach = ai + self.disks.radius[j];
             found[kept] = j as u32;
             kept += (dx * dx + dy * dy <= reach * reach && j != i) as usize;
