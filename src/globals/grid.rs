@@ -362,8 +362,9 @@ impl DenseCells {
         }
     }
 
-    /// [`gather_rows`](Self::gather_rows) appending to `out`: each run's occupied slots are
-    /// packed without a branch and copied in one go (no per-disk call or capacity check).
+    /// [`gather_rows`](Self::gather_rows) appending to `out`: room for every cell of the mask
+    /// is made in `out` at once, the occupied slots are packed into it without a branch, and
+    /// the rest is cut off (no call or capacity check per disk).
     #[inline]
     pub fn gather_rows_into(
         &self,
@@ -373,8 +374,6 @@ impl DenseCells {
     ) {
         let base = self.index(ix, iy) as isize;
         let stride = self.stride as isize;
-        // Room in `out` for every cell of the mask: the disks found are packed there without a
-        // branch, and what is left over is cut off.
         let from = out.len();
         let cells: usize = rows.iter().map(|&(_, lo, hi)| (hi - lo + 1) as usize).sum();
         out.resize(from + cells, 0);
