@@ -85,11 +85,46 @@ impl CollisionLaw {
         dvx: f64,
         dvy: f64,
     ) -> f64 {
+        self.record(i, j, now, (dx, dy, dvx, dvy), true)
+    }
+
+    /// [`collision`](Self::collision) of a flying disk with a disk at rest (resting contacts):
+    /// the TC model does not make it elastic — the disk at rest is carried by the floor, like
+    /// the floor itself, and a disk pressed onto it comes to rest there (the resting contacts
+    /// end the sequence TC would end). The speed cutoff still applies.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn collision_with_rest(
+        &mut self,
+        i: usize,
+        j: usize,
+        now: f64,
+        dx: f64,
+        dy: f64,
+        dvx: f64,
+        dvy: f64,
+    ) -> f64 {
+        self.record(i, j, now, (dx, dy, dvx, dvy), false)
+    }
+
+    /// The restitution of a collision, TC counted if `timed`, and the collision recorded.
+    #[inline]
+    fn record(
+        &mut self,
+        i: usize,
+        j: usize,
+        now: f64,
+        (dx, dy, dvx, dvy): (f64, f64, f64, f64),
+        timed: bool,
+    ) -> f64 {
         let e = if self.law.e == 1.0 {
             1.0
         } else {
             let u = -(dx * dvx + dy * dvy) / (dx * dx + dy * dy).sqrt();
-            let since = |k: usize| self.last.get(k).map_or(f64::INFINITY, |&t| now - t);
+            let since = |k: usize| match self.last.get(k) {
+                Some(&t) if timed => now - t,
+                _ => f64::INFINITY,
+            };
             self.law.of(u, since(i), since(j))
         };
         if !self.last.is_empty() {
@@ -184,5 +219,25 @@ mod tests {
         none.collision(0, 1, 1.0, 0.0, 1.0, 0.0, -1.0);
         assert!(!none.boundary_elastic(0, 1.0, 0.0));
         assert_eq!(none.bytes(), 0);
+    }
+
+    #[test]
+    fn tc_does_not_act_on_a_collision_with_a_disk_at_rest_but_the_cutoff_does() {
+        let mut tc = law(Some(1e-3), None);
+        assert_eq!(tc.collision(0, 1, 1.0, 0.0, 1.0, 0.0, -1.0), 0.5);
+        // Right after: elastic between two flying disks, not against one at rest.
+        assert_eq!(tc.collision(0, 1, 1.0 + 1e-4, 0.0, 1.0, 0.0, -1.0), 1.0);
+        assert_eq!(
+            tc.collision_with_rest(0, 1, 1.0 + 2e-4, 0.0, 1.0, 0.0, -1.0),
+            0.5
+        );
+        // It is recorded all the same: the next collision of the two is within tc of it.
+        assert_eq!(tc.collision(0, 1, 1.0 + 3e-4, 0.0, 1.0, 0.0, -1.0), 1.0);
+        let mut cut = law(None, Some(1e-2));
+        assert_eq!(
+            cut.collision_with_rest(0, 1, 1.0, 0.0, 1.0, 0.0, -1e-3),
+            1.0
+        );
+        assert_eq!(cut.collision_with_rest(0, 1, 2.0, 0.0, 1.0, 0.0, -0.1), 0.5);
     }
 }

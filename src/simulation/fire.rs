@@ -248,15 +248,16 @@ impl<F: Flight> Simulation<F> {
             }
         }
         let d = &self.disks;
-        let e = self.restitution.collision(
-            i,
-            j,
-            now,
-            dx,
-            dy,
+        let (dvx, dvy) = (
             d.motion[i].vx - d.motion[j].vx,
             d.motion[i].vy - d.motion[j].vy,
         );
+        let e = if rode[0] != rode[1] && self.resting_contacts {
+            self.restitution
+                .collision_with_rest(i, j, now, dx, dy, dvx, dvy)
+        } else {
+            self.restitution.collision(i, j, now, dx, dy, dvx, dvy)
+        };
         // A disk landing on a rider (or a rider hit from above) is pressed onto it by gravity
         // and the floor: a rebound of at least the resting speed keeps the pair from Zeno.
         let min_rebound = if rode[0] != rode[1] {

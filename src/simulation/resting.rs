@@ -45,6 +45,15 @@ pub const VERTICAL: f64 = 1e-9;
 /// resting disk leaves its supports when a gap grows beyond twice that.
 pub const TOUCH: f64 = 10.0 * PAIR_REST_HEIGHT;
 
+/// A side wall supports a disk at rest (with a disk on the other side of the vertical) when
+/// their gap is at most `WALL_TOUCH` radii — a hair, the same as the most a row at rest is
+/// pushed aside ([`ROOM`](super::jams::ROOM)) — and the disk leaves it beyond twice that.
+/// Frictionless, a disk on a support tilted toward the wall would slide the hair into it; but
+/// a disk rattling in such a pocket under a cure is rarely within [`TOUCH`] of both at once
+/// (one was seen 9·10⁻⁵ radii off the wall for ever, in a column of disks by a wall, each
+/// hop elastic).
+pub const WALL_TOUCH: f64 = super::jams::ROOM;
+
 impl<F: Flight> Simulation<F> {
     /// Flying disk `k` meets riding disk `s` (both brought to now) with restitution `e`. Comes to
     /// rest (and returns `true`) if the meeting is gentle — rebound and sliding speed below the
@@ -255,6 +264,7 @@ impl<F: Flight> Simulation<F> {
             }
         }
         if let SideBounds::Walls { width, .. } = self.sides {
+            let touch = WALL_TOUCH * ak;
             if xk - ak <= touch && found < normals.len() {
                 normals[found] = (LEFT_WALL, 1.0, 0.0);
                 found += 1;
@@ -313,12 +323,15 @@ impl<F: Flight> Simulation<F> {
         let (xk, yk, vxk, _) = self.state_at(k, now);
         let ak = self.disks.radius[k];
         let reach = 2.0 * TOUCH * ak;
+        let wall_reach = 2.0 * WALL_TOUCH * ak;
         let mut t = f64::INFINITY;
         for s in self.riders.supports(k) {
             let dt = match s {
                 NO_DISK => continue,
-                LEFT_WALL if vxk > 0.0 => (reach - (xk - ak)).max(0.0) / vxk,
-                RIGHT_WALL if vxk < 0.0 => (reach - (self.sides.width() - xk - ak)).max(0.0) / -vxk,
+                LEFT_WALL if vxk > 0.0 => (wall_reach - (xk - ak)).max(0.0) / vxk,
+                RIGHT_WALL if vxk < 0.0 => {
+                    (wall_reach - (self.sides.width() - xk - ak)).max(0.0) / -vxk
+                }
                 LEFT_WALL | RIGHT_WALL => continue,
                 s => {
                     let s = s as usize;
