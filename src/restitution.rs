@@ -89,9 +89,10 @@ impl CollisionLaw {
     }
 
     /// [`collision`](Self::collision) of a flying disk with a disk at rest (resting contacts):
-    /// the TC model does not make it elastic — the disk at rest is carried by the floor, like
-    /// the floor itself, and a disk pressed onto it comes to rest there (the resting contacts
-    /// end the sequence TC would end). The speed cutoff still applies.
+    /// the TC model does not make it elastic — a disk pressed onto a disk at rest comes to rest
+    /// there, which ends the sequence TC would end (the floor, by contrast, keeps the cure
+    /// right after a pair collision: see [`boundary_elastic`](Self::boundary_elastic)). The
+    /// speed cutoff still applies.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn collision_with_rest(

@@ -732,9 +732,9 @@ fn beds_at_rest_press_on_the_floor_with_their_weight() {
 /// and width 4 with seed 5 rang for ever in their bottom row (sideways at ±0.07 between the
 /// walls, one disk wedged 3·10⁻³ above the floor, every collision elastic under TC) until the
 /// full row on the floor was stopped (`stop_floor_row`). Width 5 with seeds 4 and 6 built
-/// hexagonal stacks (rows of five in the hollows of rows of four) that rang under TC until the
-/// guard (t = 8 and 10: every disk above the bottom row flying at 10⁻³–10⁻², every collision
-/// elastic) until TC stopped acting on collisions with disks at rest.
+/// hexagonal stacks (rows of five in the hollows of rows of four) that rang under TC and
+/// reached the guard at t = 8 and 10 (every disk above the bottom row flying at 10⁻³–10⁻²,
+/// every collision elastic), before TC stopped acting on collisions with disks at rest.
 #[test]
 fn bed_in_a_width_of_whole_diameters_comes_to_rest() {
     for (width, seed) in [

@@ -26,9 +26,9 @@
 //! - **No TC against a disk at rest.** A collision of a flying disk with a disk at rest keeps
 //!   the pair restitution even when the TC model would make it elastic
 //!   ([`CollisionLaw::collision_with_rest`](crate::restitution::CollisionLaw::collision_with_rest)):
-//!   the disk at rest is carried like the floor, and the resting contacts end the sequence TC
-//!   would end. Otherwise a stack above a row at rest, colliding every ~10⁻⁵, keeps its energy
-//!   for ever.
+//!   a disk pressed onto a disk at rest comes to rest on it, which ends the sequence TC would
+//!   end. Otherwise a stack above a row at rest, colliding every ~10⁻⁵, keeps its energy for
+//!   ever.
 //! - **Static friction below v_s.** Disks at rest slower than `v_s` stop sliding (landing on the
 //!   floor, reaching a wall); two touching disks at rest slide on together instead of colliding
 //!   (`rest_together`); a flyer driven into a slot between supports at rest stops there
