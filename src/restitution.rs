@@ -93,19 +93,16 @@ impl CollisionLaw {
     /// there, which ends the sequence TC would end (the floor, by contrast, keeps the cure
     /// right after a pair collision: see [`boundary_elastic`](Self::boundary_elastic)). The
     /// speed cutoff still applies.
+    /// `(dx, dy, dvx, dvy)` as for [`collision`](Self::collision).
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     pub fn collision_with_rest(
         &mut self,
         i: usize,
         j: usize,
         now: f64,
-        dx: f64,
-        dy: f64,
-        dvx: f64,
-        dvy: f64,
+        relative: (f64, f64, f64, f64),
     ) -> f64 {
-        self.record(i, j, now, (dx, dy, dvx, dvy), false)
+        self.record(i, j, now, relative, false)
     }
 
     /// The restitution of a collision, TC counted if `timed`, and the collision recorded.
@@ -229,16 +226,19 @@ mod tests {
         // Right after: elastic between two flying disks, not against one at rest.
         assert_eq!(tc.collision(0, 1, 1.0 + 1e-4, 0.0, 1.0, 0.0, -1.0), 1.0);
         assert_eq!(
-            tc.collision_with_rest(0, 1, 1.0 + 2e-4, 0.0, 1.0, 0.0, -1.0),
+            tc.collision_with_rest(0, 1, 1.0 + 2e-4, (0.0, 1.0, 0.0, -1.0)),
             0.5
         );
         // It is recorded all the same: the next collision of the two is within tc of it.
         assert_eq!(tc.collision(0, 1, 1.0 + 3e-4, 0.0, 1.0, 0.0, -1.0), 1.0);
         let mut cut = law(None, Some(1e-2));
         assert_eq!(
-            cut.collision_with_rest(0, 1, 1.0, 0.0, 1.0, 0.0, -1e-3),
+            cut.collision_with_rest(0, 1, 1.0, (0.0, 1.0, 0.0, -1e-3)),
             1.0
         );
-        assert_eq!(cut.collision_with_rest(0, 1, 2.0, 0.0, 1.0, 0.0, -0.1), 0.5);
+        assert_eq!(
+            cut.collision_with_rest(0, 1, 2.0, (0.0, 1.0, 0.0, -0.1)),
+            0.5
+        );
     }
 }

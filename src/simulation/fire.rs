@@ -254,7 +254,7 @@ impl<F: Flight> Simulation<F> {
         );
         let e = if rode[0] != rode[1] && self.resting_contacts {
             self.restitution
-                .collision_with_rest(i, j, now, dx, dy, dvx, dvy)
+                .collision_with_rest(i, j, now, (dx, dy, dvx, dvy))
         } else {
             self.restitution.collision(i, j, now, dx, dy, dvx, dvy)
         };
