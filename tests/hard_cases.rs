@@ -313,6 +313,10 @@ hard_cases! {
     pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.2e4: from 15]
     // Without the pocket rule: 4.6e3, the disk sliding to the wall and back for ever.
     pocket_by_a_wall: "pocket_by_a_wall.json", 2e3; // [2.8e2: at rest from t = 2]
+    // A column a hair (9e-5 radii) off a side wall, each disk tilted toward it on the one below:
+    // the wall holds it at once (`WALL_TOUCH`). Held only within 1e-5 radii, the column slid
+    // and hopped into place first: 91 events per unit time (2.1e3 in all).
+    column_by_a_wall: "column_by_a_wall.json", 10.0; // [0.9]
     // The exact jam's wedges: a slot a hair too narrow, a full row a hair above a row at rest.
     slot_a_hair_narrow: "slot_a_hair_narrow.json", 100.0; // [2: at rest from t = 1]
     row_ringing_on_a_row_at_rest: "row_ringing_on_a_row_at_rest.json", 100.0; // [2.6]
