@@ -13,7 +13,8 @@
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and
 //!   [`accuracy`]: what accuracy costs in time (error against the exact engine vs cost);
 //! - [`scenario`], [`placement`]: the scene description and the initial state;
-//! - [`sweep`]: parameter sweeps and seed ensembles, locally and on Slurm, and their table.
+//! - [`sweep`]: parameter sweeps and seed ensembles, locally and on Slurm, and their table;
+//! - [`theory`]: known results for hard disks (equation of state, mean free path).
 //!
 //! The brute-force reference engine the tests compare against lives with the tests
 //! (`tests/common/reference.rs`).
@@ -40,6 +41,7 @@ pub mod signals;
 pub mod simulation;
 pub mod summary;
 pub mod sweep;
+pub mod theory;
 
 pub use error::{Error, Result};
 pub use scenario::Scenario;

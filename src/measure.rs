@@ -250,11 +250,6 @@ fn area_below(z: f64, a: f64) -> f64 {
     a * a * (u * (1.0 - u * u).sqrt() + u.asin() + std::f64::consts::FRAC_PI_2)
 }
 
-/// Henderson's equation of state for hard disks, `Z = (1 + φ²/8)/(1 − φ)²`.
-pub fn henderson_z(phi: f64) -> f64 {
-    (1.0 + phi * phi / 8.0) / ((1.0 - phi) * (1.0 - phi))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,8 +4,8 @@
 
 mod common;
 
-use vibrobed::measure::henderson_z;
 use vibrobed::run::{run, RunOptions};
+use vibrobed::theory::henderson_z;
 
 fn measured_z(phi: f64, duration: f64, seed: u64) -> f64 {
     let json = format!(

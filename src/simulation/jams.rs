@@ -16,7 +16,7 @@
 //!   (`seat_row`); and **a full row on the floor** with no play but round-off, ringing sideways
 //!   between the walls (`stop_floor_row`).
 
-use super::resting::TOUCH;
+use super::resting::{HAIR, TOUCH};
 use super::riders::{NO_DISK, RIGHT_WALL};
 use super::Simulation;
 use crate::dynamics::Flight;
@@ -46,8 +46,8 @@ pub const INSTANT: f64 = 1e-9;
 pub const WEDGE_DROP: f64 = 0.02;
 
 /// The most, in radii of the landing disk, that a row of disks at rest on the floor is pushed
-/// aside to make room for it (see `room_on_floor`).
-pub const ROOM: f64 = 1e-4;
+/// aside to make room for it (see `room_on_floor`): a [`HAIR`].
+pub const ROOM: f64 = HAIR;
 
 /// Round-off allowed when a row pushed aside fills the width exactly, in radii.
 const TIGHT: f64 = 1e-12;

@@ -51,14 +51,19 @@ pub const VERTICAL: f64 = 1e-9;
 /// resting disk leaves its supports when a gap grows beyond twice that.
 pub const TOUCH: f64 = 10.0 * PAIR_REST_HEIGHT;
 
+/// A hair, in radii of the disk at rest: the most a row at rest is pushed aside to make room
+/// for a landing disk ([`ROOM`](super::jams::ROOM)), and the gap across which a side wall
+/// still supports a disk at rest ([`WALL_TOUCH`]).
+pub const HAIR: f64 = 1e-4;
+
 /// A side wall supports a disk at rest (with a disk on the other side of the vertical) when
-/// their gap is at most `WALL_TOUCH` radii — a hair, the same as the most a row at rest is
-/// pushed aside ([`ROOM`](super::jams::ROOM)) — and the disk leaves it beyond twice that.
+/// their gap is at most `WALL_TOUCH` radii — a [`HAIR`] — and the disk leaves it beyond twice
+/// that.
 /// Frictionless, a disk on a support tilted toward the wall would slide the hair into it; but
 /// a disk rattling in such a pocket under a cure is rarely within [`TOUCH`] of both at once
 /// (one was seen 9·10⁻⁵ radii off the wall for ever, in a column of disks by a wall, each
 /// hop elastic).
-pub const WALL_TOUCH: f64 = super::jams::ROOM;
+pub const WALL_TOUCH: f64 = HAIR;
 
 impl<F: Flight> Simulation<F> {
     /// Flying disk `k` meets riding disk `s` (both brought to now) with restitution `e`. Comes to

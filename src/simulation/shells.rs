@@ -28,7 +28,7 @@ use crate::dynamics::Flight;
 use crate::error::Result;
 use crate::globals::Mask;
 use crate::locals::{SideBounds, Top};
-use crate::measure::henderson_z;
+use crate::theory::mean_free_path;
 
 /// Re-anchorings per disk between two whole re-mappings.
 pub const REMAP_EVERY: u64 = 16;
@@ -73,17 +73,6 @@ pub fn local_margin(skin: Option<f64>, a_min: f64, a: f64, phi: f64) -> f64 {
             (s - 1.0) * 2.0 * a
         }
     }
-}
-
-/// Mean free path of hard disks of radius `a` at packing `phi` (Enskog): `λ = 1/(2√2 n σ g(σ))`,
-/// `σ = 2a`, `n σ² = 4φ/π`, with the contact value of the pair correlation from Henderson's
-/// equation of state, `Z = 1 + 2φ g(σ)` ([`henderson_z`]: `g(σ) = (1 − 7φ/16)/(1 − φ)²`).
-/// 2.4σ at φ = 0.1, 0.52σ at 0.3, 0.05σ at 0.7.
-pub fn mean_free_path(a: f64, phi: f64) -> f64 {
-    let phi = phi.clamp(1e-3, 0.9);
-    let n_sigma2 = 4.0 * phi / std::f64::consts::PI;
-    let contact = (henderson_z(phi) - 1.0) / (2.0 * phi);
-    2.0 * a / (2.0 * std::f64::consts::SQRT_2 * n_sigma2 * contact)
 }
 
 /// How far ahead of a disk leaving its shell (along its velocity) its new anchor goes, for
@@ -342,16 +331,6 @@ impl<F: Flight> Simulation<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_mean_free_path_is_enskogs() {
-        // σ = 1: 0.522 at φ = 0.3 (n σ² = 1.2/π, g(σ) = 0.86875/0.49).
-        let n = 1.2 / std::f64::consts::PI;
-        let g = (1.0 - 2.1 / 16.0) / 0.49;
-        let expected = 1.0 / (2.0 * std::f64::consts::SQRT_2 * n * g);
-        assert!((mean_free_path(0.5, 0.3) - expected).abs() < 1e-12 * expected);
-        assert!(mean_free_path(0.5, 0.1) > 2.0 && mean_free_path(0.5, 0.7) < 0.06);
-    }
 
     #[test]
     fn disks_are_anchored_ahead_only_in_dilute_gases_without_gravity() {
