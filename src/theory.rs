@@ -29,14 +29,20 @@ mod tests {
         let expected = 1.0 / (2.0 * std::f64::consts::SQRT_2 * n * g);
         assert!((mean_free_path(0.5, 0.3) - expected).abs() < 1e-12 * expected);
         assert!(mean_free_path(0.5, 0.1) > 2.0 && mean_free_path(0.5, 0.7) < 0.06);
+        // At every packing, with Henderson's contact value g(σ) = (1 − 7φ/16)/(1 − φ)².
+        for phi in [0.1, 0.5, 0.7] {
+            let n = 4.0 * phi / std::f64::consts::PI;
+            let g = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+            let expected = 1.0 / (2.0 * std::f64::consts::SQRT_2 * n * g);
+            assert!((mean_free_path(0.5, phi) - expected).abs() < 1e-12 * expected);
+        }
     }
 
     #[test]
-    fn hendersons_contact_value_is_the_one_the_mean_free_path_uses() {
-        // Z = 1 + 2φ g(σ) with g(σ) = (1 − 7φ/16)/(1 − φ)².
-        for phi in [0.1, 0.3, 0.5, 0.7] {
-            let g = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
-            assert!((henderson_z(phi) - (1.0 + 2.0 * phi * g)).abs() < 1e-12 * henderson_z(phi));
-        }
+    fn hendersons_equation_of_state_at_known_packings() {
+        assert_eq!(henderson_z(0.0), 1.0);
+        // (1 + 0.09/8)/0.49 and (1 + 0.49/8)/0.09.
+        assert!((henderson_z(0.3) - 2.063_775_510_204_082).abs() < 1e-12);
+        assert!((henderson_z(0.7) - 11.791_666_666_666_668).abs() < 1e-12);
     }
 }

@@ -51,9 +51,9 @@ pub const VERTICAL: f64 = 1e-9;
 /// resting disk leaves its supports when a gap grows beyond twice that.
 pub const TOUCH: f64 = 10.0 * PAIR_REST_HEIGHT;
 
-/// A hair, in radii of the disk at rest: the most a row at rest is pushed aside to make room
-/// for a landing disk ([`ROOM`](super::jams::ROOM)), and the gap across which a side wall
-/// still supports a disk at rest ([`WALL_TOUCH`]).
+/// A hair, in radii: the most a row at rest is pushed aside to make room for a landing disk
+/// ([`ROOM`](super::jams::ROOM), in the landing disk's radii), and the gap across which a side
+/// wall still supports a disk at rest ([`WALL_TOUCH`], in that disk's radii).
 pub const HAIR: f64 = 1e-4;
 
 /// A side wall supports a disk at rest (with a disk on the other side of the vertical) when
