@@ -54,6 +54,27 @@ pub fn contact_time_within(
     Some((c / (-b + disc.sqrt())).max(0.0))
 }
 
+/// The contact time of a pair whose paths meet ([`paths_meet`] is `true`), without a branch:
+/// what [`contact_time_within`] gives for it with an infinite horizon, and ∞ where it gives
+/// `None` (a pair in contact, approaching only within round-off). For a horizon h, a pair
+/// that `contact_time_within` turns down as unable to touch before h has a time here of more
+/// than h: its least time, c / (−2b), is at least h (1 + 10⁻¹²), and the round-off of the
+/// formula is a few units in the last place.
+#[inline(always)]
+pub fn meeting_time(dx: f64, dy: f64, dvx: f64, dvy: f64, s: f64, speed: f64) -> f64 {
+    let b = dx * dvx + dy * dvy;
+    let c = dx * dx + dy * dy - s * s;
+    let dv2 = dvx * dvx + dvy * dvy;
+    let touching = (c <= 1e-12 * s * s) & (b * b <= 1e-26 * s * s * dv2.max(speed * speed));
+    let disc = b * b - dv2 * c;
+    let t = (c / (-b + disc.sqrt())).max(0.0);
+    if touching {
+        f64::INFINITY
+    } else {
+        t
+    }
+}
+
 /// `false` only for pairs that [`contact_time_within`] turns down whatever its horizon: receding
 /// (`b ≥ 0`) or passing each other by (`b² < |Δv|² c`). Branch-free, for a first pass over a
 /// neighbour list.
@@ -240,6 +261,44 @@ mod tests {
         assert_eq!(contact_time(dx, dy, dvx, 0.0, 1.0, 0.0), Some(0.0));
         // A real approach of the same pair is still found.
         assert_eq!(contact_time(dx, dy, 0.0, 1e-9, 1.0, 2e-3), Some(0.0));
+    }
+
+    proptest::proptest! {
+        /// The branch-free time of a pair whose paths meet is what `contact_time_within` gives
+        /// (∞ for its `None`), and where a finite horizon turns the pair down, it is later than
+        /// the horizon: the earliest of several pairs is the same either way.
+        #[test]
+        fn meeting_time_is_the_contact_time(
+            dx in -3.0f64..3.0,
+            dy in -3.0f64..3.0,
+            dvx in -2.0f64..2.0,
+            dvy in -2.0f64..2.0,
+            s in 0.5f64..1.5,
+            horizon in 0.0f64..4.0,
+            mode in 0u8..3,
+            grazing in -1e-12f64..1e-12,
+        ) {
+            // Apart (mode 0), in contact up to round-off (1), or in contact and approaching
+            // only within round-off of the velocities (2): the hard cases.
+            let r = (dx * dx + dy * dy).sqrt().max(1e-3);
+            let (dx, dy) = if mode == 0 { (dx, dy) } else { (dx * s / r, dy * s / r) };
+            let (dvx, dvy) = if mode == 2 {
+                // Tangential, with a tiny approach along the normal.
+                let v = (dvx * dvx + dvy * dvy).sqrt();
+                let (nx, ny) = (dx / s, dy / s);
+                (-ny * v - nx * grazing.abs(), nx * v - ny * grazing.abs())
+            } else {
+                (dvx, dvy)
+            };
+            let speed = dvx.abs() + dvy.abs();
+            proptest::prop_assume!(paths_meet(dx, dy, dvx, dvy, s));
+            let t = meeting_time(dx, dy, dvx, dvy, s, speed);
+            let exact = contact_time_within(dx, dy, dvx, dvy, s, speed, f64::INFINITY);
+            proptest::prop_assert_eq!(t, exact.unwrap_or(f64::INFINITY));
+            if contact_time_within(dx, dy, dvx, dvy, s, speed, horizon).is_none() {
+                proptest::prop_assert!(t > horizon, "{} <= {}", t, horizon);
+            }
+        }
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use super::Simulation;
 use crate::dynamics::Flight;
 use crate::interactions::{
-    contact_time_within, paths_meet, paths_meet_within, rider_contact, RiderContact,
+    contact_time_within, meeting_time, paths_meet, paths_meet_within, rider_contact, RiderContact,
 };
 use crate::locals::floor::{FloorEvent, RideEnd};
 use crate::locals::Side;
@@ -178,9 +178,10 @@ impl<F: Flight> Simulation<F> {
         let ai = radius[i];
         let mut best = f64::INFINITY;
         let mut who = partner::NONE;
-        // Two passes over each chunk of the list: first, without a branch, the neighbours that
-        // approach and whose paths meet (about a third, at random: a branch on it mispredicts
-        // often); then their contact times, in list order, exactly as one pass would find them.
+        // Two passes over each chunk of the list, neither with a branch on what it finds (a
+        // third of the pairs meet, at random: such a branch mispredicts often). First the
+        // neighbours that approach and whose paths meet; then their contact times, in list
+        // order, the earliest taken by selection: exactly what one pass would find.
         const CHUNK: usize = 16;
         let mut meeting = [0u32; CHUNK];
         for chunk in self.lists.of(i).chunks(CHUNK) {
@@ -206,20 +207,12 @@ impl<F: Flight> Simulation<F> {
                 let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
                 let speed = speed_i + vxj.abs() + vyj.abs();
-                if let Some(dt) = contact_time_within(
-                    dx,
-                    dy,
-                    vxi - vxj,
-                    vyi - vyj,
-                    ai + radius[j as usize],
-                    speed,
-                    best.min(horizon),
-                ) {
-                    if dt < best {
-                        best = dt;
-                        who = j;
-                    }
-                }
+                // Every kept pair's time is computed (no early rejection against the earliest
+                // so far: see `meeting_time`).
+                let dt = meeting_time(dx, dy, vxi - vxj, vyi - vyj, ai + radius[j as usize], speed);
+                let earlier = dt < best;
+                who = if earlier { j } else { who };
+                best = if earlier { dt } else { best };
             }
         }
         (best, who)
