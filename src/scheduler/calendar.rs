@@ -65,10 +65,11 @@ struct Entry {
 }
 
 impl Entry {
-    /// Earlier time first; equal times in the tree's order.
+    /// Earlier time first; equal times in the tree's order. Without a branch (`|`, `&`): which
+    /// of two events is earlier is a toss-up, and a branch on each half of it mispredicts.
     #[inline(always)]
     fn before(&self, other: &Entry) -> bool {
-        self.t < other.t || (self.t == other.t && self.rank < other.rank)
+        (self.t < other.t) | ((self.t == other.t) & (self.rank < other.rank))
     }
 }
 
@@ -451,13 +452,11 @@ impl CalendarQueue {
 
     // --- The heap of the current bucket ---
 
+    /// Disk `i`'s place in the tree's order, without a branch.
     #[inline(always)]
     fn rank(&self, i: u32) -> u32 {
-        if i >= self.shift {
-            i - self.shift
-        } else {
-            i + self.node.len() as u32 - self.shift
-        }
+        let r = i.wrapping_sub(self.shift);
+        r.wrapping_add(self.node.len() as u32 * (i < self.shift) as u32)
     }
 
     #[inline(always)]
@@ -508,8 +507,9 @@ impl CalendarQueue {
             if c >= len {
                 break;
             }
-            if c + 1 < len && self.heap[c + 1].before(&self.heap[c]) {
-                c += 1;
+            if c + 1 < len {
+                // The earlier child, by arithmetic rather than a branch.
+                c += self.heap[c + 1].before(&self.heap[c]) as usize;
             }
             let child = self.heap[c];
             if !child.before(&e) {
