@@ -28,8 +28,9 @@ use std::path::{Path, PathBuf};
 use std::sync::LazyLock;
 
 const MAGIC: &[u8; 8] = b"VBEDCKPT";
-/// Bumped whenever the payload's layout changes.
-const FORMAT_VERSION: u32 = 10;
+/// Bumped whenever the payload's layout or meaning changes (11: the calendar's current bucket
+/// is a sorted array, no longer a heap).
+const FORMAT_VERSION: u32 = 11;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

@@ -3,14 +3,15 @@
 //! Time ahead of the present is cut into buckets of width Δt. A disk whose event falls in a
 //! future bucket sits, unsorted, in that bucket's linked list; a disk whose event falls beyond
 //! the calendar's span sits in an overflow list; a disk whose event falls in the current bucket
-//! (or earlier) sits in a small binary heap, which alone is kept in order. When the heap runs dry
-//! the next non-empty bucket is poured into it; when the last bucket is done the calendar wraps:
+//! (or earlier) sits in a short array, which alone is kept in order (latest first: the earliest
+//! leaves from the end). When the array runs dry the next non-empty bucket is poured into it and
+//! sorted; when the last bucket is done the calendar wraps:
 //! Δt and the span are tuned again from the overflow's times and the overflow is spread over
 //! the new buckets.
 //!
 //! Each disk holds at most one entry (its earliest event), so a change of a disk's event is an
-//! unlink and a link: O(1) for the lists, O(log h) for the heap of the current bucket's h
-//! events. With Δt tuned so that a bucket holds O(1) events, every operation costs O(1) on
+//! unlink and a link: O(1) for the lists, O(log h) to find a place among the current bucket's h
+//! events (and a move of the later ones: a short copy). With Δt tuned so that a bucket holds O(1) events, every operation costs O(1) on
 //! average, against O(log N) for the [complete binary tree](super::CompleteBinaryTree).
 //!
 //! The order is exactly the tree's: earliest time first and, among equal times, the disk the
@@ -26,27 +27,31 @@ const MAX_BUCKETS: usize = 1 << 30;
 /// Times looked at to tune Δt (every k-th of the events being filed).
 const SAMPLE: usize = 512;
 /// Mean number of events per bucket over the earlier half of the filed events (measured: 2 to 8
-/// are equally good; the heap of the current bucket stays small).
+/// are equally good; the current bucket stays short).
 const EVENTS_PER_BUCKET: f64 = 4.0;
 /// Span of the calendar, in medians of the filed events' times from the earliest: 4 keeps about
 /// 94 % of exponentially spread times out of the overflow with half as many buckets as events
 /// (measured: 2 to 8 are equally good, 1 wraps too often).
 const SPAN_MEDIANS: f64 = 4.0;
 
+/// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
+/// bisection and a library sort: a bucket of many events at one time stays O(h log h)).
+const SHORT: usize = 16;
+
 /// Where an event belongs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Place {
     /// No event (+∞ or NaN).
     Nowhere,
-    /// The current bucket or earlier: the heap.
-    Heap,
+    /// The current bucket or earlier: the sorted array.
+    Current,
     /// A future bucket.
     Bucket(usize),
     /// Beyond the calendar's span.
     Overflow,
 }
 
-/// One disk's entry: its list links (in the heap, `prev` is its position there). It is filed
+/// One disk's entry: its list links (unused while it is in the current bucket). It is filed
 /// at the disk's time in the caller's `times`, so the calendar keeps no copy of it; where it
 /// is filed follows from that time (see [`CalendarQueue::place`]): the calendar's parameters
 /// change only when everything concerned is filed anew.
@@ -73,7 +78,7 @@ impl Entry {
     }
 }
 
-/// A calendar of unsorted linked lists plus a small heap for the current bucket, over
+/// A calendar of unsorted linked lists plus a sorted array for the current bucket, over
 /// `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`, as for the tree). Each disk is filed
 /// at `times[i]`: a change of it must be followed by [`update`](Self::update) with the time it
 /// replaced. Times must not be −∞; +∞ (or NaN) means no event.
@@ -88,7 +93,7 @@ pub struct CalendarQueue {
     origin: f64,
     /// 1/Δt.
     inv_width: f64,
-    /// The current bucket: events of buckets ≤ `cur` are in the heap.
+    /// The current bucket: events of buckets ≤ `cur` are in `current`.
     cur: u32,
     /// First disk of each bucket's list (`NIL` if empty).
     head: Vec<u32>,
@@ -97,8 +102,8 @@ pub struct CalendarQueue {
     over_len: u32,
     /// Per disk.
     node: Vec<Node>,
-    /// Min-heap of the events of buckets ≤ `cur`.
-    heap: Vec<Entry>,
+    /// The events of buckets ≤ `cur`, latest first (the earliest is the last).
+    current: Vec<Entry>,
     /// Sampled times for tuning (kept to avoid allocating at each wrap).
     #[serde(skip)]
     sample: Vec<f64>,
@@ -127,19 +132,23 @@ impl CalendarQueue {
             && self.origin.is_finite()
             && disk_ok(self.over_head)
             && self.head.iter().all(|&d| disk_ok(d))
-            && self.heap.iter().all(|e| (e.disk as usize) < n)
+            && self.current.iter().all(|e| {
+                (e.disk as usize) < n
+                    && e.rank == self.rank(e.disk)
+                    && e.t.to_bits() == times[e.disk as usize].to_bits()
+                    && self.place(e.t) == Place::Current
+            })
+            // Strictly sorted (so each disk at most once), and every disk due in it is there.
+            && self.current.windows(2).all(|w| w[1].before(&w[0]))
             && self
                 .node
                 .iter()
                 .enumerate()
                 .all(|(i, e)| match self.place(times[i]) {
-                    Place::Nowhere => true,
-                    Place::Heap => self
-                        .heap
-                        .get(e.prev as usize)
-                        .is_some_and(|h| h.disk as usize == i),
+                    Place::Nowhere | Place::Current => true,
                     _ => disk_ok(e.next) && disk_ok(e.prev),
                 })
+            && (0..n).filter(|&i| self.place(times[i]) == Place::Current).count() == self.current.len()
     }
 
     /// Builds the queue over `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`): tunes Δt
@@ -164,7 +173,7 @@ impl CalendarQueue {
             let deepest = 1usize << (usize::BITS - 1 - (2 * n - 1).leading_zeros());
             (deepest - n) as u32
         };
-        self.heap.clear();
+        self.current.clear();
         self.ahead = (0, NIL);
         self.over_head = NIL;
         self.over_len = 0;
@@ -195,8 +204,9 @@ impl CalendarQueue {
             },
         );
         for (i, &t) in times[..n].iter().enumerate() {
-            self.file(i as u32, t);
+            self.file(i as u32, t, true);
         }
+        self.sort_current();
         self.refill(times);
     }
 
@@ -237,7 +247,7 @@ impl CalendarQueue {
         // Monotone in t (rounding is monotone), so earlier events never sit in later buckets.
         let x = (t - self.origin) * self.inv_width;
         if x < (self.cur + 1) as f64 {
-            Place::Heap
+            Place::Current
         } else if x < self.head.len() as f64 {
             Place::Bucket(x as usize)
         } else {
@@ -245,12 +255,14 @@ impl CalendarQueue {
         }
     }
 
-    /// Files disk `i` (filed nowhere) at time `t`.
+    /// Files disk `i` (filed nowhere) at time `t`; into the current bucket unsorted if `bulk`
+    /// (the caller sorts it when done).
     #[inline(always)]
-    fn file(&mut self, i: u32, t: f64) {
+    fn file(&mut self, i: u32, t: f64, bulk: bool) {
         match self.place(t) {
             Place::Nowhere => {}
-            Place::Heap => self.heap_push(i, t),
+            Place::Current if bulk => self.current.push(self.entry(i, t)),
+            Place::Current => self.insert_current(self.entry(i, t)),
             Place::Bucket(b) => {
                 let h = self.head[b];
                 self.head[b] = self.link(i, h);
@@ -275,13 +287,13 @@ impl CalendarQueue {
         i
     }
 
-    /// Takes disk `i` out of wherever it is filed (`at`).
+    /// Takes disk `i` out of wherever it is filed (`at`, at time `old`).
     #[inline(always)]
-    fn unfile(&mut self, i: u32, at: Place) {
+    fn unfile(&mut self, i: u32, at: Place, old: f64) {
         let Node { next, prev } = self.node[i as usize];
         match at {
             Place::Nowhere => {}
-            Place::Heap => self.heap_remove(prev as usize),
+            Place::Current => self.remove_current(self.entry(i, old)),
             Place::Bucket(_) | Place::Overflow => {
                 if prev != NIL {
                     self.node[prev as usize].next = next;
@@ -300,18 +312,19 @@ impl CalendarQueue {
         }
     }
 
-    /// Keeps the heap non-empty while any event is filed: pours the next non-empty bucket into
+    /// Keeps the current bucket non-empty while any event is filed: pours the next non-empty bucket into
     /// it, wrapping the calendar when the buckets are done.
     fn refill(&mut self, times: &[f64]) {
-        while self.heap.is_empty() {
+        while self.current.is_empty() {
             if (self.cur as usize) + 1 < self.head.len() {
                 self.cur += 1;
                 let mut d = std::mem::replace(&mut self.head[self.cur as usize], NIL);
                 while d != NIL {
                     let next = self.node[d as usize].next;
-                    self.heap_push(d, times[d as usize]);
+                    self.current.push(self.entry(d, times[d as usize]));
                     d = next;
                 }
+                self.sort_current();
             } else if self.over_len > 0 {
                 self.wrap(times);
             } else {
@@ -320,8 +333,8 @@ impl CalendarQueue {
         }
     }
 
-    /// All buckets are done and the heap is empty: tune the calendar to the overflow's events
-    /// and spread them over it (the earliest lands in the heap).
+    /// All buckets are done and the current bucket is empty: tune the calendar to the overflow's events
+    /// and spread them over it (the earliest lands in the current bucket).
     fn wrap(&mut self, times: &[f64]) {
         let count = self.over_len as usize;
         let stride = (count / SAMPLE).max(1);
@@ -343,16 +356,17 @@ impl CalendarQueue {
         self.over_len = 0;
         while d != NIL {
             let next = self.node[d as usize].next;
-            self.file(d, times[d as usize]);
+            self.file(d, times[d as usize], true);
             d = next;
         }
+        self.sort_current();
     }
 
     /// The disk with the earliest event (ties as in the tree); with no finite event, the disk the
     /// tree would yield among all-infinite times. O(1).
     #[inline(always)]
     pub fn min(&self) -> usize {
-        match self.heap.first() {
+        match self.current.last() {
             Some(e) => e.disk as usize,
             None => self.shift as usize,
         }
@@ -364,20 +378,15 @@ impl CalendarQueue {
     pub fn update(&mut self, times: &[f64], i: usize, old: f64) {
         let t = times[i];
         let (from, to) = (self.place(old), self.place(t));
-        if from == Place::Heap && to == Place::Heap {
-            // Stays in the current bucket: change its key in place.
-            let k = self.node[i].prev as usize;
-            self.heap[k].t = t;
-            if t < old {
-                self.sift_up(k);
-            } else {
-                self.sift_down(k);
-            }
+        if from == Place::Current && to == Place::Current {
+            // Stays in the current bucket: moves within it.
+            self.remove_current(self.entry(i as u32, old));
+            self.insert_current(self.entry(i as u32, t));
             return;
         }
-        self.unfile(i as u32, from);
-        self.file(i as u32, t);
-        if self.heap.is_empty() {
+        self.unfile(i as u32, from, old);
+        self.file(i as u32, t, false);
+        if self.current.is_empty() {
             self.refill(times);
         }
         if self.node.len() >= crate::prefetch::PREFETCH_FROM {
@@ -387,11 +396,11 @@ impl CalendarQueue {
 
     /// One step of a walk through the lists of the buckets after the current one, asking the
     /// memory system for each entry a step before the walk reads it: by the time a bucket is
-    /// poured into the heap its entries are cached, instead of costing one miss after another
+    /// poured into the current bucket its entries are cached, instead of costing one miss after another
     /// (a list is a chain: each entry says where the next is). It changes nothing but timing.
     ///
     /// An entry whose event changed since the walk reached it has been filed elsewhere: its
-    /// link leads into another bucket's list, far ahead, or nowhere (an entry in the heap keeps
+    /// link leads into another bucket's list, far ahead, or nowhere (an entry in the current bucket keeps
     /// a stale link), so the walk starts its bucket again instead of following it. Without that
     /// check, at N = 10⁶, pouring a bucket still waited on one miss after another (13% of the
     /// run's samples, half of them on one load; 5% with it).
@@ -430,10 +439,11 @@ impl CalendarQueue {
         }
     }
 
-    /// The disks likely to come after [`min`](Self::min) (the heap's second level), if any.
+    /// The disks next after [`min`](Self::min) in the current bucket, if any.
     #[inline(always)]
     pub fn next_likely(&self) -> [Option<usize>; 2] {
-        [1, 2].map(|k| self.heap.get(k).map(|e| e.disk as usize))
+        let len = self.current.len();
+        [2, 3].map(|k| len.checked_sub(k).map(|k| self.current[k].disk as usize))
     }
 
     /// Hints that disk `i`'s entry will be read soon.
@@ -446,11 +456,11 @@ impl CalendarQueue {
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Node>() * self.node.capacity()
             + 4 * self.head.capacity()
-            + std::mem::size_of::<Entry>() * self.heap.capacity()
+            + std::mem::size_of::<Entry>() * self.current.capacity()
             + 8 * self.sample.capacity()
     }
 
-    // --- The heap of the current bucket ---
+    // --- The current bucket: a sorted array, latest first ---
 
     /// Disk `i`'s place in the tree's order, without a branch.
     #[inline(always)]
@@ -459,68 +469,82 @@ impl CalendarQueue {
         r.wrapping_add(self.node.len() as u32 * (i < self.shift) as u32)
     }
 
+    /// Disk `i`'s entry for an event at `t`.
     #[inline(always)]
-    fn heap_push(&mut self, i: u32, t: f64) {
-        let rank = self.rank(i);
-        self.heap.push(Entry { t, rank, disk: i });
-        self.sift_up(self.heap.len() - 1);
+    fn entry(&self, i: u32, t: f64) -> Entry {
+        Entry {
+            t,
+            rank: self.rank(i),
+            disk: i,
+        }
     }
 
+    /// Puts `e` in its place in the current bucket, after every later entry: in a short
+    /// bucket by moving the earlier entries up one by one from the end (one loop, whose exit
+    /// is the only branch that can mispredict), in a long one by bisection.
     #[inline(always)]
-    fn heap_remove(&mut self, k: usize) {
-        let last = self.heap.pop().expect("a filed entry");
-        if k < self.heap.len() {
-            let before = last.before(&self.heap[k]);
-            self.heap[k] = last;
-            self.node[last.disk as usize].prev = k as u32;
-            if before {
-                self.sift_up(k);
+    fn insert_current(&mut self, e: Entry) {
+        let len = self.current.len();
+        if len > SHORT {
+            let k = self.current.partition_point(|x| e.before(x));
+            self.current.insert(k, e);
+            return;
+        }
+        self.current.push(e);
+        let mut k = len;
+        while k > 0 && self.current[k - 1].before(&e) {
+            self.current[k] = self.current[k - 1];
+            k -= 1;
+        }
+        self.current[k] = e;
+    }
+
+    /// Takes `e` (filed) out of the current bucket: the earliest (the last) at once, another
+    /// found by its key (bisection) or, in a short bucket, by its disk.
+    #[inline(always)]
+    fn remove_current(&mut self, e: Entry) {
+        let len = self.current.len();
+        if self.current.last().is_some_and(|l| l.disk == e.disk) {
+            self.current.pop();
+            return;
+        }
+        if len > SHORT {
+            let k = self.current.partition_point(|x| e.before(x));
+            debug_assert_eq!(self.current[k].disk, e.disk, "a filed entry");
+            self.current.remove(k);
+            return;
+        }
+        let k = self.current.iter().rposition(|x| x.disk == e.disk);
+        let k = k.expect("a filed entry");
+        for m in k..len - 1 {
+            self.current[m] = self.current[m + 1];
+        }
+        self.current.pop();
+    }
+
+    /// Sorts the current bucket (after entries were added unsorted): a short one by insertion.
+    fn sort_current(&mut self) {
+        if self.current.len() <= SHORT {
+            for m in 1..self.current.len() {
+                let e = self.current[m];
+                let mut k = m;
+                while k > 0 && self.current[k - 1].before(&e) {
+                    self.current[k] = self.current[k - 1];
+                    k -= 1;
+                }
+                self.current[k] = e;
+            }
+            return;
+        }
+        self.current.sort_unstable_by(|a, b| {
+            if b.before(a) {
+                std::cmp::Ordering::Less
+            } else if a.before(b) {
+                std::cmp::Ordering::Greater
             } else {
-                self.sift_down(k);
+                std::cmp::Ordering::Equal
             }
-        }
-    }
-
-    #[inline(always)]
-    fn sift_up(&mut self, mut k: usize) {
-        let e = self.heap[k];
-        while k > 0 {
-            let parent = (k - 1) / 2;
-            let p = self.heap[parent];
-            if !e.before(&p) {
-                break;
-            }
-            self.heap[k] = p;
-            self.node[p.disk as usize].prev = k as u32;
-            k = parent;
-        }
-        self.heap[k] = e;
-        self.node[e.disk as usize].prev = k as u32;
-    }
-
-    #[inline(always)]
-    fn sift_down(&mut self, mut k: usize) {
-        let e = self.heap[k];
-        let len = self.heap.len();
-        loop {
-            let mut c = 2 * k + 1;
-            if c >= len {
-                break;
-            }
-            if c + 1 < len {
-                // The earlier child, by arithmetic rather than a branch.
-                c += self.heap[c + 1].before(&self.heap[c]) as usize;
-            }
-            let child = self.heap[c];
-            if !child.before(&e) {
-                break;
-            }
-            self.heap[k] = child;
-            self.node[child.disk as usize].prev = k as u32;
-            k = c;
-        }
-        self.heap[k] = e;
-        self.node[e.disk as usize].prev = k as u32;
+        });
     }
 }
 

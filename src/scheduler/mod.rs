@@ -1,7 +1,7 @@
 //! The scheduler's sorter: each disk keeps only its own earliest event (Isobe's Local Minima
 //! Algorithm) and a queue over the disks yields the global minimum: a complete binary tree
-//! (Isobe 1999) or a calendar of linked lists with a small heap (Paul 2007), chosen by
-//! `engine.queue`. Both yield the same disk at every step, so the choice changes only speed.
+//! (Isobe 1999) or a calendar of linked lists with a short sorted array for the current bucket
+//! (Paul 2007), chosen by `engine.queue`. Both yield the same disk at every step, so the choice changes only speed.
 
 pub mod calendar;
 pub mod cbt;
@@ -58,8 +58,8 @@ impl EventQueue {
         }
     }
 
-    /// Disks likely to be next after [`min`](Self::min) (the calendar's heap knows two; the
-    /// tree none).
+    /// Disks likely to be next after [`min`](Self::min) (the calendar's current bucket knows
+    /// them; the tree does not).
     #[inline(always)]
     pub fn next_likely(&self) -> [Option<usize>; 2] {
         match self {
