@@ -522,18 +522,18 @@ impl CalendarQueue {
         self.current.pop();
     }
 
-    /// Sorts the current bucket (after entries were added unsorted): a short one by insertion.
+    /// Sorts the current bucket (after entries were added unsorted): a short one by counting.
     fn sort_current(&mut self) {
-        if self.current.len() <= SHORT {
-            for m in 1..self.current.len() {
-                let e = self.current[m];
-                let mut k = m;
-                while k > 0 && self.current[k - 1].before(&e) {
-                    self.current[k] = self.current[k - 1];
-                    k -= 1;
-                }
-                self.current[k] = e;
+        let len = self.current.len();
+        if let Some(&first) = self.current.first().filter(|_| len <= SHORT) {
+            // Each entry's place is the number of entries later than it (the keys differ):
+            // every comparison is made, none decides a branch.
+            let mut sorted = [first; SHORT];
+            for &e in &self.current {
+                let place: usize = self.current.iter().map(|x| e.before(x) as usize).sum();
+                sorted[place] = e;
             }
+            self.current.copy_from_slice(&sorted[..len]);
             return;
         }
         self.current.sort_unstable_by(|a, b| {
