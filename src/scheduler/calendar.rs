@@ -10,9 +10,10 @@
 //! the new buckets.
 //!
 //! Each disk holds at most one entry (its earliest event), so a change of a disk's event is an
-//! unlink and a link: O(1) for the lists, O(log h) to find a place among the current bucket's h
-//! events (and a move of the later ones: a short copy). With Δt tuned so that a bucket holds O(1) events, every operation costs O(1) on
-//! average, against O(log N) for the [complete binary tree](super::CompleteBinaryTree).
+//! unlink and a link: O(1) for the lists, O(h) moves within the current bucket's h events
+//! (O(log h) comparisons beyond a few). With Δt tuned so that a bucket holds O(1) events, every
+//! operation costs O(1) on average, against O(log N) for the
+//! [complete binary tree](super::CompleteBinaryTree).
 //!
 //! The order is exactly the tree's: earliest time first and, among equal times, the disk the
 //! tree would yield (the leftmost leaf of its heap-shaped layout), so that the engine pops the
@@ -148,7 +149,10 @@ impl CalendarQueue {
                     Place::Nowhere | Place::Current => true,
                     _ => disk_ok(e.next) && disk_ok(e.prev),
                 })
-            && (0..n).filter(|&i| self.place(times[i]) == Place::Current).count() == self.current.len()
+            && (0..n)
+                .filter(|&i| self.place(times[i]) == Place::Current)
+                .count()
+                == self.current.len()
     }
 
     /// Builds the queue over `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`): tunes Δt
@@ -312,8 +316,8 @@ impl CalendarQueue {
         }
     }
 
-    /// Keeps the current bucket non-empty while any event is filed: pours the next non-empty bucket into
-    /// it, wrapping the calendar when the buckets are done.
+    /// Keeps the current bucket non-empty while any event is filed: pours the next non-empty
+    /// bucket into it (and sorts it), wrapping the calendar when the buckets are done.
     fn refill(&mut self, times: &[f64]) {
         while self.current.is_empty() {
             if (self.cur as usize) + 1 < self.head.len() {
@@ -333,8 +337,8 @@ impl CalendarQueue {
         }
     }
 
-    /// All buckets are done and the current bucket is empty: tune the calendar to the overflow's events
-    /// and spread them over it (the earliest lands in the current bucket).
+    /// All buckets are done and the current bucket is empty: tune the calendar to the overflow's
+    /// events and spread them over it (the earliest land in the current bucket).
     fn wrap(&mut self, times: &[f64]) {
         let count = self.over_len as usize;
         let stride = (count / SAMPLE).max(1);
@@ -396,14 +400,15 @@ impl CalendarQueue {
 
     /// One step of a walk through the lists of the buckets after the current one, asking the
     /// memory system for each entry a step before the walk reads it: by the time a bucket is
-    /// poured into the current bucket its entries are cached, instead of costing one miss after another
-    /// (a list is a chain: each entry says where the next is). It changes nothing but timing.
+    /// poured into the current bucket its entries are cached, instead of costing one miss after
+    /// another (a list is a chain: each entry says where the next is). It changes nothing but
+    /// timing.
     ///
     /// An entry whose event changed since the walk reached it has been filed elsewhere: its
-    /// link leads into another bucket's list, far ahead, or nowhere (an entry in the current bucket keeps
-    /// a stale link), so the walk starts its bucket again instead of following it. Without that
-    /// check, at N = 10⁶, pouring a bucket still waited on one miss after another (13% of the
-    /// run's samples, half of them on one load; 5% with it).
+    /// link leads into another bucket's list, far ahead, or nowhere (an entry in the current
+    /// bucket keeps a stale link), so the walk starts its bucket again instead of following it.
+    /// Without that check, at N = 10⁶, pouring a bucket still waited on one miss after another
+    /// (13% of the run's samples, half of them on one load; 5% with it).
     #[inline(always)]
     fn walk_ahead(&mut self, times: &[f64]) {
         let (mut bucket, disk) = self.ahead;

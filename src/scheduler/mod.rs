@@ -1,7 +1,8 @@
 //! The scheduler's sorter: each disk keeps only its own earliest event (Isobe's Local Minima
 //! Algorithm) and a queue over the disks yields the global minimum: a complete binary tree
 //! (Isobe 1999) or a calendar of linked lists with a short sorted array for the current bucket
-//! (Paul 2007), chosen by `engine.queue`. Both yield the same disk at every step, so the choice changes only speed.
+//! (Paul 2007), chosen by `engine.queue`. Both yield the same disk at every step, so the choice
+//! changes only speed.
 
 pub mod calendar;
 pub mod cbt;
