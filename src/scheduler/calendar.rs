@@ -35,6 +35,11 @@ const EVENTS_PER_BUCKET: f64 = 4.0;
 /// (measured: 2 to 8 are equally good, 1 wraps too often).
 const SPAN_MEDIANS: f64 = 4.0;
 
+/// Buckets from which on [`CalendarQueue::prefetch_time`] gives its hint (512 KiB of heads:
+/// N ≈ 2.6·10⁵ disks). Measured with the hint at every size: N = 10⁶ 1.04× (both packings, 8
+/// of 10 alternated pairs above 1), N = 10⁵ 0.91–0.97× (heads of 200 KiB, cached anyway).
+const PREFETCH_HEADS_FROM: usize = 1 << 17;
+
 /// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
 /// bisection and a library sort: a bucket of many events at one time stays O(h log h)).
 const SHORT: usize = 16;
@@ -449,6 +454,19 @@ impl CalendarQueue {
     pub fn next_likely(&self) -> [Option<usize>; 2] {
         let len = self.current.len();
         [2, 3].map(|k| len.checked_sub(k).map(|k| self.current[k].disk as usize))
+    }
+
+    /// Hints that an event at `t` will be filed soon: the head of its bucket, read when it is
+    /// filed, a miss at random once the heads outgrow the caches (from
+    /// 2¹⁷ buckets on; below, the hint only costs).
+    #[inline(always)]
+    pub fn prefetch_time(&self, t: f64) {
+        if self.head.len() < PREFETCH_HEADS_FROM {
+            return;
+        }
+        if let Place::Bucket(b) = self.place(t) {
+            crate::prefetch::prefetch(&self.head, b);
+        }
     }
 
     /// Hints that disk `i`'s entry will be read soon.

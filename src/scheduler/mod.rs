@@ -69,6 +69,14 @@ impl EventQueue {
         }
     }
 
+    /// Hints that an event at `t` will be filed soon.
+    #[inline(always)]
+    pub fn prefetch_time(&self, t: f64) {
+        if let EventQueue::Calendar(c) = self {
+            c.prefetch_time(t);
+        }
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         match self {

@@ -58,6 +58,11 @@ impl<F: Flight> Simulation<F> {
     /// Finds disk `i`'s earliest event from now and files it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
         let (best, who, recheck) = self.pair_event(i, self.pair_horizon());
+        if self.prefetching {
+            // The queue's bucket for the pair contact (the likely event), asked for before the
+            // rest of the event is worked out.
+            self.queue.prefetch_time(self.now + best);
+        }
         let old = self.ev_time[i];
         self.file_event(i, best, who, recheck);
         self.queue.update(&self.ev_time, i, old);
