@@ -178,6 +178,14 @@ impl NeighbourLists {
         self.rows.of(i)
     }
 
+    /// Hints that disk `i`'s list will be read soon (rows only).
+    #[inline]
+    pub fn prefetch_list(&self, i: usize) {
+        if self.in_rows {
+            self.rows.prefetch(i);
+        }
+    }
+
     /// Hints that the lists of disk `i`'s neighbours will change soon (rows only): `i`
     /// leaves them at [`replace`](Self::replace).
     #[inline]

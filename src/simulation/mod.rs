@@ -174,7 +174,19 @@ impl<F: Flight> Simulation<F> {
         if !self.prefetching {
             return;
         }
-        for k in self.queue.next_likely().into_iter().flatten() {
+        let likely = self.queue.next_likely();
+        // Under the local re-mapping, the next event's neighbours, from its list in its row
+        // (whose row was asked for at the event before): the states its prediction reads.
+        let local = self.shells.is_some();
+        if let Some(k) = likely[0].filter(|_| local) {
+            for &j in self.lists.of(k) {
+                prefetch(&self.disks.motion, j as usize);
+            }
+        }
+        for k in likely.into_iter().flatten() {
+            if local {
+                self.lists.prefetch_list(k);
+            }
             prefetch(&self.disks.motion, k);
             prefetch(&self.ev_time, k);
             prefetch(&self.ev_partner, k);
