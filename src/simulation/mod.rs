@@ -184,15 +184,13 @@ impl<F: Flight> Simulation<F> {
             }
         }
         for k in likely.into_iter().flatten() {
-            if local {
-                self.lists.prefetch_list(k);
-            }
             prefetch(&self.disks.motion, k);
             prefetch(&self.ev_time, k);
             prefetch(&self.ev_partner, k);
             prefetch(&self.ev_counter, k);
             if let Some(shells) = &self.shells {
                 shells.prefetch(k);
+                self.lists.prefetch_list(k);
             }
         }
     }
