@@ -7,6 +7,7 @@ use std::ops::Index;
 /// A disk's motion: its state at its own time stamp (kept together: the hot data of the event
 /// loop, one cache line's worth per disk).
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[repr(C)]
 pub struct Motion {
     /// Centre x at time `t`.
     pub x: f64,
@@ -162,6 +163,11 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
     /// The value every disk shares, if they do.
     pub fn common(&self) -> Option<T> {
         (self.each.is_empty() && self.len > 0).then_some(self.common)
+    }
+
+    /// Each disk's own value; empty when they share one ([`common`](Self::common)).
+    pub fn each(&self) -> &[T] {
+        &self.each
     }
 
     /// The values in disk order.

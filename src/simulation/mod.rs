@@ -24,6 +24,8 @@ mod counts;
 pub mod dutc;
 mod fire;
 mod jams;
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+mod lanes;
 mod log;
 mod motion;
 pub mod numbering;

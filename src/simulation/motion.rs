@@ -38,6 +38,18 @@ impl Images {
         Images { period, half }
     }
 
+    /// Half periods (∞ where not periodic).
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    pub(super) fn half(&self) -> [f64; 2] {
+        self.half
+    }
+
+    /// Periods (0 where not periodic).
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    pub(super) fn period(&self) -> [f64; 2] {
+        self.period
+    }
+
     /// Minimum-image separation where periodic. Positions are wrapped at every mapping and
     /// drift by less than the DUTC margin before the next, so one correction suffices.
     #[inline(always)]

@@ -173,7 +173,54 @@ impl<F: Flight> Simulation<F> {
     /// `horizon` (it pays where the horizon is near: Isobe's deadline; measured to cost 3% at
     /// N = 2500 where it is far).
     #[inline]
-    fn pair_event_in_flight<const WITHIN: bool>(&self, i: usize, horizon: f64) -> (f64, u32) {
+    pub(super) fn pair_event_in_flight<const WITHIN: bool>(
+        &self,
+        i: usize,
+        horizon: f64,
+    ) -> (f64, u32) {
+        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+        {
+            let m = &self.disks.motion[i];
+            let (x, y, vx, vy) = self.flight.advance(m.x, m.y, m.vx, m.vy, self.now - m.t);
+            let probe = super::lanes::Probe {
+                i: i as u32,
+                now: self.now,
+                x,
+                y,
+                vx,
+                vy,
+                speed: vx.abs() + vy.abs(),
+                a: self.disks.radius[i],
+                g: self.flight.g(),
+                ballistic: self.flight.g() != 0.0,
+                half: self.images.half(),
+                period: self.images.period(),
+            };
+            super::lanes::earliest_contact::<WITHIN>(
+                &probe,
+                self.lists.of(i),
+                &self.disks.motion,
+                self.disks.radius.common(),
+                self.disks.radius.each(),
+                horizon,
+                &self.disks.counter,
+                self.prefetching,
+                partner::NONE,
+            )
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+        self.pair_event_one_by_one::<WITHIN>(i, horizon)
+    }
+
+    /// [`pair_event_in_flight`](Self::pair_event_in_flight) one neighbour at a time (processors
+    /// without AVX2; tests compare the two).
+    #[inline]
+    #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
+    pub(super) fn pair_event_one_by_one<const WITHIN: bool>(
+        &self,
+        i: usize,
+        horizon: f64,
+    ) -> (f64, u32) {
         let now = self.now;
         let motion = &self.disks.motion;
         let radius = &self.disks.radius;
