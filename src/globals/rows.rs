@@ -189,13 +189,30 @@ impl Rows {
             return;
         }
         // Every slot of the row looked at, without a branch: a search that stops where it
-        // finds `j` mispredicts that stop (rows are short, their lengths vary).
+        // finds `j` mispredicts that stop (rows are short, their lengths vary). The slots that
+        // hold `j` as bits of a mask (a form the compiler turns into vector comparisons, where
+        // a running "last found" chains every slot on the one before).
         let s = i * self.room;
         let row = &mut self.slots[s..s + self.room];
-        let mut e = usize::MAX;
-        for (k, &x) in row.iter().enumerate() {
-            e = if x == j && k < l as usize { k } else { e };
-        }
+        let e = if row.len() <= 64 {
+            let mut bits = 0u64;
+            for (k, &x) in row.iter().enumerate() {
+                bits |= ((x == j) as u64) << k;
+            }
+            // The list's slots (none when it is empty); of several, the last (as the loop
+            // below finds: a list holds a disk once).
+            let listed = u64::MAX.checked_shr(64 - l as u32).unwrap_or(0);
+            match (bits & listed).leading_zeros() {
+                64 => usize::MAX,
+                z => 63 - z as usize,
+            }
+        } else {
+            let mut e = usize::MAX;
+            for (k, &x) in row.iter().enumerate() {
+                e = if x == j && k < l as usize { k } else { e };
+            }
+            e
+        };
         if e != usize::MAX {
             row[e] = row[l as usize - 1];
             self.len[i] = l - 1;
