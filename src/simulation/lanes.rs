@@ -1,17 +1,19 @@
-//! The prediction's pair loop four neighbours at a time (AVX2): every listed neighbour's contact
-//! time with packed square roots and divisions, the earliest taken by selection in list order.
+//! The engine's short hot loops four at a time (AVX2): the prediction's pair loop (every
+//! listed neighbour's contact time with packed square roots and divisions, the earliest taken
+//! by selection in list order) and a shell exit's candidate filter.
 //!
 //! Each lane does exactly the scalar operations, in the same order, of
 //! [`paths_meet`](crate::interactions::paths_meet),
 //! [`paths_meet_within`](crate::interactions::paths_meet_within) and
 //! [`meeting_time`](crate::interactions::meeting_time) on the state the disk's
-//! [`Flight`](crate::dynamics::Flight) gives (IEEE arithmetic is exact per lane, and Rust never
-//! contracts a product and a sum): the same contact and partner bit for bit as the scalar loop,
-//! which stays for other processors (a test compares the two). Built where AVX2 is (the
-//! engine's x86-64-v3 target: `.cargo/config.toml`).
+//! [`Flight`](crate::dynamics::Flight) gives, or of the shells' filter (IEEE arithmetic is
+//! exact per lane, and Rust never contracts a product and a sum): the same results bit for bit
+//! as the scalar loops, which stay for other processors (tests compare the two). Built where
+//! AVX2 is (the engine's x86-64-v3 target: `.cargo/config.toml`).
 
 use super::motion::Images;
 use crate::disks::{Motion, PerDisk};
+use std::arch::x86_64::*;
 
 /// What the four-lane search needs to know of the disk that predicts and of the domain.
 #[derive(Debug, Clone, Copy)]
@@ -42,10 +44,21 @@ pub(super) struct Probe {
     pub period: [f64; 2],
 }
 
+/// Minimum image of separations `d` along one direction, lane by lane, as `Images::wrap`: one
+/// period off where beyond half of it (`half` = ∞ where the direction is not periodic).
+#[inline(always)]
+unsafe fn nearest_image(d: __m256d, half: __m256d, neg_half: __m256d, period: __m256d) -> __m256d {
+    let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, half);
+    let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, neg_half);
+    let d_up = _mm256_blendv_pd(d, _mm256_add_pd(d, period), below);
+    _mm256_blendv_pd(d_up, _mm256_sub_pd(d, period), above)
+}
+
 /// Earliest contact of `probe`'s disk with a neighbour of `list` from now: (time from now,
 /// partner), (∞, `none`) if none. `WITHIN`: pairs that cannot touch within `horizon` are left
-/// out, as by `paths_meet_within`. `radius`: the common radius, or `each` disk's. `counter`:
-/// the collision counters, asked for (prefetched) for each neighbour when `prefetch` is set.
+/// out, as by `paths_meet_within`. The radii: `common_radius` if the disks share one, else
+/// `each_radius`. `counter`: the collision counters, asked for (prefetched) for each neighbour
+/// when `prefetch` is set.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn earliest_contact<const WITHIN: bool>(
@@ -89,7 +102,6 @@ unsafe fn earliest_contact_avx2<const WITHIN: bool>(
     prefetch: bool,
     none: u32,
 ) -> (f64, u32) {
-    use std::arch::x86_64::*;
     let set1 = |v: f64| _mm256_set1_pd(v);
     let (now, xi, yi, vxi, vyi) = (set1(p.now), set1(p.x), set1(p.y), set1(p.vx), set1(p.vy));
     let speed_i = set1(p.speed);
@@ -150,15 +162,8 @@ unsafe fn earliest_contact_avx2<const WITHIN: bool>(
         } else {
             (_mm256_add_pd(y, _mm256_mul_pd(vy, dt)), vy)
         };
-        // Minimum image: one period off where beyond half of it.
-        let near = |d: __m256d, half: __m256d, neg_half: __m256d, period: __m256d| {
-            let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, half);
-            let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, neg_half);
-            let d_up = _mm256_blendv_pd(d, _mm256_add_pd(d, period), below);
-            _mm256_blendv_pd(d_up, _mm256_sub_pd(d, period), above)
-        };
-        let dx = near(_mm256_sub_pd(xi, xj), half_x, neg_half_x, period_x);
-        let dy = near(_mm256_sub_pd(yi, yj), half_y, neg_half_y, period_y);
+        let dx = nearest_image(_mm256_sub_pd(xi, xj), half_x, neg_half_x, period_x);
+        let dy = nearest_image(_mm256_sub_pd(yi, yj), half_y, neg_half_y, period_y);
         let s = match s_common {
             Some(s) => s,
             None => _mm256_add_pd(
@@ -296,7 +301,6 @@ unsafe fn within_reach_avx2(
     radius: &PerDisk<f64>,
     images: &Images,
 ) -> usize {
-    use std::arch::x86_64::*;
     let set1 = |v: f64| _mm256_set1_pd(v);
     let [x, y] = anchor[i];
     let (half, period) = (images.half(), images.period());
@@ -310,12 +314,6 @@ unsafe fn within_reach_avx2(
         set1(s * s)
     });
     let each = radius.each();
-    let near = |d: __m256d, half: __m256d, neg_half: __m256d, period: __m256d| {
-        let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, half);
-        let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, neg_half);
-        let d_up = _mm256_blendv_pd(d, _mm256_add_pd(d, period), below);
-        _mm256_blendv_pd(d_up, _mm256_sub_pd(d, period), above)
-    };
     let me = i as u32;
     let mut kept = 0;
     let mut k = 0;
@@ -327,8 +325,8 @@ unsafe fn within_reach_avx2(
         let a23 = _mm256_set_m128d(a[3], a[2]);
         let xs = _mm256_unpacklo_pd(a01, a23);
         let ys = _mm256_unpackhi_pd(a01, a23);
-        let dx = near(_mm256_sub_pd(xi, xs), half_x, neg_half_x, period_x);
-        let dy = near(_mm256_sub_pd(yi, ys), half_y, neg_half_y, period_y);
+        let dx = nearest_image(_mm256_sub_pd(xi, xs), half_x, neg_half_x, period_x);
+        let dy = nearest_image(_mm256_sub_pd(yi, ys), half_y, neg_half_y, period_y);
         let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
         let limit = match common {
             Some(s2) => s2,

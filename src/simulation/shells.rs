@@ -321,9 +321,11 @@ impl<F: Flight> Simulation<F> {
             }
         }
         let reach = self.disks.radius[i] + self.margin;
+        let radius = &self.disks.radius;
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        use super::lanes::within_reach;
-        let kept = within_reach(found, n, i, reach, anchor, &self.disks.radius, &self.images);
+        let kept = super::lanes::within_reach(found, n, i, reach, anchor, radius, &self.images);
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+        let kept = within_reach(found, n, i, reach, anchor, radius, &self.images);
         self.lists.replace(i, &found[..kept]);
     }
 
