@@ -59,39 +59,14 @@ unsafe fn nearest_image(d: __m256d, half: __m256d, neg_half: __m256d, period: __
 /// out, as by `paths_meet_within`. The radii: `common_radius` if the disks share one, else
 /// `each_radius`. `counter`: the collision counters, asked for (prefetched) for each neighbour
 /// when `prefetch` is set.
+///
+/// # Safety
+///
+/// Sound wherever this module is built (AVX2 is enabled at compile time); `motion` holds a
+/// `repr(C)` [`Motion`] per disk, and every entry of `list` indexes it (indexing is checked).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(super) fn earliest_contact<const WITHIN: bool>(
-    probe: &Probe,
-    list: &[u32],
-    motion: &[Motion],
-    common_radius: Option<f64>,
-    each_radius: &[f64],
-    horizon: f64,
-    counter: &[u32],
-    prefetch: bool,
-    none: u32,
-) -> (f64, u32) {
-    // SAFETY: AVX2 is enabled at compile time (this module is built only then); every load is
-    // of a live `Motion` (bounds checked by indexing) read through its `repr(C)` layout.
-    unsafe {
-        earliest_contact_avx2::<WITHIN>(
-            probe,
-            list,
-            motion,
-            common_radius,
-            each_radius,
-            horizon,
-            counter,
-            prefetch,
-            none,
-        )
-    }
-}
-
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn earliest_contact_avx2<const WITHIN: bool>(
+pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
     p: &Probe,
     list: &[u32],
     motion: &[Motion],
@@ -275,24 +250,14 @@ unsafe fn earliest_contact_avx2<const WITHIN: bool>(
 
 /// [`within_reach`](super::shells::within_reach) four candidates at a time: the same
 /// candidates kept in the same order, each lane doing the scalar filter's operations in its
-/// order.
+/// order (the two share their parameters: one interface, two ways).
+///
+/// # Safety
+///
+/// Sound wherever this module is built (AVX2 is enabled at compile time); every candidate and
+/// `i` index `anchor` (indexing is checked).
 #[inline(always)]
-pub(super) fn within_reach(
-    found: &mut [u32],
-    n: usize,
-    i: usize,
-    reach: f64,
-    anchor: &[[f64; 2]],
-    radius: &PerDisk<f64>,
-    images: &Images,
-) -> usize {
-    // SAFETY: AVX2 is enabled at compile time (this module is built only then); every load is
-    // of a live anchor (bounds checked by indexing).
-    unsafe { within_reach_avx2(found, n, i, reach, anchor, radius, images) }
-}
-
-#[inline(always)]
-unsafe fn within_reach_avx2(
+pub(super) unsafe fn within_reach(
     found: &mut [u32],
     n: usize,
     i: usize,
@@ -525,7 +490,10 @@ mod tests {
                     candidates.push(edge as u32);
                     let n = candidates.len();
                     let (mut a, mut b) = (candidates.clone(), candidates);
-                    let ka = super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images);
+                    // SAFETY: this module is built only with AVX2; the candidates are disks.
+                    let ka = unsafe {
+                        super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
+                    };
                     let kb = super::super::shells::within_reach(
                         &mut b, n, i, reach, &anchor, &radius, &images,
                     );

@@ -178,8 +178,10 @@ impl<F: Flight> Simulation<F> {
         i: usize,
         horizon: f64,
     ) -> (f64, u32) {
+        // SAFETY: the four-lane loop is built only where AVX2 is enabled at compile time; the
+        // states are `repr(C)` and every listed neighbour is a disk (indexing is checked).
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        {
+        unsafe {
             let m = &self.disks.motion[i];
             let (x, y, vx, vy) = self.flight.advance(m.x, m.y, m.vx, m.vy, self.now - m.t);
             let probe = super::lanes::Probe {

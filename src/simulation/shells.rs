@@ -322,8 +322,11 @@ impl<F: Flight> Simulation<F> {
         }
         let reach = self.disks.radius[i] + self.margin;
         let radius = &self.disks.radius;
+        // SAFETY: the four-lane filter is built only where AVX2 is enabled at compile time;
+        // every candidate is a disk (indexing is checked).
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        let kept = super::lanes::within_reach(found, n, i, reach, anchor, radius, &self.images);
+        let kept =
+            unsafe { super::lanes::within_reach(found, n, i, reach, anchor, radius, &self.images) };
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         let kept = within_reach(found, n, i, reach, anchor, radius, &self.images);
         self.lists.replace(i, &found[..kept]);
