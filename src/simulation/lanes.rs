@@ -12,6 +12,7 @@
 //! AVX2 is (the engine's x86-64-v3 target: `.cargo/config.toml`).
 
 use super::motion::Images;
+use super::predict::partner;
 use crate::disks::{Motion, PerDisk};
 use std::arch::x86_64::*;
 
@@ -34,10 +35,9 @@ pub(super) struct Probe {
     pub speed: f64,
     /// Its radius.
     pub a: f64,
-    /// Gravity (0 for straight flight; then `ballistic` is `false`).
+    /// Gravity: 0 for straight flight (`Straight::advance`), else the fall of
+    /// `Ballistic::advance`.
     pub g: f64,
-    /// Flight under gravity (`Ballistic::advance`) rather than straight.
-    pub ballistic: bool,
     /// The periodic images: half periods (∞ where not periodic) and periods.
     pub half: [f64; 2],
     /// See `half`.
@@ -55,7 +55,7 @@ unsafe fn nearest_image(d: __m256d, half: __m256d, neg_half: __m256d, period: __
 }
 
 /// Earliest contact of `probe`'s disk with a neighbour of `list` from now: (time from now,
-/// partner), (∞, `none`) if none. `WITHIN`: pairs that cannot touch within `horizon` are left
+/// partner), (∞, `partner::NONE`) if none. `WITHIN`: pairs that cannot touch within `horizon` are left
 /// out, as by `paths_meet_within`. The radii: `common_radius` if the disks share one, else
 /// `each_radius`. `counter`: the collision counters, asked for (prefetched) for each neighbour
 /// when `prefetch` is set.
@@ -75,7 +75,6 @@ pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
     horizon: f64,
     counter: &[u32],
     prefetch: bool,
-    none: u32,
 ) -> (f64, u32) {
     let set1 = |v: f64| _mm256_set1_pd(v);
     let (now, xi, yi, vxi, vyi) = (set1(p.now), set1(p.x), set1(p.y), set1(p.vx), set1(p.vy));
@@ -128,7 +127,7 @@ pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
         let dt = _mm256_sub_pd(now, _mm256_set_pd(t3, t2, t1, t0));
         // Flight to now: x + vx dt; y + vy dt, or y + (vy − ½ g dt) dt and vy − g dt.
         let xj = _mm256_add_pd(x, _mm256_mul_pd(vx, dt));
-        let (yj, vyj) = if p.ballistic {
+        let (yj, vyj) = if p.g != 0.0 {
             let fall = _mm256_sub_pd(vy, _mm256_mul_pd(half_g, dt));
             (
                 _mm256_add_pd(y, _mm256_mul_pd(fall, dt)),
@@ -243,7 +242,7 @@ pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
     let who = if t_best < f64::INFINITY {
         k_best as u32
     } else {
-        none
+        partner::NONE
     };
     (t_best, who)
 }

@@ -194,7 +194,6 @@ impl<F: Flight> Simulation<F> {
                 speed: vx.abs() + vy.abs(),
                 a: self.disks.radius[i],
                 g: self.flight.g(),
-                ballistic: self.flight.g() != 0.0,
                 half: self.images.half(),
                 period: self.images.period(),
             };
@@ -207,7 +206,6 @@ impl<F: Flight> Simulation<F> {
                 horizon,
                 &self.disks.counter,
                 self.prefetching,
-                partner::NONE,
             )
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
