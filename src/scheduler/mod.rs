@@ -62,9 +62,9 @@ impl EventQueue {
     /// Disks likely to be next after [`min`](Self::min) (the calendar's current bucket knows
     /// them; the tree does not).
     #[inline(always)]
-    pub fn next_likely(&self) -> [Option<usize>; 2] {
+    pub fn next_likely(&self) -> [Option<usize>; 3] {
         match self {
-            EventQueue::Tree(_) => [None, None],
+            EventQueue::Tree(_) => [None; 3],
             EventQueue::Calendar(c) => c.next_likely(),
         }
     }

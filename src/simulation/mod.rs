@@ -127,6 +127,9 @@ pub struct Simulation<F: Flight> {
     /// The event loop prefetches what it will read (from
     /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,
+    /// ... and in a pipeline over the next three events (from
+    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on).
+    pipelining: bool,
 }
 
 impl<F: Flight> Simulation<F> {
@@ -176,9 +179,16 @@ impl<F: Flight> Simulation<F> {
         if !self.prefetching {
             return;
         }
+        if self.pipelining {
+            if let Some(shells) = &self.shells {
+                return self.prefetch_pipeline(self.queue.next_likely(), shells);
+            }
+        }
+        // The next two events' entries; under the local re-mapping, the next event's
+        // neighbours, from its list in its row (whose row was asked for at the event before):
+        // the states its prediction reads.
         let likely = self.queue.next_likely();
-        // Under the local re-mapping, the next event's neighbours, from its list in its row
-        // (whose row was asked for at the event before): the states its prediction reads.
+        let likely = [likely[0], likely[1]];
         let local = self.shells.is_some();
         if let Some(k) = likely[0].filter(|_| local) {
             for &j in self.lists.of(k) {
@@ -186,14 +196,52 @@ impl<F: Flight> Simulation<F> {
             }
         }
         for k in likely.into_iter().flatten() {
-            prefetch(&self.disks.motion, k);
-            prefetch(&self.ev_time, k);
-            prefetch(&self.ev_partner, k);
-            prefetch(&self.ev_counter, k);
-            if let Some(shells) = &self.shells {
-                shells.prefetch(k);
-                self.lists.prefetch_list(k);
+            self.prefetch_entries(k);
+        }
+    }
+
+    /// Hints at disk `k`'s state and event entries (and under the local re-mapping its anchor
+    /// and list row).
+    #[inline(always)]
+    fn prefetch_entries(&self, k: usize) {
+        prefetch(&self.disks.motion, k);
+        prefetch(&self.ev_time, k);
+        prefetch(&self.ev_partner, k);
+        prefetch(&self.ev_counter, k);
+        if let Some(shells) = &self.shells {
+            shells.prefetch(k);
+            self.lists.prefetch_list(k);
+        }
+    }
+
+    /// [`prefetch_next`](Self::prefetch_next) where the arrays outgrow the last-level cache
+    /// (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks, local re-mapping): a
+    /// pipeline over the next three events, each stage reading only what the stage before asked
+    /// for an event earlier — the third's own entries and list row; the second's neighbours
+    /// (from its row) and its partner's state, counter, anchor and row; the next one's
+    /// partner's neighbours (the next one's own were asked for as the second).
+    #[inline(always)]
+    fn prefetch_pipeline(&self, likely: [Option<usize>; 3], shells: &shells::Shells) {
+        let n = self.disks.len();
+        let partner = |k: usize| Some(self.ev_partner[k] as usize).filter(|&j| j < n);
+        if let Some(j) = likely[0].and_then(partner) {
+            for &m in self.lists.of(j) {
+                prefetch(&self.disks.motion, m as usize);
             }
+        }
+        if let Some(k) = likely[1] {
+            for &m in self.lists.of(k) {
+                prefetch(&self.disks.motion, m as usize);
+            }
+            if let Some(j) = partner(k) {
+                prefetch(&self.disks.motion, j);
+                prefetch(&self.disks.counter, j);
+                shells.prefetch(j);
+                self.lists.prefetch_list(j);
+            }
+        }
+        if let Some(k) = likely[2] {
+            self.prefetch_entries(k);
         }
     }
 

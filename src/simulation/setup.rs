@@ -189,6 +189,7 @@ impl<F: Flight> Simulation<F> {
             same_instant: Vec::new(),
             zeno_instant2: 0.0,
             prefetching: n >= crate::prefetch::PREFETCH_FROM,
+            pipelining: n >= crate::prefetch::PIPELINE_FROM,
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));
