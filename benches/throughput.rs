@@ -193,6 +193,8 @@ fn melt<F: Flight>(sim: &mut Simulation<F>, n: usize, per_disk: u64, max_time: f
 fn build_gas(n: usize, phi: f64, quick: bool) -> Engine {
     let t0 = Instant::now();
     let scenario = gas_scenario(n, phi);
+    // The allocator settings of `vibrobed run` for this many disks (huge pages, blocks given back).
+    vibrobed::memory::for_disks(n);
     let (scene, disks) = Scene::build(&scenario).expect("Scene::build (gas)");
     let tb = Instant::now();
     let mut sim = Simulation::new(Straight, &scene, disks).expect("Simulation::new (gas)");
@@ -218,6 +220,7 @@ const BED_MELT_TIME: f64 = 20.0;
 fn build_bed(n: usize, quick: bool) -> Engine {
     let t0 = Instant::now();
     let scenario = bed_scenario(n);
+    vibrobed::memory::for_disks(n);
     let (scene, disks) = Scene::build(&scenario).expect("Scene::build (bed)");
     let mut sim =
         Simulation::new(Ballistic { g: 1.0 }, &scene, disks).expect("Simulation::new (bed)");

@@ -20,6 +20,7 @@
 //! (`tests/common/reference.rs`).
 
 pub mod accuracy;
+
 pub mod cli;
 pub mod disks;
 pub mod dynamics;
@@ -45,3 +46,8 @@ pub mod theory;
 
 pub use error::{Error, Result};
 pub use scenario::Scenario;
+
+/// Large blocks on huge pages in large scenes (see [`memory::huge`]).
+#[cfg(target_os = "linux")]
+#[global_allocator]
+static ALLOCATOR: memory::huge::Allocator = memory::huge::Allocator;
