@@ -494,6 +494,16 @@ impl CalendarQueue {
         crate::prefetch::prefetch(&self.node, i);
     }
 
+    /// Hints that the neighbours of disk `i`'s entry in its list will be changed soon (when
+    /// `i` leaves it); `i`'s entry should be cached already.
+    #[inline(always)]
+    pub fn prefetch_links(&self, i: usize) {
+        if let Some(&Node { next, prev }) = self.node.get(i) {
+            crate::prefetch::prefetch(&self.node, next as usize);
+            crate::prefetch::prefetch(&self.node, prev as usize);
+        }
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Node>() * self.node.capacity()

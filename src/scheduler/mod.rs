@@ -59,6 +59,15 @@ impl EventQueue {
         }
     }
 
+    /// Hints that disk `i`'s entry will leave its place soon (a calendar's list neighbours;
+    /// `i`'s own entry asked for before, with [`prefetch`](Self::prefetch)).
+    #[inline(always)]
+    pub fn prefetch_links(&self, i: usize) {
+        if let EventQueue::Calendar(c) = self {
+            c.prefetch_links(i);
+        }
+    }
+
     /// Disks likely to be next after [`min`](Self::min) (the calendar's current bucket knows
     /// them; the tree does not).
     #[inline(always)]

@@ -218,8 +218,9 @@ impl<F: Flight> Simulation<F> {
     /// (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks, local re-mapping): a
     /// pipeline over the next three events, each stage reading only what the stage before asked
     /// for an event earlier — the third's own entries and list row; the second's neighbours
-    /// (from its row) and its partner's state, counter, anchor and row; the next one's
-    /// partner's neighbours (the next one's own were asked for as the second).
+    /// (from its row) and its partner's state, counter, event time, queue entry, anchor and
+    /// row; the next one's partner's neighbours and the neighbours of its queue entry (the next
+    /// one's own neighbours were asked for as the second).
     #[inline(always)]
     fn prefetch_pipeline(&self, likely: [Option<usize>; 3], shells: &shells::Shells) {
         let n = self.disks.len();
@@ -228,6 +229,7 @@ impl<F: Flight> Simulation<F> {
             for &m in self.lists.of(j) {
                 prefetch(&self.disks.motion, m as usize);
             }
+            self.queue.prefetch_links(j);
         }
         if let Some(k) = likely[1] {
             for &m in self.lists.of(k) {
@@ -236,6 +238,8 @@ impl<F: Flight> Simulation<F> {
             if let Some(j) = partner(k) {
                 prefetch(&self.disks.motion, j);
                 prefetch(&self.disks.counter, j);
+                prefetch(&self.ev_time, j);
+                self.queue.prefetch(j);
                 shells.prefetch(j);
                 self.lists.prefetch_list(j);
             }
