@@ -123,16 +123,11 @@ pub struct CalendarQueue {
     /// overflow, not yet linked into that list (`NIL`: none). From
     /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, the link waits for the next
     /// update (see [`update`](Self::update)).
-    #[serde(default = "nil")]
     pending: u32,
     /// Where the look-ahead walk is: a bucket after the current one and a disk in its list
     /// (see [`walk_ahead`](Self::walk_ahead)); only a hint, never needed to be right.
     #[serde(skip)]
     ahead: (u32, u32),
-}
-
-fn nil() -> u32 {
-    NIL
 }
 
 impl CalendarQueue {
