@@ -744,6 +744,11 @@ mod tests {
                     }
                 }
             }
+            if step % 1000 == 500 {
+                // Through a checkpoint (with any entry waiting to be linked).
+                let bytes = postcard::to_allocvec(&cal).expect("the calendar serializes");
+                cal = postcard::from_bytes(&bytes).expect("and back");
+            }
             if step % 64 == 0 {
                 assert!(
                     cal.fits(&times),
