@@ -119,9 +119,6 @@ pub struct CalendarQueue {
     /// Sampled times for tuning (kept to avoid allocating at each wrap).
     #[serde(skip)]
     sample: Vec<f64>,
-    /// The overflow's disks at a wrap (kept likewise).
-    #[serde(skip)]
-    spread: Vec<u32>,
     /// A disk taken out of its old place whose new event belongs to a future bucket or the
     /// overflow, not yet linked into that list (`NIL`: none). From
     /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, the link waits for the next
@@ -361,35 +358,31 @@ impl CalendarQueue {
     }
 
     /// All buckets are done and the current bucket is empty: tune the calendar to the overflow's
-    /// events and spread them over it (the earliest land in the current bucket). The overflow's
-    /// list is walked once, into `spread` (each link is a miss in a large calendar, and waits
-    /// for the one before); its times are then read, and its disks filed, from that array.
+    /// events and spread them over it (the earliest land in the current bucket).
     fn wrap(&mut self, times: &[f64]) {
         let count = self.over_len as usize;
-        let mut disks = std::mem::take(&mut self.spread);
-        disks.clear();
-        let mut d = self.over_head;
-        while d != NIL {
-            disks.push(d);
-            d = self.node[d as usize].next;
-        }
         let stride = (count / SAMPLE).max(1);
         let mut t_min = f64::INFINITY;
         self.sample.clear();
-        for (k, &d) in disks.iter().enumerate() {
-            let t = times[d as usize];
+        let mut d = self.over_head;
+        let mut k = 0;
+        while d != NIL {
+            let (t, next) = (times[d as usize], self.node[d as usize].next);
             t_min = t_min.min(t);
             if k % stride == 0 {
                 self.sample.push(t);
             }
+            k += 1;
+            d = next;
         }
         self.tune(t_min, count);
-        self.over_head = NIL;
+        let mut d = std::mem::replace(&mut self.over_head, NIL);
         self.over_len = 0;
-        for &d in &disks {
+        while d != NIL {
+            let next = self.node[d as usize].next;
             self.file(d, times[d as usize], true);
+            d = next;
         }
-        self.spread = disks;
         self.sort_current();
     }
 
@@ -555,7 +548,6 @@ impl CalendarQueue {
             + 4 * self.head.capacity()
             + std::mem::size_of::<Entry>() * self.current.capacity()
             + 8 * self.sample.capacity()
-            + 4 * self.spread.capacity()
     }
 
     // --- The current bucket: a sorted array, latest first ---
