@@ -18,6 +18,12 @@
 //! The order is exactly the tree's: earliest time first and, among equal times, the disk the
 //! tree would yield (the leftmost leaf of its heap-shaped layout), so that the engine pops the
 //! same events in the same order, bit for bit, whichever queue it uses.
+//!
+//! In large calendars (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks, whose
+//! arrays outgrow the caches) two things serve the memory system: the array is refilled before
+//! it runs dry, so that it always shows the event loop the next few events; and an entry bound
+//! for a future bucket is linked into its list only at the next change, once the list's head,
+//! asked for ahead, has arrived.
 
 use serde::{Deserialize, Serialize};
 
@@ -149,6 +155,12 @@ impl CalendarQueue {
             && self.origin.is_finite()
             && disk_ok(self.over_head)
             && disk_ok(self.pending)
+            // An entry waiting to be linked belongs to a future bucket or the overflow.
+            && (self.pending == NIL
+                || matches!(
+                    self.place(times[self.pending as usize]),
+                    Place::Bucket(_) | Place::Overflow
+                ))
             && self.head.iter().all(|&d| disk_ok(d))
             && self.current.iter().all(|e| {
                 (e.disk as usize) < n
@@ -386,10 +398,17 @@ impl CalendarQueue {
         self.sort_current();
     }
 
+    /// `true` for a large calendar (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM)
+    /// disks): events kept ahead, entries linked late.
+    #[inline(always)]
+    fn large(&self) -> bool {
+        self.node.len() >= crate::prefetch::PIPELINE_FROM
+    }
+
     /// Fewest events the current bucket is refilled to hold (while there are any).
     #[inline(always)]
     fn least(&self) -> usize {
-        if self.node.len() >= crate::prefetch::PIPELINE_FROM {
+        if self.large() {
             LOOKAHEAD
         } else {
             1
@@ -434,9 +453,7 @@ impl CalendarQueue {
             return;
         }
         self.unfile(i as u32, from, old);
-        if self.node.len() >= crate::prefetch::PIPELINE_FROM
-            && matches!(to, Place::Bucket(_) | Place::Overflow)
-        {
+        if self.large() && matches!(to, Place::Bucket(_) | Place::Overflow) {
             self.pending = i as u32;
         } else {
             self.file(i as u32, t, false);
