@@ -20,7 +20,6 @@
 //! (`tests/common/reference.rs`).
 
 pub mod accuracy;
-
 pub mod cli;
 pub mod disks;
 pub mod dynamics;

@@ -9,8 +9,8 @@ pub const PREFETCH_FROM: usize = 8192;
 /// Disks from which on, under the local re-mapping, the event loop hints in a pipeline over the
 /// next three events (see `Simulation::prefetch_next`) and the calendar keeps that many events
 /// ahead in its sorted current bucket: where the arrays outgrow the last-level cache (32 MiB
-/// here, about 2.5·10⁵ disks). Measured: N = 10⁶ 1.056× (φ 0.7) and 1.026× (φ 0.3); at
-/// N = 10⁵, whose arrays are cached, 0.96× and 0.97×.
+/// here, about 2.5·10⁵ disks). Measured (in-run, alternated pairs): N = 10⁶ 1.06–1.08× (φ 0.7,
+/// two builds) and 1.026× (φ 0.3); at N = 10⁵, whose arrays are cached, 0.96× and 0.97×.
 pub const PIPELINE_FROM: usize = 1 << 18;
 
 /// Hints that entry `i` of `v` will be read soon. Changes nothing but timing; an index out of

@@ -127,8 +127,8 @@ pub struct Simulation<F: Flight> {
     /// The event loop prefetches what it will read (from
     /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,
-    /// ... and in a pipeline over the next three events (from
-    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on).
+    /// The prefetching runs as a pipeline over the next three events (from
+    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, under the local re-mapping).
     pipelining: bool,
 }
 
