@@ -65,7 +65,7 @@ impl<F: Flight> Simulation<F> {
                 ));
             }
             let a_rms = disks.rms_radius();
-            let mut margin = shells::local_margin(scene.skin, a_min, a_rms, shell_packing);
+            let mut margin = shells::local_margin(scene.skin, a_min, a_rms, shell_packing, n);
             // A periodic direction needs three cells for the 3 × 3 block not to wrap onto
             // itself: narrow boxes get the shell that fits.
             let periods = [
