@@ -633,3 +633,19 @@ fn a_recording_sweep_needs_the_record_feature() {
     );
     assert!(!dir.join("rec").exists());
 }
+
+/// Summaries are read back (a sweep's resume and tables): JSON floats must parse to the value
+/// written, bit for bit. This one (a run's energy balance error) came back one unit in the
+/// last place off with serde_json's default parser, which is not correctly rounded.
+#[test]
+fn json_floats_read_back_bit_for_bit() {
+    for text in [
+        "7.083831250870836e-16",
+        "1.0000000000000013",
+        "2.0446465522847452",
+    ] {
+        let parsed: f64 = serde_json::from_str(text).unwrap();
+        assert_eq!(parsed, text.parse::<f64>().unwrap(), "{text}");
+        assert_eq!(serde_json::to_string(&parsed).unwrap(), text);
+    }
+}
