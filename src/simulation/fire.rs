@@ -148,6 +148,39 @@ impl<F: Flight> Simulation<F> {
         self.predict(i);
     }
 
+    /// Disks `i` and `j` changed velocity together (a collision): both are counted, observed by
+    /// the DUTC and re-predicted, as [`moved`](Self::moved)`(i)` and then `j`'s prediction.
+    /// Where no disk rides, the two neighbour searches run side by side before either event is
+    /// filed: they are independent (a search in flight reads the disks' states, not the queue
+    /// nor the event times), so the processor overlaps their square roots and divisions, and
+    /// the events filed are the same.
+    fn moved_pair(&mut self, i: usize, j: usize) {
+        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
+        if self.riders.any() {
+            self.moved(i);
+            if !self.is_riding(j) {
+                let s = self.falling_speed_sq(j);
+                self.dutc.observe(self.now, s);
+            }
+            self.predict(j);
+            return;
+        }
+        self.disks.counter[i] = self.disks.counter[i].wrapping_add(1);
+        let s = self.falling_speed_sq(i);
+        self.dutc.observe(self.now, s);
+        let found_i = self.pair_event(i, self.pair_horizon());
+        // `i`'s event is completed with the DUTC as its search saw it (a floor event is looked
+        // for up to the deadline, which `j`'s speed may bring closer).
+        let dutc_i = self.dutc;
+        let s = self.falling_speed_sq(j);
+        self.dutc.observe(self.now, s);
+        let found_j = self.pair_event(j, self.pair_horizon());
+        let dutc_ij = std::mem::replace(&mut self.dutc, dutc_i);
+        self.file_found(i, found_i);
+        self.dutc = dutc_ij;
+        self.file_found(j, found_j);
+    }
+
     /// Sets the vertical velocity of (flying) disk `i`, booking the change as floor work (and
     /// floor momentum).
     pub(super) fn set_vy(&mut self, i: usize, vy: f64) {
@@ -335,13 +368,7 @@ impl<F: Flight> Simulation<F> {
                 }
             }
         }
-        self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
-        self.moved(i);
-        if !self.is_riding(j) {
-            let s = self.falling_speed_sq(j);
-            self.dutc.observe(self.now, s);
-        }
-        self.predict(j);
+        self.moved_pair(i, j);
         // What rested on them rested on disks that have now moved.
         for (k, rode) in [(i, rode[0]), (j, rode[1])] {
             if rode {

@@ -57,7 +57,14 @@ impl<F: Flight> Simulation<F> {
 
     /// Finds disk `i`'s earliest event from now and files it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
-        let (best, who, recheck) = self.pair_event(i, self.pair_horizon());
+        let found = self.pair_event(i, self.pair_horizon());
+        self.file_found(i, found);
+    }
+
+    /// Completes disk `i`'s event from its earliest pair contact `found` (as
+    /// [`pair_event`](Self::pair_event) gives it) and files it in the queue.
+    #[inline(always)]
+    pub(super) fn file_found(&mut self, i: usize, (best, who, recheck): (f64, u32, f64)) {
         if self.prefetching {
             // The queue's bucket for the pair contact (the likely event), asked for before the
             // rest of the event is worked out.
