@@ -185,6 +185,18 @@ impl<F: Flight> Simulation<F> {
         i: usize,
         horizon: f64,
     ) -> (f64, u32) {
+        self.pair_event_in_flight_over::<WITHIN>(i, self.lists.of(i), horizon)
+    }
+
+    /// [`pair_event_in_flight`](Self::pair_event_in_flight) over `list` (disk `i`'s list, in
+    /// its order, before it is stored: see `leave_shell`).
+    #[inline]
+    pub(super) fn pair_event_in_flight_over<const WITHIN: bool>(
+        &self,
+        i: usize,
+        list: &[u32],
+        horizon: f64,
+    ) -> (f64, u32) {
         // SAFETY: the four-lane loop is built only where AVX2 is enabled at compile time; the
         // states are `repr(C)` and every listed neighbour is a disk (indexing is checked).
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
@@ -206,7 +218,7 @@ impl<F: Flight> Simulation<F> {
             };
             super::lanes::earliest_contact::<WITHIN>(
                 &probe,
-                self.lists.of(i),
+                list,
                 &self.disks.motion,
                 self.disks.radius.common(),
                 self.disks.radius.each(),
@@ -216,7 +228,7 @@ impl<F: Flight> Simulation<F> {
             )
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        self.pair_event_one_by_one::<WITHIN>(i, horizon)
+        self.pair_event_one_by_one_over::<WITHIN>(i, list, horizon)
     }
 
     /// [`pair_event_in_flight`](Self::pair_event_in_flight) one neighbour at a time (processors
@@ -226,6 +238,18 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn pair_event_one_by_one<const WITHIN: bool>(
         &self,
         i: usize,
+        horizon: f64,
+    ) -> (f64, u32) {
+        self.pair_event_one_by_one_over::<WITHIN>(i, self.lists.of(i), horizon)
+    }
+
+    /// [`pair_event_one_by_one`](Self::pair_event_one_by_one) over `list`.
+    #[inline]
+    #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
+    fn pair_event_one_by_one_over<const WITHIN: bool>(
+        &self,
+        i: usize,
+        list: &[u32],
         horizon: f64,
     ) -> (f64, u32) {
         let now = self.now;
@@ -243,7 +267,7 @@ impl<F: Flight> Simulation<F> {
         // order, the earliest taken by selection: exactly what one pass would find.
         const CHUNK: usize = 16;
         let mut meeting = [0u32; CHUNK];
-        for chunk in self.lists.of(i).chunks(CHUNK) {
+        for chunk in list.chunks(CHUNK) {
             let mut k = 0;
             for &j in chunk {
                 let m = &motion[j as usize];

@@ -293,11 +293,14 @@ impl<F: Flight> Simulation<F> {
             // The grid's storage is full where the disk goes: re-map everything now.
             return self.remap();
         }
-        self.relist(i, to);
+        let found = self.relist(i, to);
         if due {
             self.dutc.deadline = now;
         }
-        self.predict(i);
+        match found {
+            Some(found) => self.file_found(i, found),
+            None => self.predict(i),
+        }
         Ok(())
     }
 
@@ -329,11 +332,15 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
-    /// Rebuilds disk `i`'s list from the anchors in the mask around its cell `cell`.
-    fn relist(&mut self, i: usize, cell: (u32, u32)) {
+    /// Rebuilds disk `i`'s list from the anchors in the mask around its cell `cell`. Where no
+    /// disk rides, `i`'s earliest pair contact is searched on the new list before the lists are
+    /// changed (the processor overlaps the search's square roots and divisions with the lists'
+    /// changes, which it does not read) and returned; otherwise `None` (the prediction needs
+    /// the stored lists).
+    fn relist(&mut self, i: usize, cell: (u32, u32)) -> Option<(f64, u32, f64)> {
         let hint = self.prefetching;
         let Some(sh) = self.shells.as_mut() else {
-            return;
+            return None;
         };
         let (anchor, found) = (&sh.anchor, &mut sh.found);
         let n = self
@@ -354,7 +361,17 @@ impl<F: Flight> Simulation<F> {
             unsafe { super::lanes::within_reach(found, n, i, reach, anchor, radius, &self.images) };
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         let kept = within_reach(found, n, i, reach, anchor, radius, &self.images);
-        self.lists.replace(i, &found[..kept]);
+        let Some(sh) = self.shells.as_ref() else {
+            return None;
+        };
+        let new = &sh.found[..kept];
+        // The local re-mapping's horizon is ∞ (see `pair_horizon`).
+        let contact = (!self.riders.any()).then(|| {
+            let (best, who) = self.pair_event_in_flight_over::<false>(i, new, f64::INFINITY);
+            (best, who, f64::INFINITY)
+        });
+        self.lists.replace(i, new);
+        contact
     }
 
     /// At a whole re-mapping: every disk is anchored where it is.
