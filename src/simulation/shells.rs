@@ -339,9 +339,7 @@ impl<F: Flight> Simulation<F> {
     /// the stored lists).
     fn relist(&mut self, i: usize, cell: (u32, u32)) -> Option<(f64, u32, f64)> {
         let hint = self.prefetching;
-        let Some(sh) = self.shells.as_mut() else {
-            return None;
-        };
+        let sh = self.shells.as_mut()?;
         let (anchor, found) = (&sh.anchor, &mut sh.found);
         let n = self
             .cells
@@ -361,10 +359,7 @@ impl<F: Flight> Simulation<F> {
             unsafe { super::lanes::within_reach(found, n, i, reach, anchor, radius, &self.images) };
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         let kept = within_reach(found, n, i, reach, anchor, radius, &self.images);
-        let Some(sh) = self.shells.as_ref() else {
-            return None;
-        };
-        let new = &sh.found[..kept];
+        let new = &self.shells.as_ref()?.found[..kept];
         // The local re-mapping's horizon is ∞ (see `pair_horizon`).
         let contact = (!self.riders.any()).then(|| {
             let (best, who) = self.pair_event_in_flight_over::<false>(i, new, f64::INFINITY);
