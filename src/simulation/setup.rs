@@ -5,7 +5,7 @@ use super::clock::Epoch;
 use super::counts::{EnergyFlow, EventCounts};
 use super::dutc::Dutc;
 use super::jams;
-use super::numbering::Numbering;
+use super::numbering::{self, Numbering};
 use super::predict::partner;
 use super::riders::{self, Riders};
 use super::shells;
@@ -135,6 +135,8 @@ impl<F: Flight> Simulation<F> {
                 shells::anchor_ahead(0.5 * margin, disks.rms_radius(), shell_packing, gravity);
             shells::Shells::new(n, 0.5 * margin, ahead)
         });
+        let settled = flight.g() != 0.0 || scene.floor.is_some();
+        let renumber_every = numbering::renumber_every(disks.rms_radius(), scene.packing, settled);
         let mut sim = Simulation {
             flight,
             disks,
@@ -171,7 +173,7 @@ impl<F: Flight> Simulation<F> {
             now: 0.0,
             dutc: Dutc::new(0.0, 0.0, 0.0),
             shells,
-            numbering: Numbering::new(scene.renumber, n),
+            numbering: Numbering::new(scene.renumber, n, renumber_every),
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
             virial: 0.0,
