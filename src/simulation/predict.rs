@@ -231,22 +231,11 @@ impl<F: Flight> Simulation<F> {
         self.pair_event_one_by_one_over::<WITHIN>(i, list, horizon)
     }
 
-    /// [`pair_event_in_flight`](Self::pair_event_in_flight) one neighbour at a time, over the
-    /// stored list: what the four lanes' tests compare them with.
-    #[cfg(all(test, target_arch = "x86_64", target_feature = "avx2"))]
-    pub(super) fn pair_event_one_by_one<const WITHIN: bool>(
-        &self,
-        i: usize,
-        horizon: f64,
-    ) -> (f64, u32) {
-        self.pair_event_one_by_one_over::<WITHIN>(i, self.lists.of(i), horizon)
-    }
-
     /// Disk `i`'s earliest contact with a neighbour of `list` one neighbour at a time
     /// (processors without AVX2; the tests compare it with the four lanes).
     #[inline]
     #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
-    fn pair_event_one_by_one_over<const WITHIN: bool>(
+    pub(super) fn pair_event_one_by_one_over<const WITHIN: bool>(
         &self,
         i: usize,
         list: &[u32],
