@@ -332,13 +332,13 @@ mod tests {
             for horizon in [f64::INFINITY, 0.05, 1.0] {
                 let (lanes, one) = if horizon.is_finite() {
                     (
-                        sim.pair_event_in_flight::<true>(i, horizon),
-                        sim.pair_event_one_by_one_over::<true>(i, sim.lists.of(i), horizon),
+                        sim.pair_event_in_flight::<true>(i, sim.lists.of(i), horizon),
+                        sim.pair_event_one_by_one::<true>(i, sim.lists.of(i), horizon),
                     )
                 } else {
                     (
-                        sim.pair_event_in_flight::<false>(i, horizon),
-                        sim.pair_event_one_by_one_over::<false>(i, sim.lists.of(i), horizon),
+                        sim.pair_event_in_flight::<false>(i, sim.lists.of(i), horizon),
+                        sim.pair_event_one_by_one::<false>(i, sim.lists.of(i), horizon),
                     )
                 };
                 assert_eq!(
@@ -426,11 +426,8 @@ mod tests {
                 let centre = (0..sim.disks.len())
                     .find(|&i| (sim.disks.motion[i].x, sim.disks.motion[i].y) == (10.0, 10.0))
                     .expect("the centre disk is where it was put");
-                let (t, _) = sim.pair_event_one_by_one_over::<false>(
-                    centre,
-                    sim.lists.of(centre),
-                    f64::INFINITY,
-                );
+                let (t, _) =
+                    sim.pair_event_one_by_one::<false>(centre, sim.lists.of(centre), f64::INFINITY);
                 assert_eq!(
                     t, 0.5,
                     "subset {subset}: the axes' disks touch the centre at 0.5"

@@ -92,14 +92,21 @@ impl<F: Flight> Simulation<F> {
     #[inline]
     pub(super) fn pair_event(&self, i: usize, horizon: f64) -> (f64, u32, f64) {
         if !self.riders.any() {
-            let (best, who) = if horizon.is_finite() {
-                self.pair_event_in_flight::<true>(i, horizon)
-            } else {
-                self.pair_event_in_flight::<false>(i, horizon)
-            };
-            return (best, who, f64::INFINITY);
+            return self.pair_event_over(i, self.lists.of(i), horizon);
         }
         self.pair_event_with_riders(i, horizon)
+    }
+
+    /// [`pair_event`](Self::pair_event) over `list` (disk `i`'s list, in its order, before it
+    /// is stored: see `leave_shell`) while no disk rides.
+    #[inline]
+    pub(super) fn pair_event_over(&self, i: usize, list: &[u32], horizon: f64) -> (f64, u32, f64) {
+        let (best, who) = if horizon.is_finite() {
+            self.pair_event_in_flight::<true>(i, list, horizon)
+        } else {
+            self.pair_event_in_flight::<false>(i, list, horizon)
+        };
+        (best, who, f64::INFINITY)
     }
 
     /// [`pair_event`](Self::pair_event) while some disks ride the floor or rest: pairs of a
@@ -174,24 +181,13 @@ impl<F: Flight> Simulation<F> {
         (best, who, recheck)
     }
 
-    /// [`pair_event`](Self::pair_event) while no disk rides (every scene without a floor, and
-    /// beds while nothing rests): the same contacts, in a loop that carries nothing for disks
-    /// at rest. `WITHIN`: the first pass also drops the pairs that cannot touch within
+    /// [`pair_event`](Self::pair_event) over `list` (disk `i`'s list) while no disk rides
+    /// (every scene without a floor, and beds while nothing rests): the same contacts, in a loop
+    /// that carries nothing for disks at rest. `WITHIN`: the first pass also drops the pairs that cannot touch within
     /// `horizon` (it pays where the horizon is near: Isobe's deadline; measured to cost 3% at
     /// N = 2500 where it is far).
     #[inline]
     pub(super) fn pair_event_in_flight<const WITHIN: bool>(
-        &self,
-        i: usize,
-        horizon: f64,
-    ) -> (f64, u32) {
-        self.pair_event_in_flight_over::<WITHIN>(i, self.lists.of(i), horizon)
-    }
-
-    /// [`pair_event_in_flight`](Self::pair_event_in_flight) over `list` (disk `i`'s list, in
-    /// its order, before it is stored: see `leave_shell`).
-    #[inline]
-    pub(super) fn pair_event_in_flight_over<const WITHIN: bool>(
         &self,
         i: usize,
         list: &[u32],
@@ -228,14 +224,14 @@ impl<F: Flight> Simulation<F> {
             )
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        self.pair_event_one_by_one_over::<WITHIN>(i, list, horizon)
+        self.pair_event_one_by_one::<WITHIN>(i, list, horizon)
     }
 
     /// Disk `i`'s earliest contact with a neighbour of `list` one neighbour at a time
     /// (processors without AVX2; the tests compare it with the four lanes).
     #[inline]
     #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
-    pub(super) fn pair_event_one_by_one_over<const WITHIN: bool>(
+    pub(super) fn pair_event_one_by_one<const WITHIN: bool>(
         &self,
         i: usize,
         list: &[u32],

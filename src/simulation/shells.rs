@@ -360,11 +360,8 @@ impl<F: Flight> Simulation<F> {
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         let kept = within_reach(found, n, i, reach, anchor, radius, &self.images);
         let new = &self.shells.as_ref()?.found[..kept];
-        // The local re-mapping's horizon is ∞ (see `pair_horizon`).
-        let contact = (!self.riders.any()).then(|| {
-            let (best, who) = self.pair_event_in_flight_over::<false>(i, new, f64::INFINITY);
-            (best, who, f64::INFINITY)
-        });
+        let contact =
+            (!self.riders.any()).then(|| self.pair_event_over(i, new, self.pair_horizon()));
         self.lists.replace(i, new);
         contact
     }
@@ -395,6 +392,27 @@ impl<F: Flight> Simulation<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lists_hold_eight_neighbours_beyond_contact_in_dilute_gases_six_in_dense_or_large_ones() {
+        assert_eq!(beyond_contact(0.1, 2500), 8.0);
+        assert_eq!(beyond_contact(0.4, 2500), 8.0);
+        assert!((beyond_contact(0.5, 2500) - 7.0).abs() < 1e-12);
+        assert_eq!(beyond_contact(0.6, 2500), 6.0);
+        assert_eq!(beyond_contact(0.7, 2500), 6.0);
+        assert_eq!(beyond_contact(0.3, LEAN_LISTS_FROM - 1), 8.0);
+        assert_eq!(beyond_contact(0.3, LEAN_LISTS_FROM), 6.0);
+        // s² = 1 + k/(4φ): list reach s·2a = 2.77 diameters at φ = 0.3 (eight), 1.77 at 0.7.
+        let reach = |phi: f64, n: usize| 1.0 + local_margin(None, 0.5, 0.5, phi, n);
+        assert!((reach(0.3, 2500) - (1.0f64 + 8.0 / 1.2).sqrt()).abs() < 1e-12);
+        assert!((reach(0.3, 1 << 20) - (1.0f64 + 6.0 / 1.2).sqrt()).abs() < 1e-12);
+        assert!((reach(0.7, 2500) - (1.0f64 + 6.0 / 2.8).sqrt()).abs() < 1e-12);
+        assert_eq!(
+            local_margin(Some(3.0), 0.5, 0.5, 0.3, 2500),
+            1.5,
+            "a skin overrides"
+        );
+    }
 
     #[test]
     fn disks_are_anchored_ahead_only_in_dilute_gases_without_gravity() {
