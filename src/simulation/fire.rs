@@ -169,15 +169,16 @@ impl<F: Flight> Simulation<F> {
         let s = self.falling_speed_sq(i);
         self.dutc.observe(self.now, s);
         let found_i = self.pair_event(i, self.pair_horizon());
-        // `i`'s event is completed with the DUTC as its search saw it (a floor event is looked
-        // for up to the deadline, which `j`'s speed may bring closer).
-        let dutc_i = self.dutc;
+        // `i`'s event is completed with the DUTC deadline its search saw (the one part of the
+        // DUTC an event's completion reads: a floor event is looked for up to it, and `j`'s
+        // speed may bring it closer).
+        let deadline_i = self.dutc.deadline;
         let s = self.falling_speed_sq(j);
         self.dutc.observe(self.now, s);
         let found_j = self.pair_event(j, self.pair_horizon());
-        let dutc_ij = std::mem::replace(&mut self.dutc, dutc_i);
+        let deadline_ij = std::mem::replace(&mut self.dutc.deadline, deadline_i);
         self.file_found(i, found_i);
-        self.dutc = dutc_ij;
+        self.dutc.deadline = deadline_ij;
         self.file_found(j, found_j);
     }
 
