@@ -15,6 +15,13 @@ pub const PIPELINE_FROM: usize = 1 << 18;
 
 /// Hints that entry `i` of `v` will be read soon. Changes nothing but timing; an index out of
 /// range is ignored.
+///
+/// An entry wider than 16 bytes may straddle two cache lines (a disk's 40-byte
+/// [`Motion`](crate::disks::Motion) does for half of the disks): its last byte is asked for
+/// too, always (a test of whether the two lines differ is a branch the predictor cannot learn:
+/// measured 0.73× at N = 10⁵). Measured against hinting the first line alone (in-run
+/// collisions per second, alternated runs, the same events): N = 10⁶ 1.26× at φ 0.7 (3/3)
+/// and 1.13× at φ 0.3 (3/3); N = 10⁵ 1.06× at φ 0.7, φ 0.3 within the noise.
 #[inline(always)]
 pub fn prefetch<T>(v: &[T], i: usize) {
     #[cfg(target_arch = "x86_64")]
@@ -23,7 +30,12 @@ pub fn prefetch<T>(v: &[T], i: usize) {
         // address is that of a live entry.
         unsafe {
             use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            _mm_prefetch::<_MM_HINT_T0>(entry as *const T as *const i8);
+            let first = entry as *const T as *const i8;
+            _mm_prefetch::<_MM_HINT_T0>(first);
+            // The entry's last byte: the same line or the next (the pointer stays within `v`).
+            if std::mem::size_of::<T>() > 16 {
+                _mm_prefetch::<_MM_HINT_T0>(first.add(std::mem::size_of::<T>() - 1));
+            }
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
