@@ -100,10 +100,14 @@ impl Rows {
         }
     }
 
-    /// Hints that list `i` will be changed soon (its row and its length).
+    /// Hints that list `i` will be changed soon (its row and its length). Rows whose room is
+    /// not a power of two may straddle two cache lines: their last slot is asked for too.
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
         crate::prefetch::prefetch(&self.slots, i * self.room);
+        if !self.room.is_power_of_two() {
+            crate::prefetch::prefetch(&self.slots, i * self.room + self.room - 1);
+        }
         crate::prefetch::prefetch(&self.len, i);
     }
 
