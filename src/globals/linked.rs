@@ -76,6 +76,24 @@ impl LinkedCells {
         n
     }
 
+    /// Hints that the cells of a mask's `rows` (`(dy, dx_first, dx_last)`) around `cell` will
+    /// be read soon: each row's first and last cell (the cells of a row are adjacent in memory).
+    #[inline(always)]
+    pub fn prefetch_rows(
+        &self,
+        geometry: &GridGeometry,
+        rows: &[(i32, i32, i32)],
+        cell: (u32, u32),
+    ) {
+        for &(dy, first, last) in rows {
+            for dx in [first, last] {
+                if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
+                    self.cells.prefetch(self.index(c));
+                }
+            }
+        }
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.cells.bytes()

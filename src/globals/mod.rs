@@ -70,6 +70,15 @@ impl Cells {
         }
     }
 
+    /// Hints that the cells in `mask` around `cell` will be read soon (linked cells only: the
+    /// local re-mapping's, read at each shell exit).
+    #[inline(always)]
+    pub fn prefetch_around(&self, geometry: &GridGeometry, mask: &Mask, cell: (u32, u32)) {
+        if let Cells::Linked(l) = self {
+            l.prefetch_rows(geometry, &mask.rows, cell);
+        }
+    }
+
     /// Calls `found` with every disk in `mask` around `cell`, and with the disk in `cell`.
     #[inline]
     pub fn gather(

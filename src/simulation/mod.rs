@@ -242,6 +242,13 @@ impl<F: Flight> Simulation<F> {
                 self.queue.prefetch(j);
                 shells.prefetch(j);
                 self.lists.prefetch_list(j);
+            } else if self.ev_partner[k] == predict::partner::SHELL {
+                // A shell exit reads the cells around its anchor (the new one is in them or
+                // next to them) and changes its neighbours' rows.
+                let [x, y] = shells.anchor(k);
+                let cell = self.geometry.cell_of(x, y);
+                self.cells.prefetch_around(&self.geometry, &self.mask, cell);
+                self.lists.prefetch_neighbours(k);
             }
         }
         if let Some(k) = likely[2] {

@@ -165,6 +165,12 @@ impl Shells {
         self.anchor.is_empty()
     }
 
+    /// Disk `i`'s anchor.
+    #[inline(always)]
+    pub fn anchor(&self, i: usize) -> [f64; 2] {
+        self.anchor[i]
+    }
+
     /// Hints that disk `i`'s anchor will be read soon.
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
