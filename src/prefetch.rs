@@ -8,10 +8,22 @@ pub const PREFETCH_FROM: usize = 8192;
 
 /// Disks from which on, under the local re-mapping, the event loop hints in a pipeline over the
 /// next three events (see `Simulation::prefetch_next`) and the calendar keeps that many events
-/// ahead in its sorted current bucket: where the arrays outgrow the last-level cache (32 MiB
-/// here, about 2.5·10⁵ disks). Measured (in-run, alternated pairs): N = 10⁶ 1.06–1.08× (φ 0.7,
-/// two builds) and 1.026× (φ 0.3); at N = 10⁵, whose arrays are cached, 0.96× and 0.97×.
-pub const PIPELINE_FROM: usize = 1 << 18;
+/// ahead in its sorted current bucket
+/// ([`CalendarQueue::keeping_ahead`](crate::scheduler::CalendarQueue::keeping_ahead)). At
+/// first from 2¹⁸ disks, where the arrays outgrow the last-level cache (32 MiB here): at
+/// N = 10⁶ 1.06–1.08× (φ 0.7) and 1.026× (φ 0.3), at N = 10⁵ 0.96× and 0.97× then. With the
+/// hints since (two cache lines of a disk's motion, shell exits), N = 10⁵ gains too, most when
+/// the other core runs a job of its own (which then shares the last-level cache, as in the
+/// peer benchmark and in sweeps): in-run collisions per second, alternated runs, against the
+/// pipeline from 2¹⁸ on — N = 10⁵ 1.21× (φ 0.3) and 1.15× (φ 0.7) beside a peer run on the
+/// other core, 1.11× and 1.00× alone; N = 7·10⁴ 1.00× either way; N = 3·10⁴ and 5·10⁴
+/// 0.93–0.95×.
+pub const PIPELINE_FROM: usize = 1 << 16;
+
+/// Disks from which on the calendar keeps events ahead whatever the re-mapping (the scenes of
+/// Isobe's global one included, whose event loop does not hint in a pipeline): where every
+/// scene's arrays outgrow the last-level cache.
+pub const KEEP_AHEAD_FROM: usize = 1 << 18;
 
 /// Hints that entry `i` of `v` will be read soon. Changes nothing but timing; an index out of
 /// range is ignored.

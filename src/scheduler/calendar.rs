@@ -19,8 +19,9 @@
 //! tree would yield (the leftmost leaf of its heap-shaped layout), so that the engine pops the
 //! same events in the same order, bit for bit, whichever queue it uses.
 //!
-//! In large calendars (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks, whose
-//! arrays outgrow the caches) two things serve the memory system: the array is refilled before
+//! A calendar that keeps events ahead (set by the engine where its arrays outgrow the caches
+//! and it hints at memory in a pipeline: see [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM))
+//! serves the memory system in two ways: the array is refilled before
 //! it runs dry, so that it always shows the event loop the next few events; and an entry bound
 //! for a future bucket is linked into its list only at the next change, once the list's head,
 //! asked for ahead, has arrived.
@@ -41,8 +42,8 @@ const EVENTS_PER_BUCKET: f64 = 4.0;
 /// (measured: 2 to 8 are equally good, 1 wraps too often).
 const SPAN_MEDIANS: f64 = 4.0;
 
-/// Fewest events in the current bucket from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM)
-/// disks on (the bucket is refilled before it runs dry): the minimum and three after it, whose
+/// Fewest events in the current bucket of a calendar that keeps events ahead (the bucket is
+/// refilled before it runs dry): the minimum and three after it, whose
 /// data the event loop asks for ahead (see [`CalendarQueue::next_likely`]). Without it the
 /// bucket held at most one event after the minimum a third of the time (N = 10⁶, φ 0.7).
 const LOOKAHEAD: usize = 4;
@@ -159,10 +160,12 @@ pub struct CalendarQueue {
     #[serde(skip)]
     sample: Vec<f64>,
     /// A disk taken out of its old place whose new event belongs to a future bucket or the
-    /// overflow, not yet linked into that list (`NIL`: none). From
-    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, the link waits for the next
-    /// update (see [`update`](Self::update)).
+    /// overflow, not yet linked into that list (`NIL`: none). Where events are kept
+    /// ahead, the link waits for the next update (see [`update`](Self::update)).
     pending: u32,
+    /// Events are kept ahead in the current bucket and entries linked late (see
+    /// [`keeping_ahead`](Self::keeping_ahead)).
+    keep_ahead: bool,
     /// Where the look-ahead walk is: a bucket after the current one and a disk in its list
     /// (see [`walk_ahead`](Self::walk_ahead)); only a hint, never needed to be right.
     #[serde(skip)]
@@ -215,6 +218,19 @@ impl CalendarQueue {
                 .filter(|&i| self.place(times[i]) == Place::Current)
                 .count()
                 == self.current.len()
+    }
+
+    /// An empty queue that keeps events ahead (`true`) or not (the default); built with
+    /// [`rebuild`](Self::rebuild), which keeps the choice. Where it does, the current bucket
+    /// is refilled before it runs dry, [`LOOKAHEAD`] events long, so that
+    /// [`next_likely`](Self::next_likely) shows the event loop the next few events, and an
+    /// entry bound for a future bucket is linked late (see [`update`](Self::update)): for an
+    /// event loop that asks for their data ahead, where the arrays outgrow the caches.
+    pub fn keeping_ahead(on: bool) -> CalendarQueue {
+        CalendarQueue {
+            keep_ahead: on,
+            ..CalendarQueue::default()
+        }
     }
 
     /// Builds the queue over `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`): tunes Δt
@@ -368,9 +384,8 @@ impl CalendarQueue {
         }
     }
 
-    /// Keeps the current bucket non-empty while any event is filed (from
-    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, [`LOOKAHEAD`] events long
-    /// while there are that many): pours the next non-empty
+    /// Keeps the current bucket non-empty while any event is filed ([`LOOKAHEAD`] events long
+    /// while there are that many where events are kept ahead): pours the next non-empty
     /// bucket into it (and sorts it), wrapping the calendar when the buckets are done.
     fn refill(&mut self, times: &[f64]) {
         while self.current.len() < self.least() {
@@ -473,11 +488,10 @@ impl CalendarQueue {
         }
     }
 
-    /// `true` for a large calendar (from [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM)
-    /// disks): events kept ahead, entries linked late.
+    /// `true` where events are kept ahead and entries linked late.
     #[inline(always)]
     fn large(&self) -> bool {
-        self.node.len() >= crate::prefetch::PIPELINE_FROM
+        self.keep_ahead
     }
 
     /// Fewest events the current bucket is refilled to hold (while there are any).
@@ -503,7 +517,7 @@ impl CalendarQueue {
     /// Disk `i`'s event time changed from `old` (the time it was filed at) to `times[i]`: move
     /// its entry. O(1) on average, O(log h) within the current bucket.
     ///
-    /// From [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, an entry bound for a
+    /// Where events are kept ahead, an entry bound for a
     /// future bucket or the overflow is linked there only at the next update (or before the
     /// current bucket is refilled): the bucket's head, asked for as soon as the event's time
     /// was known ([`prefetch_time`](Self::prefetch_time)), has arrived by then. Such an entry
@@ -774,13 +788,14 @@ mod tests {
     /// Drives the tree and the calendar with the same engine-like sequence: pop the earliest
     /// disk and give it a new time, change some other disks' times (any time from now on),
     /// sometimes re-base the clock and rebuild; both must yield the same disk at every step.
-    fn drive(seed: u64, n: usize, steps: usize, plain: bool) {
+    fn drive(seed: u64, n: usize, steps: usize, plain: bool, keep_ahead: bool) {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let scale = 10f64.powi(rng.random_range(-3..3));
         let mut times: Vec<f64> = (0..n).map(|_| draw(&mut rng, 0.0, scale, plain)).collect();
         times.push(f64::INFINITY);
         let mut tree = CompleteBinaryTree::build(&times);
-        let mut cal = CalendarQueue::build(&times);
+        let mut cal = CalendarQueue::keeping_ahead(keep_ahead);
+        cal.rebuild(&times);
         let mut now = 0.0;
         for step in 0..steps {
             let i = expected(&times, &tree);
@@ -847,7 +862,7 @@ mod tests {
                     "seed {seed} n {n} step {step}: filed as the times say"
                 );
                 // The current bucket holds `least()` events while there are that many (it is
-                // refilled before it runs dry from `PIPELINE_FROM` disks on).
+                // refilled before it runs dry where events are kept ahead).
                 let ahead =
                     cal.head[cal.cur as usize + 1..].iter().any(|&h| h != NIL) || cal.over_len > 0;
                 assert!(
@@ -875,21 +890,20 @@ mod tests {
             (10, 4096),
             (11, 5000),
         ] {
-            drive(seed, n, 20_000 + 20 * n, false);
+            drive(seed, n, 20_000 + 20 * n, false, false);
         }
     }
 
-    /// From `PIPELINE_FROM` disks on the current bucket keeps events ahead of the minimum,
-    /// refilled before it runs dry: still the tree's order (times without ties, so that the
-    /// current bucket is short).
+    /// Where events are kept ahead the current bucket holds events after the minimum,
+    /// refilled before it runs dry, and entries are linked late: still the tree's order (times
+    /// without ties, so that the current bucket is short).
     #[test]
     fn yields_what_the_tree_yields_with_events_kept_ahead() {
-        let n = crate::prefetch::PIPELINE_FROM;
-        assert_eq!(
-            CalendarQueue::build(&vec![f64::INFINITY; n + 1]).least(),
-            LOOKAHEAD
-        );
-        drive(12, n, 20_000, true);
+        assert_eq!(CalendarQueue::keeping_ahead(true).least(), LOOKAHEAD);
+        assert_eq!(CalendarQueue::keeping_ahead(false).least(), 1);
+        for (seed, n) in [(12, 1 << 18), (13, 5000), (14, 17), (15, 1)] {
+            drive(seed, n, 20_000 + 20 * n.min(5000), true, true);
+        }
     }
 
     #[test]

@@ -127,8 +127,10 @@ pub struct Simulation<F: Flight> {
     /// The event loop prefetches what it will read (from
     /// [`PREFETCH_FROM`](crate::prefetch::PREFETCH_FROM) disks on).
     prefetching: bool,
-    /// The prefetching runs as a pipeline over the next three events (from
-    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on, under the local re-mapping).
+    /// The prefetching runs as a pipeline over the next three events, the calendar keeping
+    /// them ahead (under the local re-mapping from
+    /// [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM) disks on; the calendar alone under the
+    /// global one from [`KEEP_AHEAD_FROM`](crate::prefetch::KEEP_AHEAD_FROM)).
     pipelining: bool,
 }
 

@@ -137,6 +137,10 @@ impl<F: Flight> Simulation<F> {
         });
         let settled = flight.g() != 0.0 || scene.floor.is_some();
         let renumber_every = numbering::renumber_every(disks.rms_radius(), scene.packing, settled);
+        // The calendar keeps events ahead for the event loop's pipeline of hints (local
+        // re-mapping), and in the largest scenes under either re-mapping.
+        let pipelining =
+            (local && n >= crate::prefetch::PIPELINE_FROM) || n >= crate::prefetch::KEEP_AHEAD_FROM;
         let mut sim = Simulation {
             flight,
             disks,
@@ -145,7 +149,9 @@ impl<F: Flight> Simulation<F> {
             ev_counter: vec![0; n],
             queue: match scene.queue {
                 QueueChoice::Tree => EventQueue::Tree(CompleteBinaryTree::default()),
-                QueueChoice::Calendar => EventQueue::Calendar(CalendarQueue::default()),
+                QueueChoice::Calendar => {
+                    EventQueue::Calendar(CalendarQueue::keeping_ahead(pipelining))
+                }
             },
             cells: Cells::for_geometry(
                 &geometry,
@@ -191,7 +197,7 @@ impl<F: Flight> Simulation<F> {
             same_instant: Vec::new(),
             zeno_instant2: 0.0,
             prefetching: n >= crate::prefetch::PREFETCH_FROM,
-            pipelining: n >= crate::prefetch::PIPELINE_FROM,
+            pipelining,
         };
         if sim.floor.is_some() {
             sim.riders = Riders::new(n, riders::carried_room(a_min, a_max));
