@@ -133,7 +133,7 @@ impl Entry {
 /// `times[0..n]` (`times.len() == n + 1`, `times[n] = ∞`, as for the tree). Each disk is filed
 /// at `times[i]`: a change of it must be followed by [`update`](Self::update) with the time it
 /// replaced, before another time changes (a wrap of the calendar finds its overflow from the
-/// times: see [`wrap`](Self::wrap)). Times must not be −∞; +∞ (or NaN) means no event.
+/// times). Times must not be −∞; +∞ (or NaN) means no event.
 ///
 /// Memory: 8 bytes per disk (list links) plus 4 per bucket (one bucket per two finite events)
 /// and 16 per event of the current bucket: about 10 bytes per disk, against 8 for the tree.
@@ -222,7 +222,7 @@ impl CalendarQueue {
 
     /// An empty queue that keeps events ahead (`true`) or not (the default); built with
     /// [`rebuild`](Self::rebuild), which keeps the choice. Where it does, the current bucket
-    /// is refilled before it runs dry, [`LOOKAHEAD`] events long, so that
+    /// is refilled before it runs dry, four events long, so that
     /// [`next_likely`](Self::next_likely) shows the event loop the next few events, and an
     /// entry bound for a future bucket is linked late (see [`update`](Self::update)): for an
     /// event loop that asks for their data ahead, where the arrays outgrow the caches.
