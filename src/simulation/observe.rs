@@ -13,6 +13,9 @@ use crate::locals::{SideBounds, Top};
 /// Blocks of scenario numbers a visit of a renumbered engine's disks goes through.
 const VISIT_BLOCKS: usize = 8;
 
+/// How many disks ahead a visit of a renumbered engine's disks asks for a state.
+const VISIT_AHEAD: usize = 16;
+
 /// The state of every disk at one time (for measurements and frames).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Snapshot {
@@ -202,7 +205,13 @@ impl<F: Flight> Simulation<F> {
                     k_of[i as usize - lo] = k as u32;
                 }
             }
-            for (i, &k) in (lo..hi).zip(&k_of) {
+            // The states are read at random: each is asked for a few disks ahead, so that the
+            // reads overlap instead of waiting one after another.
+            let ks = &k_of[..hi - lo];
+            for (off, (i, &k)) in (lo..hi).zip(ks).enumerate() {
+                if let Some(&ahead) = ks.get(off + VISIT_AHEAD) {
+                    crate::prefetch::prefetch(&self.disks.motion, ahead as usize);
+                }
                 visit(i, state(k as usize));
             }
         }
