@@ -411,7 +411,8 @@ impl CalendarQueue {
     ///
     /// By now nearly every event is in the overflow (those filed while the buckets were being
     /// done fell past their end). Along its list the overflow is one cache miss after another
-    /// (at N = 10⁶ a wrap took about 0.2 s that way, a tenth of the run), so it is read in disk
+    /// (at N = 10⁶, φ 0.3 pouring and wrapping took a tenth of a run's samples that way, most
+    /// of it on the walk's loads), so it is read in disk
     /// order, by a pass over all times: an event is in the overflow when its place under the
     /// calendar being wrapped is [`Place::Overflow`] (every bucket is done, so every other
     /// filed event is in the current bucket; no entry is pending, as one is linked before a
@@ -419,6 +420,9 @@ impl CalendarQueue {
     /// [`update`](Self::update) before the next). Should the pass find another number of
     /// events than the overflow holds, the list is walked instead.
     fn wrap(&mut self, times: &[f64]) {
+        if self.pending != NIL {
+            return self.wrap_along_the_list(times);
+        }
         let n = self.node.len();
         let old = self.params();
         let stride = (self.over_len as usize / SAMPLE).max(1);
@@ -434,7 +438,7 @@ impl CalendarQueue {
                 count += 1;
             }
         }
-        if count != self.over_len as usize || self.pending != NIL {
+        if count != self.over_len as usize {
             return self.wrap_along_the_list(times);
         }
         self.tune(t_min, count);
@@ -490,14 +494,14 @@ impl CalendarQueue {
 
     /// `true` where events are kept ahead and entries linked late.
     #[inline(always)]
-    fn large(&self) -> bool {
+    fn keeps_ahead(&self) -> bool {
         self.keep_ahead
     }
 
     /// Fewest events the current bucket is refilled to hold (while there are any).
     #[inline(always)]
     fn least(&self) -> usize {
-        if self.large() {
+        if self.keeps_ahead() {
             LOOKAHEAD
         } else {
             1
@@ -542,7 +546,7 @@ impl CalendarQueue {
             return;
         }
         self.unfile(i as u32, from, old);
-        if self.large() && matches!(to, Place::Bucket(_) | Place::Overflow) {
+        if self.keeps_ahead() && matches!(to, Place::Bucket(_) | Place::Overflow) {
             self.pending = i as u32;
         } else {
             self.file(i as u32, t, false);
