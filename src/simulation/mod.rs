@@ -266,10 +266,12 @@ impl<F: Flight> Simulation<F> {
     }
 
     /// Processes the next `k` events (collisions, stale events, re-mappings), whatever their
-    /// times: for benchmarks, which measure throughput rather than reach a time.
+    /// times: for benchmarks, which measure throughput rather than reach a time (with the
+    /// same hints to the memory system as [`advance_to`](Self::advance_to)).
     pub fn step_events(&mut self, k: u64) -> Result<()> {
         for _ in 0..k {
             let i = self.queue.min();
+            self.prefetch_next();
             let te = self.ev_time[i];
             if self.dutc.deadline <= te {
                 self.now = self.dutc.deadline;
