@@ -16,8 +16,10 @@ pub const PREFETCH_FROM: usize = 8192;
 /// the other core runs a job of its own (which then shares the last-level cache, as in the
 /// peer benchmark and in sweeps): in-run collisions per second, alternated runs, against the
 /// pipeline from 2¹⁸ on — N = 10⁵ 1.21× (φ 0.3) and 1.15× (φ 0.7) beside a peer run on the
-/// other core, 1.11× and 1.00× alone; N = 7·10⁴ 1.00× either way; N = 3·10⁴ and 5·10⁴
-/// 0.93–0.95×.
+/// other core, 1.11× and 1.00× alone (1.19× at φ 0.3 over 25 time units in another series,
+/// 1.04× over 3); N = 7·10⁴ 1.00× either way; N = 3·10⁴ and 5·10⁴ 0.93–0.95×. The throughput
+/// bench, which measures right after its melt (the disks freshly renumbered), disagrees at
+/// N = 10⁵: 0.94× (φ 0.3) and 0.90× (φ 0.7); whole runs are what this is set for.
 pub const PIPELINE_FROM: usize = 1 << 16;
 
 /// Disks from which on the calendar keeps events ahead whatever the re-mapping (the scenes of
