@@ -76,7 +76,7 @@ fn child(s: &Scenario, rrd: Option<&Path>) {
     .expect("bench run");
     let wall = start.elapsed().as_secs_f64();
     let cpu = cpu_seconds().unwrap_or(f64::NAN) - cpu0;
-    assert_eq!(summary.ending, vibrobed::summary::Ending::Completed);
+    assert_eq!(summary.ending, vibrobed::output::summary::Ending::Completed);
     let bytes = rrd
         .and_then(|p| std::fs::metadata(p).ok())
         .map_or(0, |m| m.len());

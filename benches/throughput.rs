@@ -34,9 +34,9 @@
 use criterion::{Criterion, SamplingMode, Throughput};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use vibrobed::dynamics::{Ballistic, Flight, Straight};
+use vibrobed::engine::{Scene, Simulation};
+use vibrobed::physics::flight::{Ballistic, Flight, Straight};
 use vibrobed::scenario::Scenario;
-use vibrobed::simulation::{Scene, Simulation};
 
 /// Disk radius everywhere.
 const RADIUS: f64 = 0.5;
@@ -194,7 +194,7 @@ fn build_gas(n: usize, phi: f64, quick: bool) -> Engine {
     let t0 = Instant::now();
     let scenario = gas_scenario(n, phi);
     // The allocator settings of `vibrobed run` for this many disks (huge pages, blocks given back).
-    vibrobed::memory::for_disks(n);
+    vibrobed::platform::memory::for_disks(n);
     let (scene, disks) = Scene::build(&scenario).expect("Scene::build (gas)");
     let tb = Instant::now();
     let mut sim = Simulation::new(Straight, &scene, disks).expect("Simulation::new (gas)");
@@ -220,7 +220,7 @@ const BED_MELT_TIME: f64 = 20.0;
 fn build_bed(n: usize, quick: bool) -> Engine {
     let t0 = Instant::now();
     let scenario = bed_scenario(n);
-    vibrobed::memory::for_disks(n);
+    vibrobed::platform::memory::for_disks(n);
     let (scene, disks) = Scene::build(&scenario).expect("Scene::build (bed)");
     let mut sim =
         Simulation::new(Ballistic { g: 1.0 }, &scene, disks).expect("Simulation::new (bed)");

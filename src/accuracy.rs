@@ -19,12 +19,12 @@
 //! against the same scene without it, on the exact engine, measured per collision and per unit of
 //! simulated time.
 
+use crate::engine::Scene;
 use crate::error::{Error, Result};
+use crate::output::summary::Summary;
 use crate::run::{run, RunOptions};
 use crate::scenario::{overrides, Scenario, Scheme};
 use crate::schemes::{time_step, SchemeStats};
-use crate::simulation::Scene;
-use crate::summary::Summary;
 use serde::Serialize;
 use serde_json::Value;
 use std::fmt::Write as _;
@@ -460,7 +460,7 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
             if let Some(path) = rrd {
                 let _ = std::fs::remove_file(path);
             }
-            if summary.ending != crate::summary::Ending::Completed {
+            if summary.ending != crate::output::summary::Ending::Completed {
                 return Err(Error::Runtime(format!(
                     "seed {seed} stopped at t = {:.4} ({:?}, after {} events{})",
                     summary.sim_time,

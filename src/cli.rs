@@ -7,11 +7,11 @@
 //! `"ending": "interrupted"`, and the recording is closed properly).
 
 use crate::error::{Error, Result};
+use crate::output::summary::Ending;
+use crate::platform::signals;
 use crate::run::checkpoint::{check_resume_sets, Checkpoint};
 use crate::run::{run, CheckpointPlan, RunOptions};
 use crate::scenario::Scenario;
-use crate::signals;
-use crate::summary::Ending;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
@@ -414,7 +414,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 
 /// Writes a run's profiles and summary; the exit code of its ending.
 fn write_results(
-    result: &crate::summary::Summary,
+    result: &crate::output::summary::Summary,
     profiles: Option<&Path>,
     summary: Option<&Path>,
 ) -> Result<i32> {

@@ -1,15 +1,15 @@
 //! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
 //! the next, measure, record, and summarise.
 
-use crate::dynamics::{Ballistic, Flight, Straight};
+use crate::engine::{Scene, Simulation};
 use crate::error::{Error, Result};
 use crate::output::frame::{FrameView, SceneLayout};
 use crate::output::progress::{ProgressMode, ProgressReport};
+use crate::output::summary::Summary;
 use crate::output::trajectory::TrajectoryWriter;
+use crate::physics::flight::{Ballistic, Flight, Straight};
 use crate::scenario::{Scenario, Scheme, XBoundary, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
-use crate::simulation::{Scene, Simulation};
-use crate::summary::Summary;
 use checkpoint::Checkpoint;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -70,7 +70,7 @@ pub struct CheckpointPlan {
 
 /// Runs a validated scenario and returns its summary.
 pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
-    crate::memory::for_disks(s.disk_count());
+    crate::platform::memory::for_disks(s.disk_count());
     if (opts.checkpoint.is_some() || opts.resume.is_some())
         && s.engine.scheme != Scheme::EventDriven
     {
@@ -117,7 +117,7 @@ pub fn check(s: &Scenario) -> Result<()> {
         flight: F,
         s: &Scenario,
         scene: &Scene,
-        disks: crate::disks::Disks,
+        disks: crate::physics::disks::Disks,
     ) -> Result<()> {
         match s.engine.scheme {
             Scheme::EventDriven => Simulation::new(flight, scene, disks).map(drop),
@@ -167,7 +167,7 @@ fn run_with<F: Flight>(
     flight: F,
     s: &Scenario,
     scene: &Scene,
-    disks: crate::disks::Disks,
+    disks: crate::physics::disks::Disks,
     mut out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
@@ -194,7 +194,7 @@ fn run_with<F: Flight>(
 /// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
 /// scale of speeds: `output.speed_scale`, else three times the floor's peak speed, else three
 /// times the initial root-mean-square speed (else 1).
-fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::disks::Disks) -> SceneLayout {
+fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::physics::disks::Disks) -> SceneLayout {
     let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
     let n = disks.len().max(1) as f64;
     let rms = (disks

@@ -3,6 +3,7 @@ pub mod frame;
 pub mod progress;
 #[cfg(feature = "record")]
 pub mod recording;
+pub mod summary;
 pub mod trajectory;
 
 use crate::error::{Error, Result};

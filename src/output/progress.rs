@@ -6,7 +6,7 @@
 use std::io::IsTerminal;
 use std::time::Instant;
 
-use crate::summary::Ending;
+use crate::output::summary::Ending;
 
 /// How progress is shown.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

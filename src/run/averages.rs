@@ -1,11 +1,11 @@
 //! What a run averages over its window (after the warm-up): temperatures, centre of mass, height
 //! profiles.
 
-use crate::disks::Disks;
+use crate::engine::Scene;
 use crate::measure::{Observables, Profiles, States};
+use crate::output::summary::Temperature;
+use crate::physics::disks::Disks;
 use crate::scenario::Scenario;
-use crate::simulation::Scene;
-use crate::summary::Temperature;
 use serde::{Deserialize, Serialize};
 
 /// The window over which averages are taken (from the end of the warm-up).

@@ -15,13 +15,13 @@
 //! The payload carries the scenario *text* and its `--set` overrides (the resumed run parses them
 //! again, so the scene is the one that was saved, wherever the file has moved), the driver's state
 //! (stop schedule, averages, profiles, the initial energy) and the engine's
-//! ([`crate::simulation::EngineState`]). Floating-point values are stored as their
+//! ([`crate::engine::EngineState`]). Floating-point values are stored as their
 //! bits, so nothing is rounded. A file written by another build (whose engine could pop events in
 //! another order), cut short, or damaged is refused with a message, never half read.
 
 use super::state::DriverState;
+use crate::engine::EngineState;
 use crate::error::{Error, Result};
-use crate::simulation::EngineState;
 use serde::{Deserialize, Serialize};
 use std::hash::Hasher;
 use std::path::{Path, PathBuf};

@@ -5,17 +5,19 @@ use super::averages::{empty_profiles, Averages, Window};
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
+use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
-use crate::locals::Top;
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
+use crate::output::summary::{
+    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary,
+};
 use crate::output::trajectory::TrajectoryWriter;
+use crate::physics::walls::Top;
 use crate::run::checkpoint::Checkpoint;
 use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
 use crate::schemes::Integrator;
-use crate::simulation::{EnergyFlow, Progress, Scene, Snapshot};
-use crate::summary::{Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;

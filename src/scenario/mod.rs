@@ -7,6 +7,7 @@
 
 pub mod json;
 pub mod overrides;
+pub mod placement;
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -377,7 +378,7 @@ pub struct Engine {
     /// Neighbour-list skin: the DUTC margin `r_NL − 2 a_max`, in units of the smallest radius
     /// (absent: the most the mask allows). Lists keep pairs closer than contact + skin. With the
     /// local re-mapping, twice the shell radius (absent: sized for six to eight neighbours beyond
-    /// contact by the scene's packing and size, see `simulation::shells::local_margin`).
+    /// contact by the scene's packing and size, see `engine::remap::shells::local_margin`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub skin: Option<f64>,
     /// Grid storage: `auto` (dense for closed domains, hashed for an open top), `dense`, or

@@ -20,7 +20,7 @@
 //! same events in the same order, bit for bit, whichever queue it uses.
 //!
 //! A calendar that keeps events ahead (set by the engine where its arrays outgrow the caches
-//! and it hints at memory in a pipeline: see [`PIPELINE_FROM`](crate::prefetch::PIPELINE_FROM))
+//! and it hints at memory in a pipeline: see [`PIPELINE_FROM`](crate::platform::prefetch::PIPELINE_FROM))
 //! serves the memory system in two ways: the array is refilled before
 //! it runs dry, so that it always shows the event loop the next few events; and an entry bound
 //! for a future bucket is linked into its list only at the next change, once the list's head,
@@ -555,7 +555,7 @@ impl CalendarQueue {
             self.link_pending(times);
             self.refill(times);
         }
-        if self.node.len() >= crate::prefetch::PREFETCH_FROM {
+        if self.node.len() >= crate::platform::prefetch::PREFETCH_FROM {
             self.walk_ahead(times);
         }
     }
@@ -593,8 +593,8 @@ impl CalendarQueue {
         };
         if next != NIL {
             self.ahead = (bucket, next);
-            crate::prefetch::prefetch(&self.node, next as usize);
-            crate::prefetch::prefetch(times, next as usize);
+            crate::platform::prefetch::prefetch(&self.node, next as usize);
+            crate::platform::prefetch::prefetch(times, next as usize);
             return;
         }
         // The next two buckets: farther ahead, what it brings would be evicted before use.
@@ -610,8 +610,8 @@ impl CalendarQueue {
             (self.cur, NIL)
         };
         if first != NIL {
-            crate::prefetch::prefetch(&self.node, first as usize);
-            crate::prefetch::prefetch(times, first as usize);
+            crate::platform::prefetch::prefetch(&self.node, first as usize);
+            crate::platform::prefetch::prefetch(times, first as usize);
         }
     }
 
@@ -632,14 +632,14 @@ impl CalendarQueue {
             return;
         }
         if let Place::Bucket(b) = self.place(t) {
-            crate::prefetch::prefetch(&self.head, b);
+            crate::platform::prefetch::prefetch(&self.head, b);
         }
     }
 
     /// Hints that disk `i`'s entry will be read soon.
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
-        crate::prefetch::prefetch(&self.node, i);
+        crate::platform::prefetch::prefetch(&self.node, i);
     }
 
     /// Hints that the neighbours of disk `i`'s entry in its list will be changed soon (when
@@ -647,8 +647,8 @@ impl CalendarQueue {
     #[inline(always)]
     pub fn prefetch_links(&self, i: usize) {
         if let Some(&Node { next, prev }) = self.node.get(i) {
-            crate::prefetch::prefetch(&self.node, next as usize);
-            crate::prefetch::prefetch(&self.node, prev as usize);
+            crate::platform::prefetch::prefetch(&self.node, next as usize);
+            crate::platform::prefetch::prefetch(&self.node, prev as usize);
         }
     }
 
@@ -1014,7 +1014,7 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig {
             cases: 512,
-            // As in tests/solver_properties.rs: no regression files, the same cases every run
+            // As in tests/suite/solver_properties.rs: no regression files, the same cases every run
             // (PROPTEST_RNG_SEED explores others).
             failure_persistence: None,
             rng_seed: proptest::test_runner::RngSeed::Fixed(

@@ -6,7 +6,7 @@
 //! so memory stays O(N) however high a disk flies (disks folded into adjacent rows are rejected
 //! by the callers' distance tests).
 
-use crate::locals::{SideBounds, Top};
+use crate::physics::walls::{SideBounds, Top};
 
 const EMPTY: u32 = u32::MAX;
 

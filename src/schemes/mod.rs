@@ -16,11 +16,11 @@ pub mod cells;
 pub mod space_time;
 pub mod time_step;
 
-use crate::disks::Disks;
-use crate::dynamics::Flight;
+use crate::engine::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, Snapshot};
 use crate::error::{Error, Result};
-use crate::locals::{nearest_image, SideBounds, Top};
-use crate::simulation::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, Snapshot};
+use crate::physics::disks::Disks;
+use crate::physics::flight::Flight;
+use crate::physics::walls::{nearest_image, SideBounds, Top};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 

@@ -17,15 +17,15 @@
 
 use super::cells::CellList;
 use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
-use crate::disks::{Disks, Motion};
-use crate::dynamics::Flight;
+use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time};
-use crate::locals::floor::{Floor, FloorEvent};
-use crate::locals::{Side, SideBounds, Top};
-use crate::restitution::{CollisionLaw, Restitution};
+use crate::physics::disks::{Disks, Motion};
+use crate::physics::flight::Flight;
+use crate::physics::floor::{Floor, FloorEvent};
+use crate::physics::pair::{collide, contact_time};
+use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::Engine;
-use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene};
 use std::cmp::Ordering as CmpOrdering;
 use std::collections::{BinaryHeap, HashSet};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -13,15 +13,15 @@
 
 use super::cells::CellList;
 use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
-use crate::disks::Disks;
-use crate::dynamics::Flight;
+use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
-use crate::interactions::{collide, contact_time};
-use crate::locals::floor::Floor;
-use crate::locals::{Side, SideBounds, Top};
-use crate::restitution::{CollisionLaw, Restitution};
+use crate::physics::disks::Disks;
+use crate::physics::flight::Flight;
+use crate::physics::floor::Floor;
+use crate::physics::pair::{collide, contact_time};
+use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
-use crate::simulation::{EnergyFlow, EventCounts, Progress, Scene};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Default Verlet skin in units of the smallest radius.
@@ -201,7 +201,7 @@ impl<F: Flight> TimeStep<F> {
         let flight = self.flight;
         for (i, m) in self.disks.motion.iter_mut().enumerate() {
             let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
-            *m = crate::disks::Motion {
+            *m = crate::physics::disks::Motion {
                 x,
                 y,
                 vx,

@@ -1,7 +1,7 @@
 //! `vibrobed sweep plan|run|slurm|task|collect`: the sweep subcommands of the command line.
 
 use crate::error::{Error, Result};
-use crate::summary::Ending;
+use crate::output::summary::Ending;
 use crate::sweep::collect::collect;
 use crate::sweep::fit::{power_law, PowerFit};
 use crate::sweep::local::{
@@ -145,7 +145,7 @@ impl SweepCommand {
                 exp.check_scenes()?;
                 let jobs = jobs
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-                crate::signals::install();
+                crate::platform::signals::install();
                 let report = run_pool(&exp, &out, jobs, !quiet)?;
                 let n = exp.plan.runs.len();
                 let not_started =
@@ -176,8 +176,8 @@ impl SweepCommand {
                     },
                     out.display()
                 );
-                if crate::signals::stop_flag().load(Ordering::Relaxed) {
-                    return Ok(crate::signals::exit_code());
+                if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
+                    return Ok(crate::platform::signals::exit_code());
                 }
                 if let Some((i, first)) = report.failed.first() {
                     return Err(Error::Runtime(format!(
@@ -201,7 +201,7 @@ impl SweepCommand {
                     eprintln!("run {index}: already completed");
                     return Ok(0);
                 }
-                crate::signals::install();
+                crate::platform::signals::install();
                 let spec = &exp.plan.runs[index];
                 let ending = run_one(&exp.plan, spec, &exp.scenarios[index], &out)?;
                 eprintln!(

@@ -9,10 +9,10 @@
 //! whichever worker runs it and in whatever order.
 
 use crate::error::{Error, Result};
+use crate::output::summary::Ending;
 pub use crate::output::write_atomic;
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
-use crate::summary::Ending;
 use crate::sweep::plan::{Expanded, Plan, RunSpec};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -92,7 +92,7 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
         scenario,
         RunOptions {
             rrd: plan.record.then(|| rrd_tmp.clone()),
-            interrupt: Some(crate::signals::stop_flag()),
+            interrupt: Some(crate::platform::signals::stop_flag()),
             progress: false,
             ..Default::default()
         },
@@ -170,7 +170,7 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
     std::thread::scope(|scope| {
         for _ in 0..jobs {
             let worker = || loop {
-                if crate::signals::stop_flag().load(Ordering::Relaxed) {
+                if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
                     break;
                 }
                 let k = next.fetch_add(1, Ordering::Relaxed);

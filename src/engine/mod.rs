@@ -1,0 +1,245 @@
+//! The event-driven engine (Isobe 1999): per-disk local minima in an event queue (a complete
+//! binary tree or a calendar, `engine.queue`),
+//! neighbour lists from the EEPGM grid, re-mapping by DUTC, lazy per-disk time stamps.
+//!
+//! The engine runs on a local clock that restarts at 0 at every mapping (all disks are brought
+//! to the mapping time then), so event times never lose precision however long the run; the
+//! absolute time is `base + now`. The floor's phase is re-based at the same moment.
+//!
+//! This file is the event loop; each step has a file of its own:
+//! - [`setup`](setup.rs): grid, mask, initial checks, the first mapping;
+//! - [`event`](event.rs): every kind of event, and the code it is filed under;
+//! - `predict`: each disk's earliest event, filed in the queue;
+//! - `fire`: carrying out the event that is due (collision rules, bookkeeping);
+//! - [`remap`]: re-mapping when the DUTC deadline comes ([`remap::dutc`]), the local
+//!   re-mapping ([`remap::shells`]: each disk rebuilds its own list when it leaves its shell)
+//!   and the renumbering of disks along a space-filling curve ([`remap::numbering`]);
+//! - `motion`: where a disk is at a time (lazy flight, riding the floor);
+//! - [`rest`]: disks at rest on the floor or on disks at rest, and the rules that end bursts
+//!   of events at one instant;
+//! - `clock`, `counts`, `log`, `observe`: the clock, what is counted, the collision log, and
+//!   what callers can see.
+
+mod clock;
+mod counts;
+mod event;
+mod fire;
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+mod lanes;
+mod log;
+mod motion;
+mod observe;
+mod parts;
+mod predict;
+pub mod remap;
+pub mod rest;
+pub mod scene;
+mod setup;
+mod state;
+
+pub use counts::{EnergyFlow, EventCounts};
+pub use event::Event;
+pub use log::{Collision, Partner};
+pub use observe::Snapshot;
+pub use scene::Scene;
+pub use state::EngineState;
+
+use crate::error::{Error, Result};
+use crate::physics::disks::Disks;
+use crate::physics::flight::Flight;
+use crate::physics::restitution::CollisionLaw;
+use crate::platform::prefetch::prefetch;
+use clock::Epoch;
+use parts::{Bounds, Control, Events, Mapping, Rest, Tally};
+use std::sync::atomic::Ordering;
+
+/// Relative overlap (of the contact distance) beyond which the invariant check fails.
+pub const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// Why [`Simulation::advance_to`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// The target time was reached.
+    Reached,
+    /// The event budget ran out first.
+    EventLimit,
+    /// An interrupt was requested.
+    Interrupted,
+}
+
+/// The exact event-driven engine, generic over free flight (straight or under gravity). Its
+/// state is in parts named for what they hold ([`parts`](parts.rs)): a method's borrows show
+/// what it touches.
+#[derive(Debug)]
+pub struct Simulation<F: Flight> {
+    flight: F,
+    disks: Disks,
+    /// The local clock: absolute time is `base + now`.
+    base: Epoch,
+    now: f64,
+    events: Events,
+    map: Mapping,
+    bounds: Bounds,
+    /// The restitution law, with the cures' memory of each disk.
+    restitution: CollisionLaw,
+    rest: Rest,
+    tally: Tally,
+    control: Control,
+}
+
+impl<F: Flight> Simulation<F> {
+    /// Runs events until absolute time `target` (events at exactly `target` are left for later).
+    pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
+        // at the start, so that a run stops within a bounded wall time whatever it is doing.
+        let mut turns = 0u32;
+        loop {
+            let local_target = self.base.local(target);
+            if self.tally.counts.guarded() >= self.control.event_limit {
+                return Ok(Progress::EventLimit);
+            }
+            if turns & 0x3ff == 0 && self.interrupted() {
+                return Ok(Progress::Interrupted);
+            }
+            turns = turns.wrapping_add(1);
+            let i = self.events.queue.min();
+            self.prefetch_next();
+            let te = self.events.time[i];
+            let deadline = self.map.dutc.deadline;
+            if deadline <= te && deadline < local_target {
+                self.now = deadline;
+                self.remap()?;
+                continue;
+            }
+            if te >= local_target {
+                self.now = self.now.max(local_target);
+                return Ok(Progress::Reached);
+            }
+            if self.control.check && te < self.now {
+                return Err(Error::Runtime(format!(
+                    "event of disk {} at {} is before the present {}",
+                    self.map.numbering.id(i),
+                    self.base.absolute(te),
+                    self.base.absolute(self.now)
+                )));
+            }
+            self.now = te;
+            self.fire(i)?;
+        }
+    }
+
+    /// Hints the memory system at the states and events of the disks likely to come next.
+    #[inline(always)]
+    fn prefetch_next(&self) {
+        if !self.control.prefetching {
+            return;
+        }
+        if self.control.pipelining {
+            if let Some(shells) = &self.map.shells {
+                return self.prefetch_pipeline(self.events.queue.next_likely(), shells);
+            }
+        }
+        // The next two events' entries; under the local re-mapping, the next event's
+        // neighbours, from its list in its row (whose row was asked for at the event before):
+        // the states its prediction reads.
+        let likely = self.events.queue.next_likely();
+        let likely = [likely[0], likely[1]];
+        let local = self.map.shells.is_some();
+        if let Some(k) = likely[0].filter(|_| local) {
+            for &j in self.map.lists.of(k) {
+                prefetch(&self.disks.motion, j as usize);
+            }
+        }
+        for k in likely.into_iter().flatten() {
+            self.prefetch_entries(k);
+        }
+    }
+
+    /// Hints at disk `k`'s state and event entries (and under the local re-mapping its anchor
+    /// and list row).
+    #[inline(always)]
+    fn prefetch_entries(&self, k: usize) {
+        prefetch(&self.disks.motion, k);
+        prefetch(&self.events.time, k);
+        prefetch(&self.events.code, k);
+        prefetch(&self.events.counter, k);
+        if let Some(shells) = &self.map.shells {
+            shells.prefetch(k);
+            self.map.lists.prefetch_list(k);
+        }
+    }
+
+    /// [`prefetch_next`](Self::prefetch_next) where the arrays outgrow the last-level cache
+    /// (from [`PIPELINE_FROM`](crate::platform::prefetch::PIPELINE_FROM) disks, local re-mapping): a
+    /// pipeline over the next three events, each stage reading only what the stage before asked
+    /// for an event earlier — the third's own entries and list row; the second's neighbours
+    /// (from its row) and its partner's state, counter, event time, queue entry, anchor and
+    /// row; the next one's partner's neighbours and the neighbours of its queue entry (the next
+    /// one's own neighbours were asked for as the second).
+    #[inline(always)]
+    fn prefetch_pipeline(&self, likely: [Option<usize>; 3], shells: &remap::shells::Shells) {
+        let n = self.disks.len();
+        let partner = |k: usize| Some(self.events.code[k] as usize).filter(|&j| j < n);
+        if let Some(j) = likely[0].and_then(partner) {
+            for &m in self.map.lists.of(j) {
+                prefetch(&self.disks.motion, m as usize);
+            }
+            self.events.queue.prefetch_links(j);
+        }
+        if let Some(k) = likely[1] {
+            for &m in self.map.lists.of(k) {
+                prefetch(&self.disks.motion, m as usize);
+            }
+            if let Some(j) = partner(k) {
+                prefetch(&self.disks.motion, j);
+                prefetch(&self.disks.counter, j);
+                prefetch(&self.events.time, j);
+                self.events.queue.prefetch(j);
+                shells.prefetch(j);
+                self.map.lists.prefetch_list(j);
+            } else if self.events.code[k] == event::code::SHELL {
+                // A shell exit reads the cells around its anchor (the new one is in them or
+                // next to them) and changes its neighbours' rows.
+                let [x, y] = shells.anchor(k);
+                let cell = self.map.geometry.cell_of(x, y);
+                self.map
+                    .cells
+                    .prefetch_around(&self.map.geometry, &self.map.mask, cell);
+                self.map.lists.prefetch_neighbours(k);
+            }
+        }
+        if let Some(k) = likely[2] {
+            self.prefetch_entries(k);
+        }
+    }
+
+    /// `true` once the caller's interrupt flag is set.
+    #[inline]
+    fn interrupted(&self) -> bool {
+        self.control
+            .interrupt
+            .is_some_and(|flag| flag.load(Ordering::Relaxed))
+    }
+
+    /// Processes the next `k` events (collisions, stale events, re-mappings), whatever their
+    /// times: for benchmarks, which measure throughput rather than reach a time (with the
+    /// same hints to the memory system as [`advance_to`](Self::advance_to)).
+    pub fn step_events(&mut self, k: u64) -> Result<()> {
+        for _ in 0..k {
+            let i = self.events.queue.min();
+            self.prefetch_next();
+            let te = self.events.time[i];
+            if self.map.dutc.deadline <= te {
+                self.now = self.map.dutc.deadline;
+                self.remap()?;
+                continue;
+            }
+            if te == f64::INFINITY {
+                return Ok(());
+            }
+            self.now = te;
+            self.fire(i)?;
+        }
+        Ok(())
+    }
+}

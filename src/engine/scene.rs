@@ -1,0 +1,262 @@
+//! A scenario resolved into what the engine needs: boundaries, floor, collision law, and the
+//! initial disks (radii, masses, positions, velocities) drawn from the scenario's seed.
+
+use crate::error::{Error, Result};
+use crate::physics::disks::Disks;
+use crate::physics::floor::Floor;
+use crate::physics::walls::{SideBounds, Top};
+use crate::scenario::checks::mean_disk_area;
+use crate::scenario::placement::{self, Region};
+use crate::scenario::{
+    GridChoice, MaskChoice, Placement, PlacementKind, QueueChoice, Radius, RemapChoice,
+    RenumberChoice, Scenario, XBoundary, YBoundary,
+};
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// Default packing fraction of the initial bed under an open top.
+pub const DEFAULT_BED_PACKING: f64 = 0.5;
+
+/// Everything about a scene except the disks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// Side boundaries.
+    pub sides: SideBounds,
+    /// Top boundary.
+    pub top: Top,
+    /// The floor, if any.
+    pub floor: Option<Floor>,
+    /// Gravity, if any.
+    pub gravity: Option<f64>,
+    /// Pair restitution.
+    pub restitution: f64,
+    /// TC model duration, if on.
+    pub tc: Option<f64>,
+    /// Normal-speed cutoff of restitution, if on.
+    pub speed_cutoff: Option<f64>,
+    /// Disks landing gently on disks at rest come to rest on them.
+    pub resting_contacts: bool,
+    /// Neighbour mask choice.
+    pub mask: MaskChoice,
+    /// Grid storage choice.
+    pub grid: GridChoice,
+    /// `global` or `local` (`auto` resolved for the scene).
+    pub remap: RemapChoice,
+    /// Event queue choice.
+    pub queue: QueueChoice,
+    /// Whether the engine renumbers its disks (see [`RenumberChoice`]).
+    pub renumber: RenumberChoice,
+    /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
+    pub packing: f64,
+    /// Neighbour-list skin (DUTC margin) in units of the smallest radius; `None`: all the mask
+    /// allows.
+    pub skin: Option<f64>,
+    /// Invariant checks on.
+    pub check_invariants: bool,
+    /// Event budget.
+    pub max_events: Option<u64>,
+}
+
+impl Scene {
+    /// Resolves a validated scenario into a scene and its initial disks.
+    pub fn build(s: &Scenario) -> Result<(Scene, Disks)> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(s.seed);
+        let n = s.disk_count();
+        let (radius, mass, species) = sizes(s, &mut rng);
+        let width = s.domain.width;
+        let height = match (s.domain.y_boundary, s.domain.height) {
+            (YBoundary::Open, _) => None,
+            (_, Some(h)) => Some(h),
+            (_, None) => {
+                let phi = s.particles.packing_fraction.expect("validated");
+                Some(n as f64 * mean_disk_area(s) / (phi * width))
+            }
+        };
+        let (sides, top) = bounds(s, height);
+        let floor = s.floor.as_ref().map(|f| {
+            Floor::new(
+                f.restitution,
+                s.floor_amplitude(),
+                std::f64::consts::TAU * f.frequency.unwrap_or(0.0),
+                f.phase,
+                f.waveform,
+                f.model,
+            )
+        });
+        let floor_top = floor.as_ref().map_or(0.0, |f| f.amplitude);
+        let positions = positions(s, &radius, height, floor_top, &mut rng)?;
+        let mut disks = Disks::new(&positions, radius, mass, species);
+        let velocities = match &s.particles.placement {
+            Placement::Explicit(e) if e.velocities.is_some() => e.velocities.clone().unwrap(),
+            _ => placement::thermal_velocities(
+                &disks.mass.to_vec(),
+                s.particles.temperature,
+                &mut rng,
+            ),
+        };
+        for (i, v) in velocities.iter().enumerate() {
+            disks.motion[i].vx = v[0];
+            disks.motion[i].vy = v[1];
+        }
+        debug_assert_eq!(disks.len(), n);
+        let scene = Scene {
+            name: s.name.clone(),
+            sides,
+            top,
+            floor,
+            gravity: s.gravity,
+            restitution: s.collisions.restitution,
+            tc: s.collisions.tc,
+            speed_cutoff: s.collisions.speed_cutoff,
+            resting_contacts: s.collisions.resting_contacts,
+            mask: s.engine.mask,
+            grid: s.engine.grid,
+            remap: s
+                .engine
+                .remap
+                .resolve(matches!(top, Top::Open) && s.gravity.is_some_and(|g| g > 0.0)),
+            queue: s.engine.queue,
+            renumber: s.engine.renumber,
+            packing: match height {
+                Some(h) => n as f64 * mean_disk_area(s) / (width * h),
+                None => s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING),
+            },
+            skin: s.engine.skin,
+            check_invariants: s.engine.check_invariants,
+            max_events: s.run.max_events,
+        };
+        Ok((scene, disks))
+    }
+}
+
+/// The side walls (or x period) and the lid (or y period, or an open top) of scenario `s` with
+/// its domain `height` (`None`: open).
+fn bounds(s: &Scenario, height: Option<f64>) -> (SideBounds, Top) {
+    let width = s.domain.width;
+    let sides = match s.domain.x_boundary {
+        XBoundary::Walls => SideBounds::Walls {
+            width,
+            e: s.domain.wall_restitution,
+        },
+        XBoundary::Periodic => SideBounds::Periodic { width },
+    };
+    let top = match s.domain.y_boundary {
+        YBoundary::Open => Top::Open,
+        YBoundary::Lid => Top::Lid {
+            height: height.expect("closed"),
+            e: s.domain.wall_restitution,
+        },
+        YBoundary::Periodic => Top::Periodic {
+            height: height.expect("closed"),
+        },
+    };
+    (sides, top)
+}
+
+/// The disks' initial centres: the scenario's, or placed in rows in the domain (melted for
+/// `random`) above the floor's highest point `floor_top`.
+fn positions(
+    s: &Scenario,
+    radius: &[f64],
+    height: Option<f64>,
+    floor_top: f64,
+    rng: &mut Xoshiro256PlusPlus,
+) -> Result<Vec<[f64; 2]>> {
+    let (n, width) = (s.disk_count(), s.domain.width);
+    let positions = match &s.particles.placement {
+        Placement::Explicit(e) => e.positions.clone(),
+        Placement::Kind(kind) => {
+            let (y0, y1, fill) = match height {
+                Some(h) if s.domain.y_boundary == YBoundary::Periodic => (0.0, h, h),
+                Some(h) => (floor_top, h, h - floor_top),
+                None => {
+                    let phi = s.particles.packing_fraction.unwrap_or(DEFAULT_BED_PACKING);
+                    let bed = n as f64 * mean_disk_area(s) / (phi * width);
+                    (floor_top, f64::INFINITY, bed)
+                }
+            };
+            if fill <= 0.0 {
+                return Err(Error::input(
+                    "domain.height",
+                    "leaves no room above the floor's highest position",
+                ));
+            }
+            let region = Region {
+                x0: 0.0,
+                x1: width,
+                y0,
+                y1,
+                x_periodic: s.domain.x_boundary == XBoundary::Periodic,
+                y_periodic: s.domain.y_boundary == YBoundary::Periodic,
+            };
+            let melt = *kind == PlacementKind::Random;
+            match placement::place(radius, region, fill, melt, rng) {
+                Ok(positions) => positions,
+                // Under an open top the bed's height is only a start: a few disks in a wide
+                // box fill less than a row, so the bed is raised until the rows hold them.
+                Err(_) if height.is_none() => {
+                    let mut fill = fill.max(2.0 * s.radius_range().1);
+                    loop {
+                        fill *= 1.25;
+                        if let Ok(p) = placement::place(radius, region, fill, melt, rng) {
+                            break p;
+                        }
+                        if fill > 4.0 * n as f64 * s.radius_range().1 {
+                            return Err(Error::input(
+                                "domain.width",
+                                "is too narrow for a row of the largest disks",
+                            ));
+                        }
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    };
+    Ok(positions)
+}
+
+/// Radii, masses and species of every disk.
+fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
+    let p = &s.particles;
+    let pi = std::f64::consts::PI;
+    let n = s.disk_count();
+    let (radius, species, species_mass): (Vec<f64>, Vec<u32>, Vec<Option<f64>>) = match &p.radius {
+        Radius::Fixed(r) => (vec![*r; n], vec![0; n], vec![None; n]),
+        Radius::Uniform(u) => (
+            (0..n)
+                .map(|_| u.min + (u.max - u.min) * rng.random::<f64>())
+                .collect(),
+            vec![0; n],
+            vec![None; n],
+        ),
+        Radius::Species(list) => {
+            let mut r = Vec::with_capacity(n);
+            let mut sp = Vec::with_capacity(n);
+            let mut m = Vec::with_capacity(n);
+            for (k, species) in list.species.iter().enumerate() {
+                for _ in 0..species.count {
+                    r.push(species.radius);
+                    sp.push(k as u32);
+                    m.push(species.mass);
+                }
+            }
+            (r, sp, m)
+        }
+    };
+    let (a_min, _) = s.radius_range();
+    let mass = radius
+        .iter()
+        .zip(&species_mass)
+        .map(|(&a, &m)| match (m, p.mass, p.density) {
+            (Some(m), _, _) => m,
+            (None, _, Some(rho)) => rho * pi * a * a,
+            (None, Some(m), None) => m,
+            // Equal areal density, the smallest disk weighing 1.
+            (None, None, None) => (a / a_min).powi(2),
+        })
+        .collect();
+    (radius, mass, species)
+}

@@ -1,0 +1,309 @@
+//! Rows with room: many short lists of disk numbers that change one entry at a time (the
+//! local re-mapping's neighbour lists, one per disk, and its cells of anchors, one per cell).
+//! Each list has a row of `room` slots; the few longer ones move whole into wider chunks of an
+//! overflow area while they are long. Rows sized for the longest list would spend most of
+//! their memory on room few lists use.
+
+/// `len` of a list in the overflow area.
+const SPILLED: u8 = u8::MAX;
+
+/// Slots read past a row's end by [`Rows::copy_into`] (kept at the end of the slots).
+pub const GROUP: usize = 4;
+
+/// Lists in rows with room and an overflow area: list `i` is `slots[i·room .. i·room +
+/// len[i]]` while it fits; a longer list (`len[i] = SPILLED`) lives whole in chunk
+/// `c = slots[i·room]` of the overflow area, its length in `spill[c·wide]` and its entries
+/// after it.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct Rows {
+    /// Slots per row (1 to 254).
+    room: usize,
+    slots: Vec<u32>,
+    len: Vec<u8>,
+    /// Slots per overflow chunk, its length included (more than `room + 1`; widened when a
+    /// list outgrows it).
+    wide: usize,
+    spill: Vec<u32>,
+    /// Overflow chunks no list holds.
+    free: Vec<u32>,
+}
+
+impl Rows {
+    /// `n` empty lists, in rows that leave at most one list in fifty to the overflow area if
+    /// the lists are to be as long as `length(i)`; overflow chunks for the longest.
+    pub fn sized_for(n: usize, length: impl Fn(usize) -> usize) -> Rows {
+        let most = (0..n).map(&length).max().unwrap_or(0);
+        let mut count = vec![0usize; most + 1];
+        for i in 0..n {
+            count[length(i)] += 1;
+        }
+        // The smallest room that leaves at most n/50 lists longer.
+        let (mut room, mut longer) = (most, 0);
+        while room > 1 && longer + count[room] <= n / 50 {
+            longer += count[room];
+            room -= 1;
+        }
+        let room = room.clamp(1, SPILLED as usize - 1);
+        Rows {
+            room,
+            slots: vec![0; n * room + GROUP],
+            len: vec![0; n],
+            wide: (most + 1).max(room + 2),
+            spill: Vec::new(),
+            free: Vec::new(),
+        }
+    }
+
+    /// Slots per row.
+    pub fn room(&self) -> usize {
+        self.room
+    }
+
+    /// Number of lists.
+    pub fn lists(&self) -> usize {
+        self.len.len()
+    }
+
+    /// List `i`.
+    #[inline(always)]
+    pub fn of(&self, i: usize) -> &[u32] {
+        let (s, l) = (i * self.room, self.len[i]);
+        if l != SPILLED {
+            &self.slots[s..s + l as usize]
+        } else {
+            self.spilled(i)
+        }
+    }
+
+    /// Copies list `i` to `out[at..]` and returns its length. A list in its row is copied
+    /// [`GROUP`] slots at a time, at least one group (most lists are shorter: a loop that
+    /// always runs once leaves no exit to mispredict), so `out` must have a group's room past
+    /// `at` plus the list's length rounded up to a group.
+    #[inline(always)]
+    pub fn copy_into(&self, i: usize, out: &mut [u32], at: usize) -> usize {
+        let l = self.len[i];
+        if l == SPILLED {
+            let list = self.spilled(i);
+            out[at..at + list.len()].copy_from_slice(list);
+            return list.len();
+        }
+        let (s, l) = (i * self.room, l as usize);
+        let mut g = 0;
+        loop {
+            let from: &[u32; GROUP] = self.slots[s + g..s + g + GROUP].try_into().unwrap();
+            let to: &mut [u32; GROUP] = (&mut out[at + g..at + g + GROUP]).try_into().unwrap();
+            *to = *from;
+            g += GROUP;
+            if g >= l {
+                return l;
+            }
+        }
+    }
+
+    /// Hints that list `i` will be changed soon (its row and its length). Rows whose room is
+    /// not a power of two may straddle two cache lines: their last slot is asked for too.
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        crate::platform::prefetch::prefetch(&self.slots, i * self.room);
+        if !self.room.is_power_of_two() {
+            crate::platform::prefetch::prefetch(&self.slots, i * self.room + self.room - 1);
+        }
+        crate::platform::prefetch::prefetch(&self.len, i);
+    }
+
+    /// List `i` in the overflow area.
+    #[cold]
+    #[inline(never)]
+    fn spilled(&self, i: usize) -> &[u32] {
+        let c = self.slots[i * self.room] as usize * self.wide;
+        let l = self.spill[c] as usize;
+        &self.spill[c + 1..c + 1 + l]
+    }
+
+    /// The length of list `i`.
+    #[inline]
+    pub fn length(&self, i: usize) -> usize {
+        match self.len[i] {
+            SPILLED => self.spill[self.slots[i * self.room] as usize * self.wide] as usize,
+            l => l as usize,
+        }
+    }
+
+    /// List `i`, to change in place.
+    #[inline]
+    pub fn of_mut(&mut self, i: usize) -> &mut [u32] {
+        let s = i * self.room;
+        match self.len[i] {
+            SPILLED => {
+                let c = self.slots[s] as usize * self.wide;
+                let l = self.spill[c] as usize;
+                &mut self.spill[c + 1..c + 1 + l]
+            }
+            l => &mut self.slots[s..s + l as usize],
+        }
+    }
+
+    /// Appends `j` to list `i`, moving the list to the overflow area when its row is full
+    /// (and widening the overflow chunks when its chunk is).
+    #[inline(always)]
+    pub fn push(&mut self, i: usize, j: u32) {
+        let l = self.len[i];
+        // `SPILLED` is never below `room`.
+        if (l as usize) < self.room {
+            self.slots[i * self.room + l as usize] = j;
+            self.len[i] = l + 1;
+        } else {
+            self.push_long(i, j);
+        }
+    }
+
+    /// [`push`](Self::push) to a full row or an overflowing list.
+    #[cold]
+    #[inline(never)]
+    fn push_long(&mut self, i: usize, j: u32) {
+        let s = i * self.room;
+        if self.len[i] == SPILLED {
+            let c = self.slots[s] as usize;
+            let l = self.spill[c * self.wide] as usize;
+            if l + 1 == self.wide {
+                self.widen_spill();
+            }
+            let at = c * self.wide;
+            self.spill[at + 1 + l] = j;
+            self.spill[at] += 1;
+            return;
+        }
+        let l = self.room;
+        let c = self.chunk();
+        let at = c as usize * self.wide;
+        self.spill[at] = (l + 1) as u32;
+        self.spill[at + 1..at + 1 + l].copy_from_slice(&self.slots[s..s + l]);
+        self.spill[at + 1 + l] = j;
+        self.slots[s] = c;
+        self.len[i] = SPILLED;
+    }
+
+    /// Removes `j` from list `i` (the last entry takes its place), moving the list back into
+    /// its row once it fits.
+    #[inline(always)]
+    pub fn remove(&mut self, i: usize, j: u32) {
+        let l = self.len[i];
+        if l == SPILLED {
+            self.remove_long(i, j);
+            return;
+        }
+        // Every slot of the row looked at, without a branch: a search that stops where it
+        // finds `j` mispredicts that stop (rows are short, their lengths vary). The slots that
+        // hold `j` as bits of a mask (a form the compiler turns into vector comparisons, where
+        // a running "last found" chains every slot on the one before).
+        let s = i * self.room;
+        let row = &mut self.slots[s..s + self.room];
+        let e = if row.len() <= 64 {
+            let mut bits = 0u64;
+            for (k, &x) in row.iter().enumerate() {
+                bits |= ((x == j) as u64) << k;
+            }
+            // The list's slots (none when it is empty); of several, the last (as the loop
+            // below finds: a list holds a disk once).
+            let listed = u64::MAX.checked_shr(64 - l as u32).unwrap_or(0);
+            match (bits & listed).leading_zeros() {
+                64 => usize::MAX,
+                z => 63 - z as usize,
+            }
+        } else {
+            let mut e = usize::MAX;
+            for (k, &x) in row.iter().enumerate() {
+                e = if x == j && k < l as usize { k } else { e };
+            }
+            e
+        };
+        if e != usize::MAX {
+            row[e] = row[l as usize - 1];
+            self.len[i] = l - 1;
+        }
+    }
+
+    /// [`remove`](Self::remove) from an overflowing list.
+    #[cold]
+    #[inline(never)]
+    fn remove_long(&mut self, i: usize, j: u32) {
+        let list = self.of_mut(i);
+        let Some(e) = list.iter().position(|&k| k == j) else {
+            return;
+        };
+        let last = list.len() - 1;
+        list[e] = list[last];
+        self.spill[self.slots[i * self.room] as usize * self.wide] -= 1;
+        if last == self.room {
+            self.unspill(i, last);
+        }
+    }
+
+    /// Makes `new` list `i`.
+    pub fn set(&mut self, i: usize, new: &[u32]) {
+        self.clear(i);
+        let s = i * self.room;
+        if new.len() <= self.room {
+            self.slots[s..s + new.len()].copy_from_slice(new);
+            self.len[i] = new.len() as u8;
+        } else {
+            for &j in new {
+                self.push(i, j);
+            }
+        }
+    }
+
+    /// Empties list `i`.
+    pub fn clear(&mut self, i: usize) {
+        if self.len[i] == SPILLED {
+            self.unspill(i, 0);
+        }
+        self.len[i] = 0;
+    }
+
+    /// Moves list `i` of `l ≤ room` entries from its overflow chunk back to its row.
+    fn unspill(&mut self, i: usize, l: usize) {
+        let s = i * self.room;
+        let c = self.slots[s];
+        let at = c as usize * self.wide;
+        self.slots[s..s + l].copy_from_slice(&self.spill[at + 1..at + 1 + l]);
+        self.free.push(c);
+        self.len[i] = l as u8;
+    }
+
+    /// A free overflow chunk (a new one if none is free).
+    fn chunk(&mut self) -> u32 {
+        self.free.pop().unwrap_or_else(|| {
+            let c = self.spill.len() / self.wide;
+            self.spill.resize((c + 1) * self.wide, 0);
+            c as u32
+        })
+    }
+
+    /// Gives every overflow chunk a quarter more slots (at least one), in place.
+    fn widen_spill(&mut self) {
+        let (old, wide) = (self.wide, self.wide + (self.wide / 4).max(1));
+        let chunks = self.spill.len() / old;
+        self.spill.resize(chunks * wide, 0);
+        for c in (1..chunks).rev() {
+            self.spill.copy_within(c * old..c * old + old, c * wide);
+        }
+        self.wide = wide;
+    }
+
+    /// Slots per overflow chunk (more than any list holds).
+    pub fn wide(&self) -> usize {
+        self.wide
+    }
+
+    /// Total entries.
+    pub fn entries(&self) -> usize {
+        (0..self.len.len()).map(|i| self.length(i)).sum()
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        4 * (self.slots.capacity() + self.spill.capacity() + self.free.capacity())
+            + self.len.capacity()
+    }
+}

@@ -1,0 +1,162 @@
+//! The run summary (JSON): what users, their scripts and the regression suite read.
+
+use crate::engine::EventCounts;
+use crate::measure::{Observables, ProfileTable};
+use serde::Serialize;
+
+/// How the run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Ending {
+    /// Reached `run.duration`.
+    Completed,
+    /// Stopped by Ctrl-C; the summary covers the time simulated so far.
+    Interrupted,
+    /// Stopped by `run.max_events`.
+    EventLimit,
+}
+
+/// Kinetic and potential energy at one time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergyAt {
+    /// Σ ½ m v².
+    pub kinetic: f64,
+    /// Σ m g y.
+    pub potential: f64,
+    /// kinetic + potential.
+    pub total: f64,
+}
+
+impl From<&Observables> for EnergyAt {
+    fn from(o: &Observables) -> Self {
+        EnergyAt {
+            kinetic: o.kinetic,
+            potential: o.potential,
+            total: o.energy(),
+        }
+    }
+}
+
+/// The time-averaged normal force of the floor per unit width, beside the bed's weight per unit
+/// width `M g / width`: in a steady state (or a bed at rest) the two agree, the difference being
+/// the change of the disks' vertical momentum over the window divided by its length and width.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FloorPressure {
+    /// Vertical momentum the floor gave the disks over the window (impacts, and the force
+    /// carrying the disks at rest on it) per unit time and width.
+    pub measured: f64,
+    /// `M g / width`.
+    pub weight: f64,
+}
+
+/// The energy budget: final = initial + injected − dissipated, to round-off.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EnergySummary {
+    /// At the start.
+    pub initial: EnergyAt,
+    /// At the end.
+    #[serde(rename = "final")]
+    pub final_: EnergyAt,
+    /// Work done by the floor.
+    pub injected: f64,
+    /// Lost in collisions.
+    pub dissipated: f64,
+    /// |final − initial − injected + dissipated| relative to the largest term.
+    pub balance_error: f64,
+}
+
+/// Granular temperature per axis, time-averaged over the samples after the warm-up.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Temperature {
+    /// ⟨Σ m (vx − Vx)²⟩/N.
+    pub x: f64,
+    /// ⟨Σ m (vy − Vy)²⟩/N.
+    pub y: f64,
+    /// (x + y)/2.
+    pub mean: f64,
+}
+
+/// How the engine was set up.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EngineSummary {
+    /// Integration scheme.
+    pub scheme: String,
+    /// Neighbour mask (Isobe's name).
+    pub mask: String,
+    /// Grid cell side.
+    pub cell: f64,
+    /// Grid storage: `dense` or `hashed` (open top).
+    pub grid: String,
+    /// Event queue of the exact engine: `calendar` or `tree`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub queue: Option<&'static str>,
+    /// Re-mapping of the exact engine: `global` or `local`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub remap: Option<&'static str>,
+    /// Bytes held by the engine per disk.
+    pub bytes_per_disk: f64,
+    /// Measurement samples averaged.
+    pub samples: usize,
+}
+
+/// The whole summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Seed used.
+    pub seed: u64,
+    /// Number of disks.
+    pub particles: usize,
+    /// How the run ended.
+    pub ending: Ending,
+    /// Simulated time reached.
+    pub sim_time: f64,
+    /// Wall-clock seconds of the event loop (setup excluded).
+    pub wall_seconds: f64,
+    /// Events by kind.
+    pub events: EventCounts,
+    /// (pair + wall + lid + floor collisions) per wall-clock second.
+    pub collisions_per_second: f64,
+    /// Energy budget.
+    pub energy: EnergySummary,
+    /// Granular temperature (averaged after warm-up).
+    pub temperature: Temperature,
+    /// Z = PA/(NkT) from the pair collision virial, for a closed elastic box without gravity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compressibility_factor: Option<f64>,
+    /// Packing fraction of a closed box.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packing_fraction: Option<f64>,
+    /// Largest overlap seen at a contact (distance units).
+    pub max_overlap: f64,
+    /// Mean centre-of-mass height (averaged after warm-up), gravity scenes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_height: Option<f64>,
+    /// Floor impacts per unit simulated time (after warm-up), scenes with a floor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub impacts_per_unit_time: Option<f64>,
+    /// Pressure on the floor (after warm-up), scenes with gravity and a floor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor_pressure: Option<FloorPressure>,
+    /// Time to rest: the first sample time from which every disk was at rest (riding the floor
+    /// or resting on disks at rest, resting contacts) at every sample to the end of the run;
+    /// absent if some disk still moved at the last sample.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_rest_since: Option<f64>,
+    /// Height profiles (gravity scenes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profiles: Option<ProfileTable>,
+    /// Engine set-up.
+    pub engine: EngineSummary,
+    /// Steps and errors of an approximate scheme (`engine.scheme` `time-step` or `space-time`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub approximation: Option<crate::schemes::SchemeStats>,
+}
+
+impl Summary {
+    /// Pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("summary serialises") + "\n"
+    }
+}

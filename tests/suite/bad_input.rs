@@ -1,0 +1,633 @@
+//! Bad input that once got past the checks, one test each: every one must be refused with exit 2
+//! and an error naming the field (`vibrobed: <field>: <message>`), without a panic and without
+//! writing anything; or, for a run that is legal but cannot finish, be stoppable by SIGINT.
+
+use crate::guarded;
+
+use guarded::{entries, error_field, error_line, fresh_dir, names, scenario, Limits, Outcome};
+use std::ffi::OsString;
+use std::path::Path;
+use std::time::Duration;
+
+/// A refusal takes well under a second; anything still running after this is stopped.
+const LIMIT_SECS: u64 = 10;
+
+/// Runs `vibrobed ARGS` from `dir` (empty before), under the guard.
+fn vibrobed(dir: &Path, args: &[OsString]) -> Outcome {
+    let logs = dir.with_extension("logs");
+    let out = guarded::run(args, dir, &logs, Limits::secs(LIMIT_SECS));
+    let _ = std::fs::remove_dir_all(&logs);
+    out
+}
+
+/// `check SCENARIO --set S...`.
+fn check(name: &str, sets: &[&str]) -> Vec<OsString> {
+    let mut args: Vec<OsString> = vec!["check".into(), scenario(name).into()];
+    for s in sets {
+        args.push("--set".into());
+        args.push((*s).into());
+    }
+    args
+}
+
+/// Asserts the outcome is a refusal (exit 2, without a panic, on its own) naming one of
+/// `fields` (a field under one counts; empty: any field), and that `dir` holds nothing but
+/// `allowed`.
+fn assert_refused(out: &Outcome, fields: &[&str], dir: &Path, allowed: &[&str]) {
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert!(
+        out.interrupted_at.is_none(),
+        "did not end by itself within {LIMIT_SECS} s: {what}"
+    );
+    assert_eq!(out.code(), Some(2), "expected exit 2: {what}");
+    let field = error_field(&out.stderr).unwrap_or_else(|| {
+        panic!(
+            "the error names no field ({:?}): {what}",
+            error_line(&out.stderr)
+        )
+    });
+    assert!(
+        fields.is_empty() || fields.iter().any(|f| names(&field, f)),
+        "the error names `{field}`, expected one of {fields:?}: {what}"
+    );
+    let left: Vec<String> = entries(dir)
+        .into_iter()
+        .filter(|e| !allowed.contains(&e.as_str()))
+        .collect();
+    assert!(left.is_empty(), "files left behind: {left:?}: {what}");
+}
+
+/// A `check` with these sets is refused naming one of `fields`.
+fn check_refuses(test: &str, name: &str, sets: &[&str], fields: &[&str]) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let out = vibrobed(&dir, &check(name, sets));
+    assert_refused(&out, fields, &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- 1. A floor acceleration or gravity beyond reason. ---
+
+#[test]
+fn a_gamma_of_1e300_is_refused() {
+    check_refuses(
+        "gamma",
+        "vibrated_bed.json",
+        &["floor.gamma=1e300"],
+        &["floor", "gravity"],
+    );
+}
+
+#[test]
+fn a_gravity_of_1e300_is_refused() {
+    check_refuses(
+        "gravity",
+        "vibrated_bed.json",
+        &["gravity=1e300"],
+        &["gravity", "floor"],
+    );
+}
+
+#[test]
+fn an_amplitude_of_1e17_is_refused() {
+    check_refuses(
+        "amplitude",
+        "vibrated_bed.json",
+        &["floor.gamma=null", "floor.amplitude=1e17"],
+        &["floor"],
+    );
+}
+
+// --- 2. Sizes that overflow the grid, the profiles or the ensembles. ---
+
+#[test]
+fn a_width_of_1e300_is_refused_by_the_time_step_scheme() {
+    let dir = fresh_dir("bad-width");
+    let args: Vec<OsString> = guarded::args(&[
+        "run",
+        &scenario("box_walls.json").display().to_string(),
+        "--quiet",
+        "--summary",
+        "summary.json",
+        "--set",
+        "domain.width=1e300",
+        "--set",
+        "engine.scheme=time-step",
+    ]);
+    let out = vibrobed(&dir, &args);
+    assert_refused(&out, &[], &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn profile_bins_at_u64_max_are_refused() {
+    check_refuses(
+        "bins",
+        "vibrated_bed.json",
+        &["output.profile_bins=18446744073709551615"],
+        &["output.profile_bins"],
+    );
+}
+
+#[test]
+fn a_height_of_1e18_is_refused() {
+    check_refuses(
+        "height-1e18",
+        "box_walls.json",
+        &["domain.height=1e18"],
+        &[],
+    );
+}
+
+#[test]
+fn accuracy_with_u64_max_seeds_is_refused() {
+    let dir = fresh_dir("bad-seeds");
+    let args: Vec<OsString> = guarded::args(&[
+        "accuracy",
+        &scenario("bouncing_ball.json").display().to_string(),
+        "--quiet",
+        "--seeds",
+        "18446744073709551615",
+        "--out",
+        "acc",
+    ]);
+    let out = vibrobed(&dir, &args);
+    assert_refused(&out, &["--seeds"], &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- 3. Counts and boxes too large to hold. ---
+
+#[test]
+fn a_trillion_disks_are_refused() {
+    check_refuses(
+        "trillion",
+        "vibrated_bed.json",
+        &["particles.count=1000000000000"],
+        &["particles.count"],
+    );
+}
+
+#[test]
+fn a_height_of_1e9_is_refused() {
+    check_refuses("height-1e9", "box_walls.json", &["domain.height=1e9"], &[]);
+}
+
+/// A closed box of 10⁵ × 10⁵ holding two disks: a dense grid would need ~5·10⁹ cells (an 88 GB
+/// allocation that aborted); `auto` takes the hashed array, and the run finishes under the
+/// guard's 4 GiB address space.
+#[test]
+fn a_huge_sparse_box_runs_in_little_memory() {
+    let dir = fresh_dir("bad-sparse-box");
+    let out = vibrobed(
+        &dir,
+        &run_args(
+            "box_walls.json",
+            &["--summary", "s.json"],
+            &[
+                "domain.width=1e5",
+                "domain.height=1e5",
+                "particles.count=2",
+                "run.duration=1",
+                "run.warmup=0",
+            ],
+        ),
+    );
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert_eq!(out.code(), Some(0), "{what}");
+    assert!(dir.join("s.json").exists(), "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- 4. Species counts whose sum overflows. ---
+
+#[test]
+fn species_counts_summing_past_u64_are_refused() {
+    check_refuses(
+        "species-sum",
+        "vibrated_bed.json",
+        &[
+            r#"particles.radius={"species":[{"radius":0.5,"count":18446744073709551615},{"radius":0.5,"count":2}]}"#,
+            "particles.count=null",
+        ],
+        &["particles.radius.species"],
+    );
+}
+
+// --- 5. The culprit is named, not a field it upsets. ---
+
+#[test]
+fn a_radius_of_1e_300_is_blamed_on_the_radius() {
+    check_refuses(
+        "radius",
+        "vibrated_bed.json",
+        &["particles.radius=1e-300"],
+        &["particles.radius"],
+    );
+}
+
+#[test]
+fn a_subnormal_density_is_refused() {
+    check_refuses(
+        "density",
+        "vibrated_bed.json",
+        &["particles.density=5e-324"],
+        &["particles.density"],
+    );
+}
+
+// --- 6. Runs that could never finish. ---
+
+#[test]
+fn a_sample_interval_of_1e_7_is_refused() {
+    check_refuses(
+        "sample",
+        "vibrated_bed.json",
+        &["output.sample_interval=1e-7"],
+        &["output.sample_interval"],
+    );
+}
+
+#[test]
+fn a_frame_interval_of_1e_7_is_refused() {
+    check_refuses(
+        "frame",
+        "vibrated_bed.json",
+        &["output.frame_interval=1e-7"],
+        &["output.frame_interval"],
+    );
+}
+
+#[test]
+fn a_duration_of_1e308_is_refused() {
+    check_refuses(
+        "duration",
+        "vibrated_bed.json",
+        &["run.duration=1e308"],
+        &["run.duration"],
+    );
+}
+
+/// A run with `set` is refused naming `field`, or ends by itself, or stops within 1 s of SIGINT
+/// with exit 130.
+fn refused_or_interruptible(test: &str, set: &str, fields: &[&str]) {
+    refused_or_interruptible_with(test, &[set], fields)
+}
+
+/// [`refused_or_interruptible`] with several `--set`s.
+fn refused_or_interruptible_with(test: &str, sets: &[&str], fields: &[&str]) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let path = scenario("vibrated_bed.json").display().to_string();
+    let mut words = vec!["run", &path, "--quiet", "--summary", "summary.json"];
+    for set in sets {
+        words.extend(["--set", set]);
+    }
+    let args: Vec<OsString> = guarded::args(&words);
+    let logs = dir.with_extension("logs");
+    let mut child = guarded::start(&args, &dir, &logs);
+    while !child.ended() && child.elapsed() < Duration::from_secs(3) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let out = if child.ended() {
+        child.wait(Limits::secs(LIMIT_SECS))
+    } else {
+        child.interrupt();
+        child.wait(Limits {
+            interrupt_after: Duration::ZERO,
+            kill_after: Duration::from_secs(5),
+        })
+    };
+    let _ = std::fs::remove_dir_all(&logs);
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    match (out.interrupted_at, out.code()) {
+        (None, Some(2)) => assert_refused(&out, fields, &dir, &[]),
+        (None, Some(0)) => {}
+        (Some(at), Some(130)) => assert!(
+            out.elapsed - at <= Duration::from_secs(1),
+            "took more than 1 s to stop after SIGINT: {what}"
+        ),
+        _ => {
+            panic!("neither refused naming {fields:?} nor stopped by SIGINT with exit 130: {what}")
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_disk_thrown_up_at_1000_is_interruptible() {
+    refused_or_interruptible_with(
+        "thrown",
+        &[
+            "particles.count=1",
+            r#"particles.placement={"positions": [[100, 1]], "velocities": [[0, 1000]]}"#,
+            "floor.gamma=null",
+            "floor.frequency=null",
+            "run.duration=1e6",
+            "output.frame_interval=1e5",
+        ],
+        &["particles.placement"],
+    );
+}
+
+#[test]
+fn a_tiny_time_step_is_interruptible() {
+    refused_or_interruptible_with(
+        "tiny-dt",
+        &["engine.scheme=time-step", "engine.dt=1e-9"],
+        &["engine.dt"],
+    );
+}
+
+#[test]
+fn a_tiny_synchronisation_distance_is_interruptible() {
+    refused_or_interruptible_with(
+        "tiny-sync",
+        &["engine.scheme=space-time", "engine.sync_distance=1e-3"],
+        &["engine.sync_distance"],
+    );
+}
+
+#[test]
+fn a_temperature_of_1_8e19_is_refused_or_interruptible() {
+    refused_or_interruptible(
+        "temperature",
+        "particles.temperature=1.8e19",
+        &["particles.temperature"],
+    );
+}
+
+#[test]
+fn a_gravity_of_2_31_is_refused_or_interruptible() {
+    // The scene's floor is given by Γ: a stronger gravity means a larger amplitude Γg/ω².
+    refused_or_interruptible(
+        "gravity-2-31",
+        "gravity=2147483648",
+        &["gravity", "floor.gamma"],
+    );
+}
+
+// --- 7. Output paths: refused before the run, and nothing left behind. ---
+
+/// `run SCENARIO --quiet EXTRA... --set SETS...`, from `dir`.
+fn run_args(name: &str, extra: &[&str], sets: &[&str]) -> Vec<OsString> {
+    let mut args: Vec<OsString> = vec!["run".into(), scenario(name).into(), "--quiet".into()];
+    args.extend(extra.iter().map(OsString::from));
+    for s in sets {
+        args.push("--set".into());
+        args.push((*s).into());
+    }
+    args
+}
+
+/// `run` with these arguments is refused naming one of `fields`, from a fresh directory it
+/// leaves empty.
+fn run_refuses(test: &str, name: &str, extra: &[&str], sets: &[&str], fields: &[&str]) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let out = vibrobed(&dir, &run_args(name, extra, sets));
+    assert_refused(&out, fields, &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run long enough that simulating before refusing shows as a timeout.
+const LONG: &[&str] = &["run.duration=100000"];
+
+/// A run that ends in a blink.
+const SHORT: &[&str] = &["run.duration=1", "run.warmup=0"];
+
+#[test]
+fn profiles_without_gravity_are_refused_before_the_run() {
+    run_refuses(
+        "profiles",
+        "box_walls.json",
+        &["--profiles", "p.csv", "--summary", "s.json"],
+        LONG,
+        &["--profiles"],
+    );
+}
+
+#[cfg(feature = "record")]
+#[test]
+fn profiles_without_gravity_are_refused_before_recording() {
+    run_refuses(
+        "profiles-rrd",
+        "box_walls.json",
+        &["--profiles", "p.csv", "--rrd", "r.rrd"],
+        LONG,
+        &["--profiles"],
+    );
+}
+
+#[test]
+fn a_summary_into_a_directory_is_refused() {
+    let dir = fresh_dir("bad-summary-dir");
+    std::fs::create_dir(dir.join("sum")).expect("a directory");
+    let out = vibrobed(
+        &dir,
+        &run_args("bouncing_ball.json", &["--summary", "sum"], SHORT),
+    );
+    assert_refused(&out, &["--summary"], &dir, &["sum"]);
+    assert!(
+        entries(&dir.join("sum")).is_empty(),
+        "files left in the directory"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_summary_in_a_missing_directory_is_refused() {
+    run_refuses(
+        "summary-nodir",
+        "bouncing_ball.json",
+        &["--summary", "nodir/x.json"],
+        SHORT,
+        &["--summary"],
+    );
+}
+
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_in_a_missing_directory_is_refused() {
+    run_refuses(
+        "rrd-nodir",
+        "bouncing_ball.json",
+        &["--rrd", "nodir/r.rrd", "--summary", "s.json"],
+        SHORT,
+        &["--rrd"],
+    );
+}
+
+#[test]
+fn an_existing_partial_file_survives_the_summary() {
+    let dir = fresh_dir("bad-partial");
+    std::fs::write(dir.join("out.partial"), "someone's data").expect("write");
+    let out = vibrobed(
+        &dir,
+        &run_args("bouncing_ball.json", &["--summary", "out.json"], SHORT),
+    );
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert_eq!(out.code(), Some(0), "{what}");
+    let summary = std::fs::read_to_string(dir.join("out.json")).expect("the summary");
+    assert!(serde_json::from_str::<serde_json::Value>(&summary).is_ok());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("out.partial"))
+            .ok()
+            .as_deref(),
+        Some("someone's data"),
+        "out.partial was overwritten or removed: {what}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `accuracy` of a scenario with these sets fails and leaves no `--out` directory.
+fn accuracy_leaves_no_out_directory(test: &str, name: &str, sets: &[&str]) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let mut args: Vec<OsString> = guarded::args(&[
+        "accuracy",
+        &scenario(name).display().to_string(),
+        "--quick",
+        "--quiet",
+        "--out",
+        "acc",
+    ]);
+    for s in sets {
+        args.push("--set".into());
+        args.push((*s).into());
+    }
+    let out = vibrobed(&dir, &args);
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert!(
+        out.interrupted_at.is_none(),
+        "did not end by itself: {what}"
+    );
+    assert!(
+        matches!(out.code(), Some(1 | 2)),
+        "expected a failure: {what}"
+    );
+    assert!(
+        entries(&dir).is_empty(),
+        "left behind: {:?}: {what}",
+        entries(&dir)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn accuracy_of_an_invalid_scenario_creates_no_out_directory() {
+    accuracy_leaves_no_out_directory(
+        "accuracy-invalid",
+        "bouncing_ball.json",
+        &["particles.radius=-1"],
+    );
+}
+
+#[test]
+fn accuracy_of_an_unbuildable_scene_creates_no_out_directory() {
+    // Valid field by field, but 100 000 disks do not fit in the 40 × 40 box.
+    accuracy_leaves_no_out_directory(
+        "accuracy-unbuildable",
+        "box_walls.json",
+        &["particles.count=100000"],
+    );
+}
+
+#[test]
+fn accuracy_into_a_file_is_refused_naming_out() {
+    let dir = fresh_dir("bad-accuracy-out-file");
+    std::fs::write(dir.join("acc"), "a file, not a directory").expect("write");
+    let args = guarded::args(&[
+        "accuracy",
+        &scenario("bouncing_ball.json").display().to_string(),
+        "--quick",
+        "--quiet",
+        "--out",
+        "acc",
+    ]);
+    let out = vibrobed(&dir, &args);
+    assert_refused(&out, &["--out"], &dir, &["acc"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- 8. The file itself. ---
+
+#[test]
+fn a_byte_order_mark_is_accepted() {
+    let dir = fresh_dir("bad-bom");
+    let text = std::fs::read_to_string(scenario("bouncing_ball.json")).expect("scenario");
+    let path = dir.with_extension("json");
+    std::fs::write(&path, format!("\u{feff}{text}")).expect("write");
+    let out = vibrobed(
+        &dir,
+        &guarded::args(&["check".into(), path.clone().into_os_string()]),
+    );
+    let _ = std::fs::remove_file(&path);
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert_eq!(out.code(), Some(0), "a BOM is refused: {what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_duplicate_key_is_refused_naming_it() {
+    let dir = fresh_dir("bad-duplicate");
+    let text = std::fs::read_to_string(scenario("vibrated_bed.json")).expect("scenario");
+    assert!(text.contains("\"gravity\""));
+    let doubled = text.replacen('{', "{\n  \"gravity\": 2.0,", 1);
+    let path = dir.with_extension("json");
+    std::fs::write(&path, doubled).expect("write");
+    let out = vibrobed(
+        &dir,
+        &guarded::args(&["check".into(), path.clone().into_os_string()]),
+    );
+    let _ = std::fs::remove_file(&path);
+    let what = out.describe();
+    assert!(!out.panicked(), "panicked: {what}");
+    assert_eq!(out.code(), Some(2), "a duplicate key is accepted: {what}");
+    assert!(
+        error_line(&out.stderr).is_some_and(|l| l.contains("gravity")),
+        "the error does not name `gravity`: {what}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn output_as_a_list_is_refused_naming_it() {
+    check_refuses(
+        "output-list",
+        "vibrated_bed.json",
+        &["output=[]"],
+        &["output"],
+    );
+}
+
+// --- The local re-mapping's own limits. ---
+
+#[test]
+fn a_named_mask_with_the_local_re_mapping_is_refused() {
+    run_refuses(
+        "local-mask",
+        "gas_periodic_phi03.json",
+        &[],
+        &["engine.remap=local", "engine.mask=r5"],
+        &["engine.mask"],
+    );
+}
+
+#[test]
+fn a_periodic_box_narrower_than_three_diameters_is_refused_by_the_local_re_mapping() {
+    run_refuses(
+        "local-narrow",
+        "gas_periodic_phi03.json",
+        &[],
+        &[
+            "engine.remap=local",
+            "domain.width=2.9",
+            "particles.count=3",
+            "particles.packing_fraction=0.01",
+        ],
+        &["domain.width"],
+    );
+}

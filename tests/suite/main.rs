@@ -1,0 +1,26 @@
+//! The integration tests, in one binary (one link of the crate and its dependencies instead of
+//! one per file). Each module is one concern; `cargo test --release --test suite NAME::` runs one.
+
+mod common;
+mod guarded;
+
+mod accuracy;
+mod bad_input;
+mod brute_force;
+mod checkpoint;
+mod cli;
+mod equation_of_state;
+mod fuzz_inputs;
+mod gravity;
+mod grids;
+mod hard_cases;
+mod invariants;
+mod queues;
+mod record_e2e;
+mod recording;
+mod renumbering;
+mod scenarios;
+mod schemes;
+mod solver_properties;
+mod sweep;
+mod trajectory;

@@ -1,0 +1,386 @@
+//! Writes Rerun recordings of synthetic frames and reads them back with Rerun's decoder.
+#![cfg(feature = "record")]
+
+use std::path::{Path, PathBuf};
+
+use vibrobed::measure::ProfileTable;
+use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
+use vibrobed::output::recording::{read_back, RerunRecorder};
+
+const N: usize = 3;
+const FRAMES: u64 = 10;
+const DT: f64 = 0.05;
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(format!("recording-{}-{name}.rrd", std::process::id()))
+}
+
+fn layout(top: Option<f64>) -> SceneLayout {
+    SceneLayout {
+        name: "three disks".into(),
+        width: 10.0,
+        x_periodic: false,
+        top,
+        y_periodic: false,
+        floor: true,
+        species: 2,
+        speed_scale: 2.0,
+    }
+}
+
+/// Synthetic state of frame `k`: three disks moving on straight lines.
+struct State {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    radius: Vec<f64>,
+    species: Vec<u32>,
+    time: f64,
+    floor: f64,
+    series: Vec<(&'static str, f64)>,
+}
+
+fn state(k: u64) -> State {
+    let t = k as f64 * DT;
+    let vx = vec![1.0, -0.5, 0.25];
+    let vy = vec![0.3, 2.0, -0.1];
+    let x0 = [1.0, 5.0, 8.0];
+    let y0 = [1.0, 2.0, 3.3];
+    State {
+        x: (0..N).map(|i| x0[i] + vx[i] * t).collect(),
+        y: (0..N).map(|i| y0[i] + vy[i] * t).collect(),
+        vx,
+        vy,
+        radius: vec![0.5, 0.5, 0.25],
+        species: vec![0, 0, 1],
+        time: t,
+        floor: 0.1 * (t * 7.0).sin(),
+        series: vec![
+            ("energy/kinetic", 10.0 + t),
+            ("temperature/x", 1.0 / (1.0 + t)),
+            ("com_height", 2.0 + t),
+        ],
+    }
+}
+
+fn view(k: u64, s: &State) -> FrameView<'_> {
+    FrameView {
+        index: k,
+        time: s.time,
+        x: &s.x,
+        y: &s.y,
+        vx: &s.vx,
+        vy: &s.vy,
+        radius: &s.radius,
+        species: &s.species,
+        floor_height: Some(s.floor),
+        series: &s.series,
+        profile: None,
+    }
+}
+
+fn write(path: &Path, color_by: ColorBy, top: Option<f64>) -> RerunRecorder {
+    let mut rec = RerunRecorder::create(path, &layout(top), color_by).unwrap();
+    rec.log_text(0.0, "info", "recording started").unwrap();
+    for k in 0..FRAMES {
+        let s = state(k);
+        rec.frame(&view(k, &s)).unwrap();
+        if k == 4 {
+            rec.log_text(s.time, "warning", "warm-up ended").unwrap();
+        }
+    }
+    rec
+}
+
+#[test]
+fn frames_read_back_equal_what_was_logged() {
+    let path = tmp("speed");
+    write(&path, ColorBy::Speed, None).finish().unwrap();
+    let c = read_back(&path).unwrap();
+
+    assert_eq!(c.application_id.as_deref(), Some("vibrobed"));
+    let disks = c.entity("disks").expect("entity `disks` missing");
+    // One row per frame, and one more at frame 0 with the radii and class ids.
+    assert_eq!(disks.rows, FRAMES as usize + 1);
+    assert_eq!(disks.frames, FRAMES as usize);
+    assert_eq!(c.disks.len(), FRAMES as usize);
+    for (k, d) in c.disks.iter().enumerate() {
+        let s = state(k as u64);
+        assert_eq!(d.frame, k as i64);
+        assert!(
+            (d.time - s.time).abs() < 1e-9,
+            "frame {k}: time {} vs {}",
+            d.time,
+            s.time
+        );
+        let expected: Vec<[f32; 2]> =
+            s.x.iter()
+                .zip(&s.y)
+                .map(|(&x, &y)| [x as f32, y as f32])
+                .collect();
+        assert_eq!(d.positions, expected, "frame {k}");
+        assert_eq!(d.radii, vec![0.5f32, 0.5, 0.25], "frame {k}");
+        assert_eq!(d.class_ids, vec![0u16, 0, 1], "frame {k}");
+        assert_eq!(d.colors.len(), N, "frame {k}: colours by speed");
+    }
+    // The fastest disk is the reddest (disk 1, |v| ≈ 2.06), the slowest the bluest (disk 2):
+    // red minus blue grows with speed.
+    let warmth = |rgba: u32| i64::from(rgba >> 24) - i64::from((rgba >> 8) & 0xff);
+    let [w0, w1, w2] = [0, 1, 2].map(|i| warmth(c.disks[0].colors[i]));
+    assert!(w1 > w0 && w0 > w2, "red - blue: {w0} {w1} {w2}");
+
+    assert_eq!(c.floor.len(), FRAMES as usize);
+    for (k, &(f, h)) in c.floor.iter().enumerate() {
+        assert_eq!(f, k as i64);
+        assert_eq!(h, state(k as u64).floor as f32);
+    }
+
+    for name in ["energy/kinetic", "temperature/x", "com_height"] {
+        let values = &c.series[name];
+        assert_eq!(values.len(), FRAMES as usize, "{name}");
+        for (k, &(f, v)) in values.iter().enumerate() {
+            let expected = state(k as u64)
+                .series
+                .iter()
+                .find(|s| s.0 == name)
+                .unwrap()
+                .1;
+            assert_eq!((f, v), (k as i64, expected), "{name}");
+        }
+        let stats = c.entity(&format!("series/{name}")).unwrap();
+        assert_eq!(stats.frames, FRAMES as usize);
+    }
+
+    assert_eq!(c.log.len(), 2);
+    assert_eq!(c.log[0].level, "INFO");
+    assert_eq!(c.log[0].text, "recording started");
+    assert_eq!(c.log[1].level, "WARN");
+    assert_eq!(c.log[1].text, "warm-up ended");
+    assert!((c.log[1].time.unwrap() - 4.0 * DT).abs() < 1e-9);
+
+    // Static scene: walls (open top → grown to the disks), transforms, annotation context.
+    assert!(
+        c.static_entities.contains("scene/walls"),
+        "{:?}",
+        c.static_entities
+    );
+    assert!(!c.static_entities.contains("scene/lid"));
+    assert!(c.static_entities.contains("disks"));
+    assert!(c.has_blueprint);
+    assert!(c.has_footer, "footer (manifest) missing");
+    assert!(c.manifest_chunks > 0);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Colours follow one fixed scale (`speed_scale` = 2): a disk keeps its colour while others
+/// speed up, rest is blue, the scale and above are red.
+#[test]
+fn colour_scale_is_fixed() {
+    let path = tmp("scale");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let s = state(0);
+    let speeds = [[1.0, 0.0, 0.0], [1.0, 40.0, 0.0]];
+    for (k, vx) in speeds.iter().enumerate() {
+        let vy = [0.0; 3];
+        let mut f = view(k as u64, &s);
+        f.vx = vx;
+        f.vy = &vy;
+        rec.frame(&f).unwrap();
+    }
+    rec.finish().unwrap();
+    let c = read_back(&path).unwrap();
+    assert_eq!(c.disks.len(), 2);
+    let [a, b] = [&c.disks[0].colors, &c.disks[1].colors];
+    assert_eq!(a[0], b[0], "disk 0 kept its speed and must keep its colour");
+    assert_eq!(a[2], 0x3b4cc0ff, "at rest: blue");
+    assert_eq!(b[1], 0xb40426ff, "above the scale: red");
+    assert_ne!(a[1], b[1]);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Live profiles: one line strip per frame and profile, points (value, height); the
+/// temperature leaves out bins without disks.
+#[test]
+fn profiles_read_back() {
+    let path = tmp("profiles");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let table = |k: u64| ProfileTable {
+        height: vec![0.5, 1.5, 2.5],
+        density: vec![0.4, 0.0, 0.1],
+        packing_fraction: vec![0.3 + 0.01 * k as f64, 0.0, 0.05],
+        temperature_x: vec![1.0, 0.0, 2.0],
+        temperature_y: vec![3.0, 0.0, 4.0 + k as f64],
+        velocity_x: vec![0.0; 3],
+        velocity_y: vec![0.0; 3],
+        above_top: 0.0,
+    };
+    for k in 0..FRAMES {
+        let s = state(k);
+        let p = table(k);
+        let mut f = view(k, &s);
+        f.profile = Some(&p);
+        rec.frame(&f).unwrap();
+    }
+    rec.finish().unwrap();
+    let c = read_back(&path).unwrap();
+    let phi = &c.profiles["packing_fraction"];
+    let temp = &c.profiles["temperature"];
+    assert_eq!(phi.len(), FRAMES as usize);
+    assert_eq!(temp.len(), FRAMES as usize);
+    for k in 0..FRAMES {
+        let (f, pts) = &phi[k as usize];
+        assert_eq!(*f, k as i64);
+        let v = (0.3 + 0.01 * k as f64) as f32;
+        assert_eq!(pts, &vec![[v, 0.5], [0.0, 1.5], [0.05, 2.5]]);
+        let (_, pts) = &temp[k as usize];
+        assert_eq!(pts, &vec![[2.0, 0.5], [(3.0 + 0.5 * k as f64) as f32, 2.5]]);
+    }
+    assert!(c.entity("profiles/packing_fraction").is_some());
+    for e in [
+        "profiles/packing_fraction/axes",
+        "profiles/temperature/axes",
+        "legend",
+        "scene/speed_scale",
+    ] {
+        assert!(
+            c.static_entities.contains(e),
+            "{e}: {:?}",
+            c.static_entities
+        );
+    }
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn species_colouring_and_lid() {
+    let path = tmp("species");
+    write(&path, ColorBy::Species, Some(8.0)).finish().unwrap();
+    let c = read_back(&path).unwrap();
+    assert_eq!(c.entity("disks").unwrap().frames, FRAMES as usize);
+    assert!(c.disks.iter().all(|d| d.colors.is_empty()));
+    assert!(c.disks.iter().all(|d| d.class_ids == vec![0, 0, 1]));
+    assert!(c.static_entities.contains("scene/lid"));
+    assert!(c.static_entities.contains("scene/walls"));
+    assert!(c.has_footer);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Dropping the recorder without `finish` (error paths, unwinding) still completes the file.
+#[test]
+fn dropped_recorder_leaves_a_complete_file() {
+    let path = tmp("dropped");
+    drop(write(&path, ColorBy::Speed, None));
+    let c = read_back(&path).unwrap();
+    assert_eq!(c.entity("disks").unwrap().frames, FRAMES as usize);
+    assert_eq!(c.disks.len(), FRAMES as usize);
+    assert!(c.has_footer);
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn recording_without_frames_is_valid() {
+    let path = tmp("empty");
+    RerunRecorder::create(&path, &layout(None), ColorBy::Speed)
+        .unwrap()
+        .finish()
+        .unwrap();
+    let c = read_back(&path).unwrap();
+    assert!(c.entity("disks").is_none());
+    assert!(c.disks.is_empty());
+    assert!(c.has_blueprint);
+    assert!(c.has_footer);
+    std::fs::remove_file(&path).ok();
+}
+
+/// A recorder dropped before its first frame (a run failing early) still lays the file out.
+#[test]
+fn dropped_recorder_without_frames_has_its_blueprint() {
+    let path = tmp("dropped-empty");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    rec.log_text(0.0, "error", "failed before the first frame")
+        .unwrap();
+    drop(rec);
+    let c = read_back(&path).unwrap();
+    assert!(c.disks.is_empty());
+    assert!(c.has_blueprint);
+    assert!(c.has_footer);
+    assert_eq!(c.log.len(), 1);
+    assert_eq!(c.log[0].level, "ERROR");
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn mismatched_slices_are_an_error() {
+    let path = tmp("bad");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let s = state(0);
+    let mut f = view(0, &s);
+    f.y = &s.y[..2];
+    assert!(rec.frame(&f).is_err());
+    rec.finish().unwrap();
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn garbage_is_not_a_recording() {
+    let path = tmp("garbage");
+    std::fs::write(&path, b"this is not an rrd file at all").unwrap();
+    assert!(read_back(&path).is_err());
+    std::fs::remove_file(&path).ok();
+}
+
+/// Cost of recording: `cargo test --release --test suite -- --ignored --nocapture recording::recording_throughput`.
+#[test]
+#[ignore]
+fn recording_throughput() {
+    let n = 1000;
+    let frames = 500u64;
+    let path = tmp("throughput");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Speed).unwrap();
+    let radius = vec![0.01; n];
+    let species = vec![0; n];
+    let vx: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+    let vy: Vec<f64> = (0..n).map(|i| (i as f64 * 0.91).cos()).collect();
+    let series = [
+        ("energy/kinetic", 1.0),
+        ("temperature/x", 2.0),
+        ("temperature/y", 3.0),
+    ];
+    let start = std::time::Instant::now();
+    for k in 0..frames {
+        let t = k as f64 * 0.01;
+        let x: Vec<f64> = (0..n).map(|i| (i % 100) as f64 * 0.1 + vx[i] * t).collect();
+        let y: Vec<f64> = (0..n).map(|i| (i / 100) as f64 * 0.1 + vy[i] * t).collect();
+        rec.frame(&FrameView {
+            index: k,
+            time: t,
+            x: &x,
+            y: &y,
+            vx: &vx,
+            vy: &vy,
+            radius: &radius,
+            species: &species,
+            floor_height: Some(0.0),
+            series: &series,
+            profile: None,
+        })
+        .unwrap();
+    }
+    let logged = start.elapsed().as_secs_f64();
+    rec.finish().unwrap();
+    let total = start.elapsed().as_secs_f64();
+    let bytes = std::fs::metadata(&path).unwrap().len();
+    eprintln!(
+        "{frames} frames x {n} disks: log {logged:.3} s ({:.0} frames/s), with close {total:.3} s, {bytes} bytes ({:.0} B/frame)",
+        frames as f64 / logged,
+        bytes as f64 / frames as f64
+    );
+    let read = std::time::Instant::now();
+    let c = read_back(&path).unwrap();
+    eprintln!("read back in {:.3} s", read.elapsed().as_secs_f64());
+    assert_eq!(c.disks.len(), frames as usize);
+    std::fs::remove_file(&path).ok();
+}
