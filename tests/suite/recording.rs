@@ -334,7 +334,7 @@ fn garbage_is_not_a_recording() {
 
 /// Cost of recording: `cargo test --release --test suite -- --ignored --nocapture recording::recording_throughput`.
 #[test]
-#[ignore]
+#[ignore = "a measurement of the recorder's cost, not a check: run it by name"]
 fn recording_throughput() {
     let n = 1000;
     let frames = 500u64;
