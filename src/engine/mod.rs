@@ -9,8 +9,11 @@
 //! This file is the event loop; each step has a file of its own:
 //! - [`setup`](setup.rs): grid, mask, initial checks, the first mapping;
 //! - [`event`](event.rs): every kind of event, and the code it is filed under;
-//! - `predict`: each disk's earliest event, filed in the queue;
-//! - `fire`: carrying out the event that is due (collision rules, bookkeeping);
+//! - `predict`: each disk's earliest event, asked of each event source and filed in the queue;
+//! - `fire`: the event that is due, handed to its source;
+//! - the event sources, each with its prediction and its firing side by side: [`pair`](pair)
+//!   (pair collisions), [`walls`](walls.rs) (side walls and lid), [`floor`](floor.rs) (impacts,
+//!   ride ends, lost supports), and the shells of the local re-mapping ([`remap::shells`]);
 //! - [`remap`]: re-mapping when the DUTC deadline comes ([`remap::dutc`]), the local
 //!   re-mapping ([`remap::shells`]: each disk rebuilds its own list when it leaves its shell)
 //!   and the renumbering of disks along a space-filling curve ([`remap::numbering`]);
@@ -24,11 +27,13 @@ mod clock;
 mod counts;
 mod event;
 mod fire;
+mod floor;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod lanes;
 mod log;
 mod motion;
 mod observe;
+mod pair;
 mod parts;
 mod predict;
 pub mod remap;
@@ -36,6 +41,7 @@ pub mod rest;
 pub mod scene;
 mod setup;
 mod state;
+mod walls;
 
 pub use counts::{EnergyFlow, EventCounts};
 pub use event::Event;

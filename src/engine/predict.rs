@@ -1,44 +1,24 @@
-//! Prediction: each disk's earliest event (a listed neighbour, a wall, the lid, the floor, the
-//! end of a ride, a support sliding away), filed in the event queue.
+//! Prediction: each disk's earliest event, asked of each event source in turn (pair contacts
+//! in [`pair`](super::pair), then [`walls`](super::walls), [`floor`](super::floor) and the
+//! local re-mapping's shells) and filed in the event queue.
 
-use super::event::{code, Event};
+use super::event::code;
 use super::Simulation;
 use crate::physics::flight::Flight;
-use crate::physics::floor::{FloorEvent, RideEnd};
-use crate::physics::pair::{
-    contact_time_within, meeting_time, paths_meet, paths_meet_within, rider_contact, RiderContact,
-};
-use crate::platform::prefetch::prefetch;
+
+/// A disk's state at a time: `(x, y, vx, vy)`.
+pub(super) type State = (f64, f64, f64, f64);
+
+/// A disk's event while its prediction is completed: absolute time, code, the counter filed
+/// with it, and the time of a re-check some source needs.
+pub(super) struct Next {
+    pub t: f64,
+    pub who: u32,
+    pub counter: u32,
+    pub recheck: f64,
+}
 
 impl<F: Flight> Simulation<F> {
-    /// Contact search between riding disk `r` and flying disk `f` from now to `limit`.
-    pub(super) fn rider_contact(&self, r: usize, f: usize, limit: f64) -> Option<RiderContact> {
-        let now = self.now;
-        let floor = self.bounds.floor.as_ref().expect("riders need a floor");
-        let g = self.flight.g();
-        let limit = match floor.ride_end(now, g) {
-            Some((t_end, _)) => limit.min(t_end),
-            None => limit,
-        };
-        let (xr, _, vxr, _) = self.state_at(r, now);
-        let (xf, yf, vxf, vyf) = self.state_at(f, now);
-        let (dx, _) = self.wrap(xf - xr, 0.0);
-        rider_contact(
-            dx,
-            vxf - vxr,
-            yf,
-            vyf,
-            self.rest.riders.lift(r),
-            self.disks.radius[r] + self.disks.radius[f],
-            g,
-            floor.max_acceleration(),
-            now,
-            limit,
-            |t| floor.ride(t),
-            |t| floor.ride_acceleration(t),
-        )
-    }
-
     /// Finds disk `i`'s earliest event from now and files it in the queue.
     pub(super) fn predict(&mut self, i: usize) {
         let found = self.pair_event(i, self.pair_horizon());
@@ -59,380 +39,46 @@ impl<F: Flight> Simulation<F> {
         self.events.queue.update(&self.events.time, i, old);
     }
 
-    /// Time from now after which no pair contact matters to a prediction: under Isobe's global
-    /// re-mapping, the DUTC deadline (the re-mapping then predicts every disk anew; the deadline
-    /// only ever comes closer until it does); ∞ under the local one, whose deadline is far.
-    #[inline]
-    pub(super) fn pair_horizon(&self) -> f64 {
-        if self.map.shells.is_none() {
-            self.map.dutc.deadline - self.now
-        } else {
-            f64::INFINITY
-        }
-    }
-
-    /// Earliest contact of disk `i` with a listed neighbour from now: (time from now, partner,
-    /// time of a needed re-check). A contact `horizon` or more from now may be left out.
-    #[inline]
-    pub(super) fn pair_event(&self, i: usize, horizon: f64) -> (f64, u32, f64) {
-        if !self.rest.riders.any() {
-            return self.pair_event_over(i, self.map.lists.of(i), horizon);
-        }
-        self.pair_event_with_riders(i, horizon)
-    }
-
-    /// [`pair_event`](Self::pair_event) over `list` (disk `i`'s list, in its order, before it
-    /// is stored: see `leave_shell`) while no disk rides.
-    #[inline]
-    pub(super) fn pair_event_over(&self, i: usize, list: &[u32], horizon: f64) -> (f64, u32, f64) {
-        let (best, who) = if horizon.is_finite() {
-            self.pair_event_in_flight::<true>(i, list, horizon)
-        } else {
-            self.pair_event_in_flight::<false>(i, list, horizon)
-        };
-        (best, who, f64::INFINITY)
-    }
-
-    /// [`pair_event`](Self::pair_event) while some disks ride the floor or rest: pairs of a
-    /// rider and a flyer need the floor's motion. Out of line: scenes where no disk rides keep
-    /// a compact loop (it is cold there).
-    #[inline(never)]
-    fn pair_event_with_riders(&self, i: usize, horizon: f64) -> (f64, u32, f64) {
-        let now = self.now;
-        let (xi, yi, vxi, vyi) = self.state_at(i, now);
-        let speed_i = vxi.abs() + vyi.abs();
-        let ai = self.disks.radius[i];
-        let rider = self.is_riding(i);
-        let mut best = f64::INFINITY;
-        let mut who = code::NONE;
-        let mut recheck = f64::INFINITY;
-        // Two passes per chunk, as in `pair_event_in_flight`; a pair of a rider and a flyer
-        // always goes on to the second.
-        const CHUNK: usize = 16;
-        let mut meeting = [0u32; CHUNK];
-        for chunk in self.map.lists.of(i).chunks(CHUNK) {
-            let mut k = 0;
-            for &j in chunk {
-                let (xj, yj, vxj, vyj) = self.state_at(j as usize, now);
-                let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                let s = ai + self.disks.radius[j as usize];
-                let mixed = self.is_riding(j as usize) != rider;
-                meeting[k] = j;
-                k += (mixed | paths_meet(dx, dy, vxi - vxj, vyi - vyj, s)) as usize;
-            }
-            for &j in &meeting[..k] {
-                let j = j as usize;
-                let dt = if self.is_riding(j) == rider {
-                    // Both fly, or both ride the floor: relative motion is straight.
-                    let (xj, yj, vxj, vyj) = self.state_at(j, now);
-                    let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                    let speed = speed_i + vxj.abs() + vyj.abs();
-                    contact_time_within(
-                        dx,
-                        dy,
-                        vxi - vxj,
-                        vyi - vyj,
-                        ai + self.disks.radius[j],
-                        speed,
-                        best.min(horizon),
-                    )
-                } else {
-                    let mut limit = (now + best).min(self.map.dutc.deadline);
-                    let (r, f) = if rider { (i, j) } else { (j, i) };
-                    if f == j {
-                        // The flyer re-predicts (against i too) at its own event, if not before:
-                        // a contact after that is its to find (this keeps a rider from searching
-                        // far along a flyer that bounces on the floor beside it).
-                        limit = limit.min(self.events.time[j]);
-                    }
-                    match self.rider_contact(r, f, limit) {
-                        Some(RiderContact::At(t)) => Some(t - now),
-                        Some(RiderContact::Recheck(t)) => {
-                            recheck = recheck.min(t);
-                            None
-                        }
-                        None => None,
-                    }
-                };
-                if let Some(dt) = dt {
-                    if dt < best {
-                        best = dt;
-                        who = j as u32;
-                    }
-                }
-            }
-        }
-        (best, who, recheck)
-    }
-
-    /// [`pair_event`](Self::pair_event) over `list` (disk `i`'s list) while no disk rides
-    /// (every scene without a floor, and beds while nothing rests): the same contacts, in a loop
-    /// that carries nothing for disks at rest. `WITHIN`: the first pass also drops the pairs
-    /// that cannot touch within `horizon` (it pays where the horizon is near: Isobe's deadline;
-    /// measured to cost 3% at N = 2500 where it is far).
-    #[inline]
-    pub(super) fn pair_event_in_flight<const WITHIN: bool>(
-        &self,
-        i: usize,
-        list: &[u32],
-        horizon: f64,
-    ) -> (f64, u32) {
-        // SAFETY: the four-lane loop is built only where AVX2 is enabled at compile time; the
-        // states are `repr(C)` and every listed neighbour is a disk (indexing is checked).
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        unsafe {
-            let m = &self.disks.motion[i];
-            let (x, y, vx, vy) = self.flight.advance(m.x, m.y, m.vx, m.vy, self.now - m.t);
-            let probe = super::lanes::Probe {
-                i: i as u32,
-                now: self.now,
-                x,
-                y,
-                vx,
-                vy,
-                speed: vx.abs() + vy.abs(),
-                a: self.disks.radius[i],
-                g: self.flight.g(),
-                half: self.bounds.images.half(),
-                period: self.bounds.images.period(),
-            };
-            super::lanes::earliest_contact::<WITHIN>(
-                &probe,
-                list,
-                &self.disks.motion,
-                self.disks.radius.common(),
-                self.disks.radius.each(),
-                horizon,
-                &self.disks.counter,
-                self.control.prefetching,
-            )
-        }
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        self.pair_event_one_by_one::<WITHIN>(i, list, horizon)
-    }
-
-    /// Disk `i`'s earliest contact with a neighbour of `list` one neighbour at a time
-    /// (processors without AVX2; the tests compare it with the four lanes).
-    #[inline]
-    #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
-    pub(super) fn pair_event_one_by_one<const WITHIN: bool>(
-        &self,
-        i: usize,
-        list: &[u32],
-        horizon: f64,
-    ) -> (f64, u32) {
-        let now = self.now;
-        let motion = &self.disks.motion;
-        let radius = &self.disks.radius;
-        let m = &motion[i];
-        let (xi, yi, vxi, vyi) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
-        let speed_i = vxi.abs() + vyi.abs();
-        let ai = radius[i];
-        let mut best = f64::INFINITY;
-        let mut who = code::NONE;
-        // Two passes over each chunk of the list, neither with a branch on what it finds (a
-        // third of the pairs meet, at random: such a branch mispredicts often). First the
-        // neighbours that approach and whose paths meet; then their contact times, in list
-        // order, the earliest taken by selection: exactly what one pass would find.
-        const CHUNK: usize = 16;
-        let mut meeting = [0u32; CHUNK];
-        for chunk in list.chunks(CHUNK) {
-            let mut k = 0;
-            for &j in chunk {
-                let m = &motion[j as usize];
-                let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
-                let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                let s = ai + radius[j as usize];
-                meeting[k] = j;
-                k += if WITHIN {
-                    paths_meet_within(dx, dy, vxi - vxj, vyi - vyj, s, horizon)
-                } else {
-                    paths_meet(dx, dy, vxi - vxj, vyi - vyj, s)
-                } as usize;
-            }
-            for &j in &meeting[..k] {
-                // The partner's counter is read once the earliest contact is known.
-                if self.control.prefetching {
-                    prefetch(&self.disks.counter, j as usize);
-                }
-                let m = &motion[j as usize];
-                let (xj, yj, vxj, vyj) = self.flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
-                let (dx, dy) = self.wrap(xi - xj, yi - yj);
-                let speed = speed_i + vxj.abs() + vyj.abs();
-                // Every kept pair's time is computed (no early rejection against the earliest
-                // so far: see `meeting_time`).
-                let dt = meeting_time(dx, dy, vxi - vxj, vyi - vyj, ai + radius[j as usize], speed);
-                let earlier = dt < best;
-                who = if earlier { j } else { who };
-                best = if earlier { dt } else { best };
-            }
-        }
-        (best, who)
-    }
-
     /// Completes disk `i`'s event from its earliest pair contact (`best` from now, with `who`)
-    /// with walls, lid, floor and ride ends, and stores it (the queue is not touched).
-    pub(super) fn file_event(&mut self, i: usize, mut best: f64, mut who: u32, mut recheck: f64) {
+    /// with each other source — walls, lid, floor and ride ends, its shell — and stores it (the
+    /// queue is not touched). Ties go to the source asked first.
+    pub(super) fn file_event(&mut self, i: usize, best: f64, who: u32, recheck: f64) {
         let now = self.now;
-        let (xi, yi, vxi, vyi) = self.state_at(i, now);
-        let ai = self.disks.radius[i];
-        let rider = self.is_riding(i);
-        let mut counter = if who != code::NONE {
+        let state = self.state_at(i, now);
+        let a = self.disks.radius[i];
+        let counter = if who != code::NONE {
             self.disks.counter[who as usize]
         } else {
             0
         };
-        if let Some((dt, side)) = self.bounds.sides.impact(xi, vxi, ai) {
-            if dt < best {
-                best = dt;
-                who = Event::Wall(side).code();
-            }
-        }
-        let g = self.flight.g();
-        let mut t = now + best;
-        if let Some(floor) = &self.bounds.floor {
-            if rider {
-                if let Some((t_end, end)) = floor.ride_end(now, g) {
-                    if t_end < t {
-                        t = t_end;
-                        who = code::RIDE_END;
-                        counter = matches!(end, RideEnd::Kick { .. }) as u32;
-                    }
-                }
-                if !self.rest.riders.on_floor(i) {
-                    let t_off = self.unmount_time(i);
-                    if t_off < t {
-                        t = t_off;
-                        who = code::UNMOUNT;
-                    }
-                }
-            } else {
-                if let Some(dt) = self.bounds.top.impact(yi, vyi, ai, g) {
-                    if now + dt < t {
-                        t = now + dt;
-                        who = code::LID;
-                    }
-                }
-                // Nothing after the re-mapping matters: it re-predicts every disk.
-                let limit = t.min(self.map.dutc.deadline);
-                match floor.next_event(yi, vyi, ai, g, now, limit) {
-                    Some(FloorEvent::Impact(tf)) if tf < t => {
-                        t = tf;
-                        who = code::FLOOR;
-                    }
-                    Some(FloorEvent::Recheck(tf)) => recheck = recheck.min(tf),
-                    _ => {}
-                }
-            }
-        } else if let Some(dt) = self.bounds.top.impact(yi, vyi, ai, g) {
-            if dt < best {
-                t = now + dt;
-                who = code::LID;
-            }
+        let (best, who) = self.wall_event(state, a, best, who);
+        let mut next = Next {
+            t: now + best,
+            who,
+            counter,
+            recheck,
+        };
+        if self.bounds.floor.is_some() {
+            self.floor_events(i, state, a, &mut next);
+        } else {
+            self.lid_event(state, a, best, &mut next);
         }
         if self.map.shells.is_some() {
-            let exit = self.shell_exit(i, (xi, yi, vxi, vyi));
-            if exit < t {
-                t = exit;
-                who = code::SHELL;
+            let exit = self.shell_exit(i, state);
+            if exit < next.t {
+                next.t = exit;
+                next.who = code::SHELL;
             }
         }
-        if recheck < t {
-            t = recheck;
-            who = code::RECHECK;
+        if next.recheck < next.t {
+            next.t = next.recheck;
+            next.who = code::RECHECK;
         }
-        if who >= code::FIRST_NOT_A_DISK && who != code::RIDE_END {
-            counter = 0;
+        if next.who >= code::FIRST_NOT_A_DISK && next.who != code::RIDE_END {
+            next.counter = 0;
         }
-        self.events.time[i] = t;
-        self.events.code[i] = who;
-        self.events.counter[i] = counter;
-    }
-
-    /// Predicts every disk's event after a mapping (all disks are at the present time): each
-    /// listed pair's contact time is computed once, for both disks; the queue is built at once.
-    pub(super) fn predict_all(&mut self) {
-        let n = self.disks.len();
-        let mut best = std::mem::take(&mut self.events.time);
-        best.fill(f64::INFINITY);
-        let mut who = std::mem::take(&mut self.events.code);
-        who.fill(code::NONE);
-        let any_rider = self.rest.riders.any();
-        let (motion, radius) = (&self.disks.motion, &self.disks.radius);
-        // Contacts after the next re-mapping do not matter (see `pair_horizon`).
-        let limit = self.pair_horizon();
-        let within = limit.is_finite();
-        // Two passes per chunk of each half list, as in `pair_event_in_flight`.
-        const CHUNK: usize = 16;
-        let mut meeting = [0u32; CHUNK];
-        let mut half = Vec::new();
-        for i in 0..n {
-            let mi = &motion[i];
-            let riding_i = any_rider && self.is_riding(i);
-            let pairs = match self.map.lists.half_of(i) {
-                Some(kept) => kept,
-                None => {
-                    self.find_half_list(i, &mut half);
-                    &half[..]
-                }
-            };
-            for chunk in pairs.chunks(CHUNK) {
-                let mut k = 0;
-                for &j in chunk {
-                    let mj = &motion[j as usize];
-                    let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
-                    let s = radius[i] + radius[j as usize];
-                    // Pairs with a rider are done disk by disk below.
-                    let flying = !riding_i & !(any_rider && self.is_riding(j as usize));
-                    let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
-                    let meet = if within {
-                        paths_meet_within(dx, dy, dvx, dvy, s, limit)
-                    } else {
-                        paths_meet(dx, dy, dvx, dvy, s)
-                    };
-                    meeting[k] = j;
-                    k += (flying & meet) as usize;
-                }
-                for &j in &meeting[..k] {
-                    let j = j as usize;
-                    let mj = &motion[j];
-                    let (dx, dy) = self.wrap(mi.x - mj.x, mi.y - mj.y);
-                    let s = radius[i] + radius[j];
-                    let speed = mi.vx.abs() + mi.vy.abs() + mj.vx.abs() + mj.vy.abs();
-                    let horizon = best[i].max(best[j]).min(limit);
-                    if let Some(dt) =
-                        contact_time_within(dx, dy, mi.vx - mj.vx, mi.vy - mj.vy, s, speed, horizon)
-                    {
-                        if dt < best[i] {
-                            best[i] = dt;
-                            who[i] = j as u32;
-                        }
-                        if dt < best[j] {
-                            best[j] = dt;
-                            who[j] = i as u32;
-                        }
-                    }
-                }
-            }
-        }
-        self.events.time = best;
-        self.events.code = who;
-        for i in 0..n {
-            let near_rider = any_rider
-                && (self.is_riding(i)
-                    || self
-                        .map
-                        .lists
-                        .of(i)
-                        .iter()
-                        .any(|&j| self.is_riding(j as usize)));
-            let (b, w, r) = if near_rider {
-                self.pair_event(i, self.pair_horizon())
-            } else {
-                (self.events.time[i], self.events.code[i], f64::INFINITY)
-            };
-            self.file_event(i, b, w, r);
-        }
-        self.events.queue.rebuild(&self.events.time);
+        self.events.time[i] = next.t;
+        self.events.code[i] = next.who;
+        self.events.counter[i] = next.counter;
     }
 }

@@ -1,0 +1,73 @@
+//! The side walls and the lid as event sources: when a disk next hits one (the impact times are
+//! [`physics::walls`](crate::physics::walls)'), and what the impact does.
+
+use super::event::{code, Event};
+use super::predict::{Next, State};
+use super::rest::riders::{LEFT_WALL, RIGHT_WALL};
+use super::Simulation;
+use crate::physics::flight::Flight;
+use crate::physics::walls::Side;
+
+impl<F: Flight> Simulation<F> {
+    /// A side wall's impact, if earlier than the pair contact `best` from now (partner `who`):
+    /// the earlier of the two, from now, with its code.
+    #[inline(always)]
+    pub(super) fn wall_event(
+        &self,
+        (x, _, vx, _): State,
+        a: f64,
+        best: f64,
+        who: u32,
+    ) -> (f64, u32) {
+        match self.bounds.sides.impact(x, vx, a) {
+            Some((dt, side)) if dt < best => (dt, Event::Wall(side).code()),
+            _ => (best, who),
+        }
+    }
+
+    /// The lid's impact in a scene without a floor, if earlier than `best` from now (the
+    /// earliest pair contact or wall): it becomes `next`.
+    #[inline(always)]
+    pub(super) fn lid_event(&self, (_, y, _, vy): State, a: f64, best: f64, next: &mut Next) {
+        if let Some(dt) = self.bounds.top.impact(y, vy, a, self.flight.g()) {
+            if dt < best {
+                next.t = self.now + dt;
+                next.who = code::LID;
+            }
+        }
+    }
+
+    /// Disk `i` hits the side wall `side`, unless it comes to rest against it.
+    pub(super) fn hit_wall(&mut self, i: usize, side: Side) {
+        let now = self.now;
+        self.bring(i, now);
+        let wall = match side {
+            Side::Left => LEFT_WALL,
+            Side::Right => RIGHT_WALL,
+        };
+        if self.stop_at_wall(i) || self.rest_in_pocket(i, wall) {
+            return;
+        }
+        self.unsettle(i);
+        let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+        self.tally.flow.dissipated +=
+            self.bounds
+                .sides
+                .hit(side, &mut self.restitution, i, now, m, mass);
+        self.tally.counts.wall += 1;
+        self.moved(i);
+        self.release_carried(i, None);
+    }
+
+    /// Disk `i` hits the lid.
+    pub(super) fn hit_lid(&mut self, i: usize) {
+        self.bring(i, self.now);
+        let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+        self.tally.flow.dissipated +=
+            self.bounds
+                .top
+                .hit(&mut self.restitution, i, self.now, m, mass);
+        self.tally.counts.lid += 1;
+        self.moved(i);
+    }
+}
