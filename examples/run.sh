@@ -26,7 +26,7 @@ else
   trap 'rm -rf "$out"' EXIT
 fi
 
-cargo run --quiet -- run scenarios/vibrated_bed.json --quiet \
+cargo run --release --quiet -- run scenarios/vibrated_bed.json --quiet \
   --set run.duration=20 --set run.warmup=5 \
   --rrd "$out/recording.rrd" --trajectory "$out/trajectory.xyz" \
   --summary "$out/summary.json" --profiles "$out/profiles.csv"
@@ -34,4 +34,4 @@ cargo run --quiet -- run scenarios/vibrated_bed.json --quiet \
 test -s "$out/analyse.png"
 
 # The trajectory test, with a Python that has ASE (it skips without one).
-VIBROBED_PYTHON="$venv/bin/python" cargo test --quiet --test trajectory -- ase_reads_the_trajectory --nocapture
+VIBROBED_PYTHON="$venv/bin/python" cargo test --release --quiet --test trajectory -- ase_reads_the_trajectory --nocapture

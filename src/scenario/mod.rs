@@ -9,10 +9,11 @@ pub mod json;
 pub mod overrides;
 
 use crate::error::{Error, Result};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// A whole scene: domain, forces, floor, disks, collision law, run length, output, engine knobs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Name shown in summaries and recordings.
@@ -44,7 +45,7 @@ pub struct Scenario {
 }
 
 /// The box: its width, what bounds it in x and y.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Domain {
     /// Extent in x, from 0 to `width`.
@@ -64,7 +65,7 @@ pub struct Domain {
 }
 
 /// What bounds the domain in x.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum XBoundary {
     /// Hard walls at x = 0 and x = width.
@@ -75,7 +76,7 @@ pub enum XBoundary {
 }
 
 /// What bounds the domain at the top (and, for `periodic`, at the bottom).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum YBoundary {
     /// No ceiling: the bed may expand without bound.
@@ -88,7 +89,7 @@ pub enum YBoundary {
 }
 
 /// The floor: static, or vibrating with `h(t) = A·w(2π f t + φ0)` for a waveform w.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Floor {
     /// Normal restitution of disk–floor impacts.
@@ -116,7 +117,7 @@ pub struct Floor {
 }
 
 /// Shape of the floor vibration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Waveform {
     /// `A sin(ωt + φ0)`.
@@ -129,7 +130,7 @@ pub enum Waveform {
 }
 
 /// How floor impacts are located.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum FloorModel {
     /// The moving floor, exactly.
@@ -140,7 +141,7 @@ pub enum FloorModel {
 }
 
 /// The disks: how many, their sizes and masses, where they start and how fast.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Particles {
     /// Number of disks (ignored when `radius` lists species with counts).
@@ -168,7 +169,7 @@ pub struct Particles {
 }
 
 /// Disk radii.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Radius {
     /// Every disk has this radius.
@@ -180,7 +181,7 @@ pub enum Radius {
 }
 
 /// Radii drawn uniformly in [min, max].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniformRadius {
     /// Smallest radius.
@@ -190,7 +191,7 @@ pub struct UniformRadius {
 }
 
 /// A list of species.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeciesList {
     /// The species, in order (disk numbers follow this order).
@@ -198,7 +199,7 @@ pub struct SpeciesList {
 }
 
 /// One species of disks.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Species {
     /// How many disks of this species.
@@ -212,7 +213,7 @@ pub struct Species {
 }
 
 /// Initial positions (and possibly velocities).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Placement {
     /// `random` (uniform, non-overlapping) or `lattice` (triangular lattice).
@@ -228,7 +229,7 @@ impl Default for Placement {
 }
 
 /// Generated placements.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum PlacementKind {
     /// Uniform random non-overlapping positions (random sequential addition when dilute, a
@@ -239,7 +240,7 @@ pub enum PlacementKind {
 }
 
 /// Explicit initial state.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExplicitPlacement {
     /// One `[x, y]` per disk.
@@ -250,7 +251,7 @@ pub struct ExplicitPlacement {
 }
 
 /// The pair collision law, with the optional cures of inelastic collapse.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Collisions {
     /// Normal restitution e (1 = elastic).
@@ -290,7 +291,7 @@ impl Default for Collisions {
 }
 
 /// How long to run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Run {
     /// Simulated time to run (after which the run stops).
@@ -304,7 +305,7 @@ pub struct Run {
 }
 
 /// What to measure and write.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
     /// Simulated time between recorded frames (default: duration/200).
@@ -354,7 +355,7 @@ impl Default for Output {
 }
 
 /// Colouring of disks in recordings.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ColorChoice {
     /// By speed.
@@ -365,7 +366,7 @@ pub enum ColorChoice {
 }
 
 /// Integration scheme and its knobs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
     /// `event-driven` (exact), `time-step` or `space-time` (approximate, for comparison).
@@ -441,7 +442,7 @@ impl Default for Engine {
 }
 
 /// Integration scheme.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
     /// Exact event-driven dynamics (Isobe 1999).
@@ -455,7 +456,7 @@ pub enum Scheme {
 }
 
 /// How the grid is stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum GridChoice {
     /// Dense for closed domains, hashed for an open top.
@@ -468,7 +469,7 @@ pub enum GridChoice {
 }
 
 /// When neighbour lists are rebuilt.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum RemapChoice {
     /// `local`, except under an open top with gravity (`global` there): a disk thrown far
@@ -498,7 +499,7 @@ impl RemapChoice {
 }
 
 /// Whether the event-driven engine renumbers its disks along a space-filling curve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum RenumberChoice {
     /// From [`RENUMBER_FROM`] disks on: below, the engine's arrays fit in the caches anyway.
@@ -514,7 +515,7 @@ pub enum RenumberChoice {
 pub const RENUMBER_FROM: usize = 8192;
 
 /// The event-driven engine's event queue.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueChoice {
     /// Calendar of linked lists plus a small heap for the current bucket (Paul 2007): O(1)
@@ -526,7 +527,7 @@ pub enum QueueChoice {
 }
 
 /// Which Isobe mask to search for neighbours.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum MaskChoice {
     /// The smallest mask that reaches comfortably beyond contact.
