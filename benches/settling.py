@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Do poured piles and jammed beds come to rest, and what do they cost once there?
 
-The two matrices the README's stability section quotes, run with a built vibrobed:
+The two matrices of the book's settling page (docs/book/src/stability/settling.md), run with a
+built vibrobed:
 
 - piles: 400 disks poured from a random start onto a static floor (seed 1, width 20.3, floor
   restitution 0.5, 60 time units): equal (radius 0.5) or polydisperse (radii 0.4-0.6) disks,

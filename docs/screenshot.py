@@ -1,6 +1,7 @@
-"""Screenshot of a recording in the headless Rerun viewer, as in docs/vibrated_bed.png.
+"""Screenshot of a recording in the headless Rerun viewer, as in
+docs/book/src/figures/vibrated_bed.png.
 
-    python docs/screenshot.py bed.rrd docs/vibrated_bed.png [--wait 12]
+    python docs/screenshot.py bed.rrd docs/book/src/figures/vibrated_bed.png [--wait 12]
 
 Starts `rerun --headless` on the file (it plays from the start at one simulated time unit per
 second), waits `--wait` seconds so that the bed is past its start and the viewer's start-up

@@ -10,10 +10,11 @@ pub mod overrides;
 pub mod placement;
 
 use crate::error::{Error, Result};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// A whole scene: domain, forces, floor, disks, collision law, run length, output, engine knobs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Name shown in summaries and recordings.
@@ -45,7 +46,7 @@ pub struct Scenario {
 }
 
 /// The box: its width, what bounds it in x and y.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Domain {
     /// Extent in x, from 0 to `width`.
@@ -65,7 +66,7 @@ pub struct Domain {
 }
 
 /// What bounds the domain in x.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum XBoundary {
     /// Hard walls at x = 0 and x = width.
@@ -76,7 +77,7 @@ pub enum XBoundary {
 }
 
 /// What bounds the domain at the top (and, for `periodic`, at the bottom).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum YBoundary {
     /// No ceiling: the bed may expand without bound.
@@ -89,7 +90,7 @@ pub enum YBoundary {
 }
 
 /// The floor: static, or vibrating with `h(t) = A·w(2π f t + φ0)` for a waveform w.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Floor {
     /// Normal restitution of disk–floor impacts.
@@ -117,7 +118,7 @@ pub struct Floor {
 }
 
 /// Shape of the floor vibration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Waveform {
     /// `A sin(ωt + φ0)`.
@@ -130,7 +131,7 @@ pub enum Waveform {
 }
 
 /// How floor impacts are located.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum FloorModel {
     /// The moving floor, exactly.
@@ -141,7 +142,7 @@ pub enum FloorModel {
 }
 
 /// The disks: how many, their sizes and masses, where they start and how fast.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Particles {
     /// Number of disks (ignored when `radius` lists species with counts).
@@ -169,7 +170,7 @@ pub struct Particles {
 }
 
 /// Disk radii.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Radius {
     /// Every disk has this radius.
@@ -181,7 +182,7 @@ pub enum Radius {
 }
 
 /// Radii drawn uniformly in [min, max].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniformRadius {
     /// Smallest radius.
@@ -191,7 +192,7 @@ pub struct UniformRadius {
 }
 
 /// A list of species.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeciesList {
     /// The species, in order (disk numbers follow this order).
@@ -199,7 +200,7 @@ pub struct SpeciesList {
 }
 
 /// One species of disks.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Species {
     /// How many disks of this species.
@@ -213,7 +214,7 @@ pub struct Species {
 }
 
 /// Initial positions (and possibly velocities).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Placement {
     /// `random` (uniform, non-overlapping) or `lattice` (triangular lattice).
@@ -229,7 +230,7 @@ impl Default for Placement {
 }
 
 /// Generated placements.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum PlacementKind {
     /// Uniform random non-overlapping positions (random sequential addition when dilute, a
@@ -240,7 +241,7 @@ pub enum PlacementKind {
 }
 
 /// Explicit initial state.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExplicitPlacement {
     /// One `[x, y]` per disk.
@@ -251,7 +252,7 @@ pub struct ExplicitPlacement {
 }
 
 /// The pair collision law, with the optional cures of inelastic collapse.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Collisions {
     /// Normal restitution e (1 = elastic).
@@ -291,7 +292,7 @@ impl Default for Collisions {
 }
 
 /// How long to run.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Run {
     /// Simulated time to run (after which the run stops).
@@ -305,7 +306,7 @@ pub struct Run {
 }
 
 /// What to measure and write.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
     /// Simulated time between recorded frames (default: duration/200).
@@ -355,7 +356,7 @@ impl Default for Output {
 }
 
 /// Colouring of disks in recordings.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ColorChoice {
     /// By speed.
@@ -366,7 +367,7 @@ pub enum ColorChoice {
 }
 
 /// Integration scheme and its knobs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
     /// `event-driven` (exact), `time-step` or `space-time` (approximate, for comparison).
@@ -442,7 +443,7 @@ impl Default for Engine {
 }
 
 /// Integration scheme.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
     /// Exact event-driven dynamics (Isobe 1999).
@@ -456,7 +457,7 @@ pub enum Scheme {
 }
 
 /// How the grid is stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum GridChoice {
     /// Dense for closed domains, hashed for an open top.
@@ -469,7 +470,7 @@ pub enum GridChoice {
 }
 
 /// When neighbour lists are rebuilt.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum RemapChoice {
     /// `local`, except under an open top with gravity (`global` there): a disk thrown far
@@ -499,7 +500,7 @@ impl RemapChoice {
 }
 
 /// Whether the event-driven engine renumbers its disks along a space-filling curve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum RenumberChoice {
     /// From [`RENUMBER_FROM`] disks on: below, the engine's arrays fit in the caches anyway.
@@ -515,7 +516,7 @@ pub enum RenumberChoice {
 pub const RENUMBER_FROM: usize = 8192;
 
 /// The event-driven engine's event queue.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueChoice {
     /// Calendar of linked lists plus a small heap for the current bucket (Paul 2007): O(1)
@@ -527,7 +528,7 @@ pub enum QueueChoice {
 }
 
 /// Which Isobe mask to search for neighbours.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum MaskChoice {
     /// The smallest mask that reaches comfortably beyond contact.

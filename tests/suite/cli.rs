@@ -1,6 +1,6 @@
-//! The command-line contract (DESIGN.md §4), checked on the real binary: exit codes, where the
-//! summary goes, `--set`, and that every kind of bad input exits 2 with a message naming the
-//! field, without writing a summary.
+//! The command-line contract (the book's docs/book/src/command-line.md), checked on the real
+//! binary: exit codes, where the summary goes, `--set`, and that every kind of bad input exits 2
+//! with a message naming the field, without writing a summary.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

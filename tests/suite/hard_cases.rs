@@ -1,5 +1,6 @@
-//! Hard cases (issue 4, DESIGN.md §3): every scenario in `scenarios/hard/` runs to its end
-//! through `vibrobed::run::run` with the invariant checks on, and must show
+//! Hard cases (issue 4; the book's docs/book/src/stability.md): every scenario in
+//! `scenarios/hard/` runs to its end through `vibrobed::run::run` with the invariant checks on,
+//! and must show
 //!
 //! - `ending == completed` and `sim_time == run.duration` (time reaches the end);
 //! - events (popped + re-mappings) per unit simulated time below a bound stated per file
