@@ -112,10 +112,9 @@ impl Mask {
         Mask::circle(TABLE_1[k].0, CIRCLE[k])
     }
 
-    /// The mask a scenario asks for. `Auto` takes the mask that gives the most collisions per
-    /// wall second at the scene's packing fraction `phi` (measured for the elastic gas of equal
-    /// disks at N = 2500, φ = 0.05–0.8: R6 below φ = 0.15, R4 below 0.55, R3 above; at
-    /// N = 10⁵, φ = 0.3 R4 beats R5 too), or the smallest
+    /// The mask a scenario asks for. `Auto` takes the mask that gives the elastic gas of equal
+    /// disks the most collisions per wall second at the scene's packing fraction `phi` (R6
+    /// below φ = 0.15, R4 below 0.55, R3 above; chosen by measurement), or the smallest
     /// larger one whose neighbour-list margin `reach·l_g − 2 a_max` is at least `0.5 a_min`.
     pub fn choose(choice: MaskChoice, cell: f64, a_min: f64, a_max: f64, phi: f64) -> Option<Mask> {
         let fits = |m: &Mask| m.reach() * cell - 2.0 * a_max > 0.0;

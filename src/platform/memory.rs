@@ -10,8 +10,9 @@ pub const RETURN_BLOCKS_FROM: usize = 100_000;
 /// otherwise raises that threshold after the first such block is freed (up to 32 MiB), and then
 /// serves the transient arrays of a re-mapping (renumbering's sort keys, the degree count of the
 /// neighbour lists) from its heap, where they stay resident after use: about 10 bytes per disk
-/// of a million at the peak. Below, the setting is left alone: fresh mappings cost smaller
-/// scenes a few per cent (measured on a 20 000-disk bed, whose Isobe re-mappings are frequent).
+/// of a million at the peak. Below, the setting is left alone: a fresh mapping for each
+/// transient array would slow smaller scenes, whose re-mappings (Isobe's above all) are
+/// frequent.
 /// Only where glibc is the allocator (Linux); elsewhere nothing changes.
 ///
 /// From the same size on, blocks of [`huge::BLOCK`] and more are backed by transparent huge
@@ -36,9 +37,8 @@ pub fn for_disks(n: usize) {
 /// distributions), the global allocator [`huge::Allocator`] asks for them for blocks of
 /// [`huge::BLOCK`] and more, once [`for_disks`] has enabled it: such blocks are aligned to 2 MiB
 /// and marked before their first use (at N = 10⁶ about 100 of the 130 MiB then come on huge
-/// pages). Measured (in-run collisions per second, alternated runs, the same events): N = 10⁶
-/// 1.10× at φ 0.7 and 1.02× at φ 0.3, peak memory unchanged; with the kernel's huge pages on
-/// for every program, N = 10⁵ ran the same.
+/// pages). Large scenes run faster for it, at the same peak memory (the book's performance
+/// history has the figures).
 #[cfg(target_os = "linux")]
 pub mod huge {
     use std::alloc::{GlobalAlloc, Layout, System};

@@ -37,20 +37,21 @@ const SAMPLE: usize = 512;
 /// Mean number of events per bucket over the earlier half of the filed events (measured: 2 to 8
 /// are equally good; the current bucket stays short).
 const EVENTS_PER_BUCKET: f64 = 4.0;
-/// Span of the calendar, in medians of the filed events' times from the earliest: 4 keeps about
-/// 94 % of exponentially spread times out of the overflow with half as many buckets as events
-/// (measured: 2 to 8 are equally good, 1 wraps too often).
+/// Span of the calendar, in multiples of the filed events' median time from the earliest: 4
+/// keeps about 94 % of exponentially spread times out of the overflow with half as many
+/// buckets as events (measured: 2 to 8 are equally good, 1 wraps too often).
 const SPAN_MEDIANS: f64 = 4.0;
 
 /// Fewest events in the current bucket of a calendar that keeps events ahead (the bucket is
 /// refilled before it runs dry): the minimum and three after it, whose
 /// data the event loop asks for ahead (see [`CalendarQueue::next_likely`]). Without it the
-/// bucket held at most one event after the minimum a third of the time (N = 10⁶, φ 0.7).
+/// bucket often holds at most one event after the minimum, and the event loop has little to
+/// ask for.
 const LOOKAHEAD: usize = 4;
 
 /// Buckets from which on [`CalendarQueue::prefetch_time`] gives its hint (512 KiB of heads:
-/// N ≈ 2.6·10⁵ disks). Measured with the hint at every size: N = 10⁶ 1.04× (both packings, 8
-/// of 10 alternated pairs above 1), N = 10⁵ 0.91–0.97× (heads of 200 KiB, cached anyway).
+/// N ≈ 2.6·10⁵ disks). Fewer heads stay cached anyway and the hint would only cost time
+/// (chosen by measurement: the book's performance history has the figures).
 const PREFETCH_HEADS_FROM: usize = 1 << 17;
 
 /// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
@@ -411,9 +412,8 @@ impl CalendarQueue {
     ///
     /// By now nearly every event is in the overflow (those filed while the buckets were being
     /// done fell past their end). Along its list the overflow is one cache miss after another
-    /// (at N = 10⁶, φ 0.3 pouring and wrapping took a tenth of a run's samples that way, most
-    /// of it on the walk's loads), so it is read in disk
-    /// order, by a pass over all times: an event is in the overflow when its place under the
+    /// (in large scenes a sizeable share of the run), so it is read in disk order, by a pass
+    /// over all times: an event is in the overflow when its place under the
     /// calendar being wrapped is [`Place::Overflow`] (every bucket is done, so every other
     /// filed event is in the current bucket; no entry is pending, as one is linked before a
     /// refill), every disk being filed at its time (each change of a time is followed by its
@@ -578,8 +578,8 @@ impl CalendarQueue {
     /// An entry whose event changed since the walk reached it has been filed elsewhere: its
     /// link leads into another bucket's list, far ahead, or nowhere (an entry in the current
     /// bucket keeps a stale link), so the walk starts its bucket again instead of following it.
-    /// Without that check, at N = 10⁶, pouring a bucket still waited on one miss after another
-    /// (13% of the run's samples, half of them on one load; 5% with it).
+    /// Without that check, pouring a bucket in a large scene would still wait on one miss
+    /// after another.
     #[inline(always)]
     fn walk_ahead(&mut self, times: &[f64]) {
         let (mut bucket, disk) = self.ahead;

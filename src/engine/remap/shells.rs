@@ -84,13 +84,9 @@ pub const LEAN_LISTS_FROM: usize = 1 << 18;
 
 /// How many neighbours beyond contact the lists of `n` disks at packing `phi` are sized for:
 /// longer lists mean fewer shell exits but longer predictions. Eight up to φ = 0.4, falling
-/// to six at φ = 0.6 and above; six from [`LEAN_LISTS_FROM`] disks on, at every packing.
-/// Measured at N = 2500 (collisions per second, alternated runs, medians of 3 to 6): eight
-/// against six 1.03–1.04× at φ = 0.3 (11/11 pairs; nine 0.998× eight), 1.02× at φ = 0.45,
-/// 1.00× at φ = 0.1; at φ = 0.5 seven against eight 1.01×; at φ = 0.7 six is best (seven and
-/// a half 0.95×, five 0.97×; Smallenburg's event-driven code takes eight). At N = 10⁶, φ = 0.3, eight
-/// ran 1.07× faster but took 11 bytes per disk more (147 in the engine's arrays against 136):
-/// large systems keep the leaner lists.
+/// to six at φ = 0.6 and above (chosen by measurement: the book's performance history has the
+/// figures); six from [`LEAN_LISTS_FROM`] disks on, at every packing, where the longer lists
+/// would still be a little faster but memory is what limits a run.
 pub fn beyond_contact(phi: f64, n: usize) -> f64 {
     if n >= LEAN_LISTS_FROM {
         return 6.0;
@@ -105,12 +101,8 @@ pub fn beyond_contact(phi: f64, n: usize) -> f64 {
 /// path λ; anchored ahead of itself it can fly on farther before it leaves again. Where λ is
 /// short (dense gases) the next collision turns it back: the shift is `min(r/2, 0.7 λ)`, and
 /// none where that is less than `r/4` (a disk rattling in its cage gains nothing; from
-/// φ ≈ 0.5 on). Measured at N = 2500 (shell exits per collision; collisions per second, single
-/// runs): φ = 0.1 2.53 → 1.87, 1.17×; φ = 0.3 0.96 → 0.77, 1.08×; φ = 0.45 0.44 → 0.39, 1.02×;
-/// a shift of `r/2` at every packing was 0.95× at φ = 0.55 and 0.93× at φ = 0.7, and
-/// `min(r/2, 0.7 λ)` there 1.00× and 1.00× (all with lists of six neighbours beyond contact).
-/// With the lists of eight (see [`beyond_contact`]) the shift at φ = 0.3 is 0.7 λ, short of
-/// `r/2`: λ and 0.5 λ in its place ran 0.993× and 0.991× (5 alternated runs each, medians).
+/// φ ≈ 0.5 on). The shift saves shell exits in dilute gases; in dense ones a longer shift
+/// would only cost (chosen by measurement: the book's performance history has the figures).
 /// Under gravity, 0 (flights bend, beds rattle).
 pub fn anchor_ahead(r: f64, a: f64, phi: f64, gravity: bool) -> f64 {
     let ahead = (0.5 * r).min(0.7 * mean_free_path(a, phi));
@@ -126,9 +118,9 @@ pub fn anchor_ahead(r: f64, a: f64, phi: f64, gravity: bool) -> f64 {
 pub const SETTLED_BED_PACKING: f64 = 0.7;
 
 /// The packing the shells are sized for: the scene's, or with a floor at least a settled bed's
-/// ([`SETTLED_BED_PACKING`]). Measured on the shipped beds (single runs), shells sized for the
-/// initial placement (φ = 0.5) made the dense ones (`leidenfrost.json`, `brazil_nut.json`) up
-/// to 1.3× slower than the best skin tried; sized for 0.7 they ran 5–13% above it.
+/// ([`SETTLED_BED_PACKING`]): a bed spends its run settled, and shells sized for a looser
+/// initial placement would be too wide for it, its lists too long (the book's performance
+/// history has the figures).
 pub fn packing_for_shells(packing: f64, floor: bool) -> f64 {
     if floor {
         packing.max(SETTLED_BED_PACKING)
