@@ -62,9 +62,8 @@ impl<F: Flight> Simulation<F> {
 
     /// A collision of disks `i` and `j` (or what stands in for one: a landing, a jammed row).
     ///
-    /// Out of line: the event loop and `fire` are then compiled as one compact loop. Measured
-    /// when the compiler first chose so by itself (the same events bit for bit): 1.08–1.09× on
-    /// the fluidized beds, 0.99–1.00× on the gas at N = 2500.
+    /// Out of line: the event loop and `fire` are then compiled as one compact loop, which the
+    /// fluidized beds run faster (the performance history has the figures).
     #[inline(never)]
     pub(in crate::engine) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
         let now = self.now;
