@@ -60,6 +60,30 @@ impl EventCounts {
     }
 }
 
+/// How often each rule that ends a jam engaged (see [`rest::jams`](super::rest::jams)): what
+/// the rules' own tests look at. Not in the summary, not kept across a resume.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct JamCounts {
+    /// A flying disk stopped in a slot between supports that do not give.
+    pub slot: u64,
+    /// A flying disk stopped after a burst of events at one instant (a closed wedge).
+    pub zeno: u64,
+    /// A disk at rest in a pocket by a side wall.
+    pub pocket: u64,
+    /// A disk hitting a jammed row, which does not give.
+    pub jammed_row: u64,
+    /// A disk pushing one at rest too gently to move it.
+    pub gentle_push: u64,
+    /// A jammed cluster of slow flying disks come to rest together.
+    pub cluster: u64,
+    /// A row at rest on the floor pushed aside a hair to let a disk down onto the floor.
+    pub floor_room: u64,
+    /// A full row of flying disks seated on a row at rest.
+    pub seated_row: u64,
+    /// A full row on the floor stopped.
+    pub floor_row: u64,
+}
+
 /// Energy (and the floor's momentum) exchanged with the outside, and energy lost in collisions,
 /// since the start.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]

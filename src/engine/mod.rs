@@ -43,7 +43,7 @@ mod setup;
 mod state;
 mod walls;
 
-pub use counts::{EnergyFlow, EventCounts};
+pub use counts::{EnergyFlow, EventCounts, JamCounts};
 pub use event::Event;
 pub use log::{Collision, Partner};
 pub use observe::Snapshot;

@@ -2,7 +2,7 @@
 //! and the overlap checks.
 
 use super::clock::into_period;
-use super::{EnergyFlow, EventCounts, Simulation, OVERLAP_TOLERANCE};
+use super::{EnergyFlow, EventCounts, JamCounts, Simulation, OVERLAP_TOLERANCE};
 use crate::error::{Error, Result};
 use crate::neighbours::{Cells, GridGeometry, Mask};
 use crate::physics::disks::Disks;
@@ -80,6 +80,11 @@ impl<F: Flight> Simulation<F> {
     /// Event counts so far.
     pub fn counts(&self) -> EventCounts {
         self.tally.counts
+    }
+
+    /// How often each jam rule engaged since the engine started (not kept across a resume).
+    pub fn jam_counts(&self) -> JamCounts {
+        self.tally.jams
     }
 
     /// Energy injected by the floor and dissipated in collisions so far.

@@ -8,7 +8,7 @@ use super::remap::numbering::Numbering;
 use super::remap::shells::Shells;
 use super::rest::riders::Riders;
 use super::Scene;
-use super::{EnergyFlow, EventCounts};
+use super::{EnergyFlow, EventCounts, JamCounts};
 use crate::neighbours::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::physics::floor::Floor;
 use crate::physics::walls::{SideBounds, Top};
@@ -115,13 +115,14 @@ impl Rest {
 }
 
 /// What is counted and summed as the run goes: events by kind, the energy's flow, the virial,
-/// the largest overlap seen.
+/// the largest overlap seen, the jam rules that engaged.
 #[derive(Debug, Default)]
 pub(super) struct Tally {
     pub counts: EventCounts,
     pub flow: EnergyFlow,
     pub virial: f64,
     pub max_overlap: f64,
+    pub jams: JamCounts,
 }
 
 /// What the caller asked of the run: invariant checks, an event limit, an interrupt flag, a
