@@ -1,4 +1,4 @@
-//! Globals: structures over all disks that find who can meet whom — the EEPGM grid, Isobe's
+//! Who can meet whom: structures over all disks — the EEPGM grid, Isobe's
 //! masks, and the neighbour lists taken from the mask at each mapping.
 
 pub mod grid;
