@@ -228,19 +228,11 @@ pub fn main_with(cli: Cli) -> i32 {
     }
 }
 
+/// Dispatches to the subcommand; errors carry their exit code.
 fn execute(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Sweep { command } => command.execute(),
-        Command::Check { scenario, sets } => {
-            let s = Scenario::load(&scenario, &sets)?;
-            // Also build the scene and its engine (placement, grid, mask, neighbour lists,
-            // first predictions) without running it, and check the scenario's output paths.
-            crate::run::check(&s)?;
-            output_paths(&s, &OutputArgs::default())?;
-            print_advisories(&s);
-            eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
-            Ok(0)
-        }
+        Command::Check { scenario, sets } => check(&scenario, &sets),
         Command::Accuracy {
             scenario,
             out,
@@ -250,36 +242,14 @@ fn execute(cli: Cli) -> Result<i32> {
             effects,
             quiet,
         } => {
-            let s = Scenario::load(&scenario, &sets)?;
-            if out.exists() && !out.is_dir() {
-                return Err(Error::input(
-                    "--out",
-                    format!("{} is a file: name a directory", out.display()),
-                ));
-            }
-            if let Some(k) = seeds.filter(|k| !(1..=MAX_SEEDS).contains(k)) {
-                return Err(Error::input(
-                    "--seeds",
-                    format!("must lie in [1, {MAX_SEEDS}] (got {k})"),
-                ));
-            }
-            let report = crate::accuracy::report(
-                &s,
-                &crate::accuracy::Options {
-                    out: out.clone(),
-                    quick,
-                    effects,
-                    seeds,
-                    verbose: !quiet,
-                },
-            )?;
-            print!("{}", report.table());
-            eprintln!(
-                "wrote {}/accuracy.csv, accuracy.txt, accuracy.svg{}",
-                out.display(),
-                if effects { ", effects.csv" } else { "" }
-            );
-            Ok(0)
+            let options = crate::accuracy::Options {
+                out,
+                quick,
+                effects,
+                seeds,
+                verbose: !quiet,
+            };
+            accuracy(&scenario, &sets, options)
         }
         Command::Run {
             scenario,
@@ -292,47 +262,14 @@ fn execute(cli: Cli) -> Result<i32> {
             checkpoint_every,
             quiet,
         } => {
-            let s = Scenario::load(&scenario, &sets)?;
-            output_paths(
-                &s,
-                &OutputArgs {
-                    rrd: rrd.as_deref(),
-                    summary: summary.as_deref(),
-                    profiles: profiles.as_deref(),
-                    trajectory: trajectory.as_deref(),
-                    checkpoint: checkpoint.as_deref(),
-                },
-            )?;
-            print_advisories(&s);
-            let checkpoint = match checkpoint {
-                Some(path) => Some(CheckpointPlan {
-                    path,
-                    every: checkpoint_every,
-                    scenario: std::fs::read_to_string(&scenario).map_err(|e| {
-                        Error::input(
-                            "SCENARIO",
-                            format!("cannot read {}: {e}", scenario.display()),
-                        )
-                    })?,
-                    source: scenario.clone(),
-                    sets: sets.clone(),
-                }),
-                None => None,
+            let files = RunFiles {
+                rrd,
+                summary,
+                profiles,
+                trajectory,
+                checkpoint,
             };
-            signals::install();
-            let result = run(
-                &s,
-                RunOptions {
-                    rrd,
-                    trajectory,
-                    sink: None,
-                    interrupt: Some(signals::stop_flag()),
-                    progress: !quiet,
-                    checkpoint,
-                    resume: None,
-                },
-            )?;
-            write_results(&result, profiles.as_deref(), summary.as_deref())
+            run_scenario(&scenario, &sets, files, checkpoint_every, quiet)
         }
         Command::Resume {
             checkpoint_file,
@@ -345,63 +282,188 @@ fn execute(cli: Cli) -> Result<i32> {
             checkpoint_every,
             quiet,
         } => {
-            check_resume_sets(&sets)?;
-            let ck = Checkpoint::read(&checkpoint_file)?;
-            if let Some(path) = &rrd {
-                if ck.recordings.iter().any(|r| same_file(r, path)) {
-                    return Err(Error::input(
-                        "--rrd",
-                        format!(
-                            "{} holds an earlier part of this run: record the resumed part to a \
-                             new file (the viewer shows both as one recording)",
-                            path.display()
-                        ),
-                    ));
-                }
-            }
-            let all_sets: Vec<String> = ck.sets.iter().chain(&sets).cloned().collect();
-            let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
-            output_paths(
-                &s,
-                &OutputArgs {
-                    rrd: rrd.as_deref(),
-                    summary: summary.as_deref(),
-                    profiles: profiles.as_deref(),
-                    trajectory: trajectory.as_deref(),
-                    checkpoint: checkpoint.as_deref(),
-                },
-            )?;
-            let plan = CheckpointPlan {
-                path: checkpoint.unwrap_or_else(|| checkpoint_file.clone()),
-                every: checkpoint_every.or(ck.every),
-                scenario: ck.scenario.clone(),
-                source: ck.source.clone(),
-                sets: all_sets,
+            let files = RunFiles {
+                rrd,
+                summary,
+                profiles,
+                trajectory,
+                checkpoint,
             };
-            if !quiet {
-                eprintln!(
-                    "resuming {} (scenario {}) at t = {}",
-                    checkpoint_file.display(),
-                    ck.source.display(),
-                    ck.driver.time()
-                );
-            }
-            signals::install();
-            let result = run(
-                &s,
-                RunOptions {
-                    rrd,
-                    trajectory,
-                    sink: None,
-                    interrupt: Some(signals::stop_flag()),
-                    progress: !quiet,
-                    checkpoint: Some(plan),
-                    resume: Some(Box::new(ck)),
-                },
-            )?;
-            write_results(&result, profiles.as_deref(), summary.as_deref())
+            resume(&checkpoint_file, &sets, files, checkpoint_every, quiet)
         }
     }
+}
+
+/// `vibrobed check`: loads the scenario and also builds its scene and engine (placement, grid,
+/// mask, neighbour lists, first predictions) without running it, so that whatever would stop
+/// a run at its start stops the check too.
+fn check(scenario: &Path, sets: &[String]) -> Result<i32> {
+    let s = Scenario::load(scenario, sets)?;
+    crate::run::check(&s)?;
+    output_paths(&s, &OutputArgs::default())?;
+    print_advisories(&s);
+    eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
+    Ok(0)
+}
+
+/// `vibrobed accuracy`: checks `--out` and `--seeds` before the (long) ensembles start, then
+/// prints the table and names the files written.
+fn accuracy(scenario: &Path, sets: &[String], options: crate::accuracy::Options) -> Result<i32> {
+    let s = Scenario::load(scenario, sets)?;
+    let out = &options.out;
+    if out.exists() && !out.is_dir() {
+        return Err(Error::input(
+            "--out",
+            format!("{} is a file: name a directory", out.display()),
+        ));
+    }
+    if let Some(k) = options.seeds.filter(|k| !(1..=MAX_SEEDS).contains(k)) {
+        return Err(Error::input(
+            "--seeds",
+            format!("must lie in [1, {MAX_SEEDS}] (got {k})"),
+        ));
+    }
+    let report = crate::accuracy::report(&s, &options)?;
+    print!("{}", report.table());
+    eprintln!(
+        "wrote {}/accuracy.csv, accuracy.txt, accuracy.svg{}",
+        out.display(),
+        if options.effects { ", effects.csv" } else { "" }
+    );
+    Ok(0)
+}
+
+/// The files a `run` or `resume` command line asks for.
+struct RunFiles {
+    rrd: Option<PathBuf>,
+    summary: Option<PathBuf>,
+    profiles: Option<PathBuf>,
+    trajectory: Option<PathBuf>,
+    checkpoint: Option<PathBuf>,
+}
+
+impl RunFiles {
+    /// The paths, borrowed for [`output_paths`].
+    fn as_output_args(&self) -> OutputArgs<'_> {
+        OutputArgs {
+            rrd: self.rrd.as_deref(),
+            summary: self.summary.as_deref(),
+            profiles: self.profiles.as_deref(),
+            trajectory: self.trajectory.as_deref(),
+            checkpoint: self.checkpoint.as_deref(),
+        }
+    }
+}
+
+/// `vibrobed run`: loads the scenario, refuses outputs it could not write, and runs it. With
+/// `--checkpoint` the scenario's text goes into the checkpoint, so that `resume` needs nothing
+/// but that file.
+fn run_scenario(
+    scenario: &Path,
+    sets: &[String],
+    mut files: RunFiles,
+    checkpoint_every: Option<f64>,
+    quiet: bool,
+) -> Result<i32> {
+    let s = Scenario::load(scenario, sets)?;
+    output_paths(&s, &files.as_output_args())?;
+    print_advisories(&s);
+    let checkpoint = match files.checkpoint.take() {
+        Some(path) => Some(CheckpointPlan {
+            path,
+            every: checkpoint_every,
+            scenario: std::fs::read_to_string(scenario).map_err(|e| {
+                Error::input(
+                    "SCENARIO",
+                    format!("cannot read {}: {e}", scenario.display()),
+                )
+            })?,
+            source: scenario.to_path_buf(),
+            sets: sets.to_vec(),
+        }),
+        None => None,
+    };
+    simulate(&s, files, checkpoint, None, quiet)
+}
+
+/// `vibrobed resume`: rebuilds the scene from the checkpoint (its scenario text and overrides,
+/// then this command line's `--set`) and continues it, checkpointing on (by default into the
+/// same file, at the saved run's interval).
+fn resume(
+    checkpoint_file: &Path,
+    sets: &[String],
+    mut files: RunFiles,
+    checkpoint_every: Option<f64>,
+    quiet: bool,
+) -> Result<i32> {
+    check_resume_sets(sets)?;
+    let ck = Checkpoint::read(checkpoint_file)?;
+    if let Some(path) = &files.rrd {
+        refuse_earlier_recording(&ck, path)?;
+    }
+    let all_sets: Vec<String> = ck.sets.iter().chain(sets).cloned().collect();
+    let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+    output_paths(&s, &files.as_output_args())?;
+    let plan = CheckpointPlan {
+        path: files
+            .checkpoint
+            .take()
+            .unwrap_or_else(|| checkpoint_file.to_path_buf()),
+        every: checkpoint_every.or(ck.every),
+        scenario: ck.scenario.clone(),
+        source: ck.source.clone(),
+        sets: all_sets,
+    };
+    if !quiet {
+        eprintln!(
+            "resuming {} (scenario {}) at t = {}",
+            checkpoint_file.display(),
+            ck.source.display(),
+            ck.driver.time()
+        );
+    }
+    simulate(&s, files, Some(plan), Some(Box::new(ck)), quiet)
+}
+
+/// Refuses to record the resumed part into a file that holds an earlier part of the run:
+/// it would overwrite what the earlier part recorded.
+fn refuse_earlier_recording(ck: &Checkpoint, path: &Path) -> Result<()> {
+    if ck.recordings.iter().any(|r| same_file(r, path)) {
+        return Err(Error::input(
+            "--rrd",
+            format!(
+                "{} holds an earlier part of this run: record the resumed part to a \
+                 new file (the viewer shows both as one recording)",
+                path.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Runs (or resumes) the scene, stopping cleanly on SIGINT/SIGTERM/SIGHUP, and writes what
+/// the run produced; returns the exit code of its ending.
+fn simulate(
+    s: &Scenario,
+    files: RunFiles,
+    checkpoint: Option<CheckpointPlan>,
+    resume: Option<Box<Checkpoint>>,
+    quiet: bool,
+) -> Result<i32> {
+    signals::install();
+    let result = run(
+        s,
+        RunOptions {
+            rrd: files.rrd,
+            trajectory: files.trajectory,
+            sink: None,
+            interrupt: Some(signals::stop_flag()),
+            progress: !quiet,
+            checkpoint,
+            resume,
+        },
+    )?;
+    write_results(&result, files.profiles.as_deref(), files.summary.as_deref())
 }
 
 /// `true` when `a` and `b` name the same file (compared canonically when both exist).

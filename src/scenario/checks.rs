@@ -22,6 +22,7 @@ pub const MAX_OUTPUT_TIMES: f64 = 1e7;
 /// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
 pub const MAX_STEPS: f64 = 1e12;
 
+/// A positive finite number, within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
 fn positive(field: &str, v: f64) -> Result<()> {
     if v.is_finite() && (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
         Ok(())
@@ -68,6 +69,7 @@ fn resolved_length(field: &str, what: &str, length: f64, a_min: f64) -> Result<(
     }
 }
 
+/// A coefficient of restitution, in [0, 1].
 fn restitution(field: &str, e: f64) -> Result<()> {
     if (0.0..=1.0).contains(&e) {
         Ok(())
@@ -76,8 +78,24 @@ fn restitution(field: &str, e: f64) -> Result<()> {
     }
 }
 
-/// Checks the whole scenario.
+/// Checks the whole scenario, section by section in the file's order; the first rule broken
+/// is the error (so a scenario with several faults always reports the same one).
 pub fn validate(s: &Scenario) -> Result<()> {
+    validate_domain(s)?;
+    validate_gravity(s)?;
+    validate_floor(s)?;
+    validate_particles(s)?;
+    validate_collisions(&s.collisions)?;
+    validate_run(&s.run)?;
+    validate_output(s)?;
+    validate_engine(s)?;
+    validate_lengths(s)?;
+    Ok(())
+}
+
+/// The box: a positive width and height, a wall restitution in [0, 1], and a height wherever
+/// the box is closed at the top (unless the packing fraction sets it).
+fn validate_domain(s: &Scenario) -> Result<()> {
     positive("domain.width", s.domain.width)?;
     restitution("domain.wall_restitution", s.domain.wall_restitution)?;
     if let Some(h) = s.domain.height {
@@ -90,6 +108,11 @@ pub fn validate(s: &Scenario) -> Result<()> {
             "required with y_boundary `lid` or `periodic` (or give particles.packing_fraction)",
         ));
     }
+    Ok(())
+}
+
+/// Gravity: positive, and only where a floor can hold the disks up.
+fn validate_gravity(s: &Scenario) -> Result<()> {
     if let Some(g) = s.gravity {
         positive("gravity", g)?;
         if s.domain.y_boundary == YBoundary::Periodic {
@@ -101,6 +124,12 @@ pub fn validate(s: &Scenario) -> Result<()> {
             ));
         }
     }
+    Ok(())
+}
+
+/// The floor: present exactly when the box has a bottom (not periodic in y), with a
+/// restitution in [0, 1] and a vibration that is fully given.
+fn validate_floor(s: &Scenario) -> Result<()> {
     match (&s.floor, s.domain.y_boundary) {
         (Some(_), YBoundary::Periodic) => {
             return Err(Error::input(
@@ -118,75 +147,99 @@ pub fn validate(s: &Scenario) -> Result<()> {
     }
     if let Some(floor) = &s.floor {
         restitution("floor.restitution", floor.restitution)?;
-        if floor.amplitude.is_some() && floor.gamma.is_some() {
+        validate_vibration(floor, s.gravity)?;
+    }
+    Ok(())
+}
+
+/// The floor's vibration: an amplitude A ≥ 0 or a peak acceleration Γ = Aω²/g (which needs
+/// gravity), not both; a frequency whenever it moves; a finite phase.
+fn validate_vibration(floor: &Floor, gravity: Option<f64>) -> Result<()> {
+    if floor.amplitude.is_some() && floor.gamma.is_some() {
+        return Err(Error::input(
+            "floor.gamma",
+            "give either floor.amplitude or floor.gamma, not both",
+        ));
+    }
+    if let Some(a) = floor.amplitude {
+        if !(a.is_finite() && a >= 0.0) {
             return Err(Error::input(
-                "floor.gamma",
-                "give either floor.amplitude or floor.gamma, not both",
+                "floor.amplitude",
+                format!("must be ≥ 0 (got {a})"),
             ));
         }
-        if let Some(a) = floor.amplitude {
-            if !(a.is_finite() && a >= 0.0) {
-                return Err(Error::input(
-                    "floor.amplitude",
-                    format!("must be ≥ 0 (got {a})"),
-                ));
-            }
-        }
-        if let Some(gamma) = floor.gamma {
-            positive("floor.gamma", gamma)?;
-            if s.gravity.is_none() {
-                return Err(Error::input(
-                    "floor.gamma",
-                    "Γ = Aω²/g needs gravity; give floor.amplitude instead",
-                ));
-            }
-        }
-        let vibrating = floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some();
-        match floor.frequency {
-            Some(f) => positive("floor.frequency", f)?,
-            None if vibrating => {
-                return Err(Error::input(
-                    "floor.frequency",
-                    "required for a vibrating floor",
-                ))
-            }
-            None => {}
-        }
-        if !floor.phase.is_finite() {
-            return Err(Error::input("floor.phase", "must be finite"));
+    }
+    if let Some(gamma) = floor.gamma {
+        positive("floor.gamma", gamma)?;
+        if gravity.is_none() {
+            return Err(Error::input(
+                "floor.gamma",
+                "Γ = Aω²/g needs gravity; give floor.amplitude instead",
+            ));
         }
     }
-    validate_particles(s)?;
-    restitution("collisions.restitution", s.collisions.restitution)?;
-    if let Some(tc) = s.collisions.tc {
+    let vibrating = floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some();
+    match floor.frequency {
+        Some(f) => positive("floor.frequency", f)?,
+        None if vibrating => {
+            return Err(Error::input(
+                "floor.frequency",
+                "required for a vibrating floor",
+            ))
+        }
+        None => {}
+    }
+    if !floor.phase.is_finite() {
+        return Err(Error::input("floor.phase", "must be finite"));
+    }
+    Ok(())
+}
+
+/// The collision law: a restitution in [0, 1], and positive parameters for the cures of
+/// inelastic collapse.
+fn validate_collisions(c: &Collisions) -> Result<()> {
+    restitution("collisions.restitution", c.restitution)?;
+    if let Some(tc) = c.tc {
         positive("collisions.tc", tc)?;
     }
-    if let Some(v) = s.collisions.speed_cutoff {
+    if let Some(v) = c.speed_cutoff {
         positive("collisions.speed_cutoff", v)?;
     }
-    positive("run.duration", s.run.duration)?;
-    if !(s.run.warmup.is_finite() && s.run.warmup >= 0.0 && s.run.warmup < s.run.duration) {
+    Ok(())
+}
+
+/// The run's length: a positive duration, and a warm-up that leaves some of it to measure.
+fn validate_run(r: &Run) -> Result<()> {
+    positive("run.duration", r.duration)?;
+    if !(r.warmup.is_finite() && r.warmup >= 0.0 && r.warmup < r.duration) {
         return Err(Error::input(
             "run.warmup",
             format!(
                 "must lie in [0, run.duration) (got {} with duration {})",
-                s.run.warmup, s.run.duration
+                r.warmup, r.duration
             ),
         ));
     }
-    if let Some(dt) = s.output.frame_interval {
+    Ok(())
+}
+
+/// What the run writes: positive intervals and scales, height profiles only under gravity,
+/// a bounded number of bins, frames and samples.
+fn validate_output(s: &Scenario) -> Result<()> {
+    let o = &s.output;
+    if let Some(dt) = o.frame_interval {
         positive("output.frame_interval", dt)?;
     }
-    if let Some(dt) = s.output.sample_interval {
+    if let Some(dt) = o.sample_interval {
         positive("output.sample_interval", dt)?;
     }
-    if let Some(dt) = s.output.trajectory_interval {
+    if let Some(dt) = o.trajectory_interval {
         positive("output.trajectory_interval", dt)?;
     }
-    if let Some(v) = s.output.speed_scale {
+    if let Some(v) = o.speed_scale {
         positive("output.speed_scale", v)?;
     }
-    if let Some(h) = s.output.profile_height {
+    if let Some(h) = o.profile_height {
         positive("output.profile_height", h)?;
         if s.gravity.is_none() {
             return Err(Error::input(
@@ -195,30 +248,36 @@ pub fn validate(s: &Scenario) -> Result<()> {
             ));
         }
     }
-    if !(1..=MAX_PROFILE_BINS).contains(&s.output.profile_bins) {
+    if !(1..=MAX_PROFILE_BINS).contains(&o.profile_bins) {
         return Err(Error::input(
             "output.profile_bins",
             format!(
                 "must lie in [1, {MAX_PROFILE_BINS}] (got {})",
-                s.output.profile_bins
+                o.profile_bins
             ),
         ));
     }
-    validate_output_counts(s)?;
-    if s.engine.grid == GridChoice::Dense && s.domain.y_boundary == YBoundary::Open {
+    validate_output_counts(s)
+}
+
+/// The engine's knobs: a dense grid only under a lid or period, a positive skin, the schemes'
+/// knobs with their scheme, a bounded number of steps, a sync distance of at least 10⁻³ radii.
+fn validate_engine(s: &Scenario) -> Result<()> {
+    let e = &s.engine;
+    if e.grid == GridChoice::Dense && s.domain.y_boundary == YBoundary::Open {
         return Err(Error::input(
             "engine.grid",
             "a dense grid needs a bounded height: use `hashed` (or `auto`) for an open top",
         ));
     }
-    if let Some(skin) = s.engine.skin {
+    if let Some(skin) = e.skin {
         positive("engine.skin", skin)?;
     }
-    validate_scheme_knobs(&s.engine)?;
-    if let Some(dt) = s.engine.dt {
+    validate_scheme_knobs(e)?;
+    if let Some(dt) = e.dt {
         at_most("engine.dt", "steps", s.run.duration / dt, MAX_STEPS)?;
     }
-    if let Some(d) = s.engine.sync_distance {
+    if let Some(d) = e.sync_distance {
         if d < 1e-3 {
             return Err(Error::input(
                 "engine.sync_distance",
@@ -226,7 +285,6 @@ pub fn validate(s: &Scenario) -> Result<()> {
             ));
         }
     }
-    validate_lengths(s)?;
     Ok(())
 }
 
@@ -332,8 +390,36 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
     Ok(())
 }
 
+/// The disks: their radii, count and masses, a temperature ≥ 0, a packing fraction below the
+/// densest packing, explicit placements of the right length, and a box they fit in.
 fn validate_particles(s: &Scenario) -> Result<()> {
     let p = &s.particles;
+    validate_radii(p)?;
+    validate_count(s)?;
+    validate_mass_law(s)?;
+    if !(p.temperature.is_finite() && p.temperature >= 0.0) {
+        return Err(Error::input(
+            "particles.temperature",
+            format!("must be ≥ 0 (got {})", p.temperature),
+        ));
+    }
+    if let Some(phi) = p.packing_fraction {
+        if !(phi > 0.0 && phi < MAX_PACKING) {
+            return Err(Error::input(
+                "particles.packing_fraction",
+                format!("must lie in (0, {MAX_PACKING:.4}) (got {phi})"),
+            ));
+        }
+    }
+    if let Placement::Explicit(e) = &p.placement {
+        validate_explicit_placement(e, s.disk_count())?;
+    }
+    validate_fit_in_box(s)
+}
+
+/// The radius law: a positive radius, a uniform range with min ≤ max, or a non-empty list of
+/// species (positive radii and masses) that sets the count itself.
+fn validate_radii(p: &Particles) -> Result<()> {
     match &p.radius {
         Radius::Fixed(r) => positive("particles.radius", *r)?,
         Radius::Uniform(u) => {
@@ -370,8 +456,14 @@ fn validate_particles(s: &Scenario) -> Result<()> {
             }
         }
     }
+    Ok(())
+}
+
+/// The number of disks: at least one, at most [`MAX_DISKS`] (the error names the field that
+/// sets it: the count, or the species list).
+fn validate_count(s: &Scenario) -> Result<()> {
     let n = s.disk_count();
-    let count_field = match &p.radius {
+    let count_field = match &s.particles.radius {
         Radius::Species(_) => "particles.radius.species",
         _ => "particles.count",
     };
@@ -384,6 +476,12 @@ fn validate_particles(s: &Scenario) -> Result<()> {
             format!("asks for {n} disks; at most {MAX_DISKS} are supported"),
         ));
     }
+    Ok(())
+}
+
+/// A positive mass or a positive density, not both, giving masses double precision handles.
+fn validate_mass_law(s: &Scenario) -> Result<()> {
+    let p = &s.particles;
     if let Some(m) = p.mass {
         positive("particles.mass", m)?;
     }
@@ -396,37 +494,33 @@ fn validate_particles(s: &Scenario) -> Result<()> {
             "give either particles.mass or particles.density, not both",
         ));
     }
-    validate_masses(s)?;
-    if !(p.temperature.is_finite() && p.temperature >= 0.0) {
+    validate_masses(s)
+}
+
+/// Explicit positions (and velocities, if given): one per disk.
+fn validate_explicit_placement(e: &ExplicitPlacement, n: usize) -> Result<()> {
+    if e.positions.len() != n {
         return Err(Error::input(
-            "particles.temperature",
-            format!("must be ≥ 0 (got {})", p.temperature),
+            "particles.placement.positions",
+            format!("lists {} positions for {n} disks", e.positions.len()),
         ));
     }
-    if let Some(phi) = p.packing_fraction {
-        if !(phi > 0.0 && phi < MAX_PACKING) {
+    if let Some(v) = &e.velocities {
+        if v.len() != n {
             return Err(Error::input(
-                "particles.packing_fraction",
-                format!("must lie in (0, {MAX_PACKING:.4}) (got {phi})"),
+                "particles.placement.velocities",
+                format!("lists {} velocities for {n} disks", v.len()),
             ));
         }
     }
-    if let Placement::Explicit(e) = &p.placement {
-        if e.positions.len() != n {
-            return Err(Error::input(
-                "particles.placement.positions",
-                format!("lists {} positions for {n} disks", e.positions.len()),
-            ));
-        }
-        if let Some(v) = &e.velocities {
-            if v.len() != n {
-                return Err(Error::input(
-                    "particles.placement.velocities",
-                    format!("lists {} velocities for {n} disks", v.len()),
-                ));
-            }
-        }
-    }
+    Ok(())
+}
+
+/// The disks fit the box: a width of at least 4 of the largest radii, a radius ratio the
+/// neighbour masks support (≤ 6), and in a closed box of stated height, a packing fraction
+/// below the densest possible.
+fn validate_fit_in_box(s: &Scenario) -> Result<()> {
+    let n = s.disk_count();
     let (rmin, rmax) = s.radius_range();
     if s.domain.width < 4.0 * rmax {
         return Err(Error::input(

@@ -72,64 +72,33 @@ fn too_dense(n: usize) -> Error {
     )
 }
 
-/// A triangular lattice of `n` equal disks, as open as the region allows.
+/// A triangular lattice of `n` equal disks, as open as the region allows: the widest spacing
+/// at which they fit, with the rows they need spread evenly over the fill height.
 fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64; 2]>> {
     let width = r.x1 - r.x0;
-    let span_x = if r.x_periodic { width } else { width - 2.0 * a };
-    let span_y = if r.y_periodic {
-        fill_height
-    } else {
-        fill_height - 2.0 * a
-    };
-    let pitch = |d: f64| d * 3f64.sqrt() / 2.0;
-    // Columns of even and odd (half-shifted) rows, and the number of rows, at spacing d.
-    let layout = |d: f64| -> (usize, usize, usize) {
-        if r.x_periodic {
-            let cols = (span_x / d).floor() as usize;
-            let rows = ((span_y / pitch(d)).floor() as usize) & !1;
-            (cols, cols, rows)
+    let lattice = Lattice {
+        span_x: if r.x_periodic { width } else { width - 2.0 * a },
+        span_y: if r.y_periodic {
+            fill_height
         } else {
-            let even = (span_x / d).floor() as usize + 1;
-            let odd = if span_x >= 0.5 * d {
-                ((span_x - 0.5 * d) / d).floor() as usize + 1
-            } else {
-                0
-            };
-            let rows = if r.y_periodic {
-                ((span_y / pitch(d)).floor() as usize) & !1
-            } else if span_y >= 0.0 {
-                (span_y / pitch(d)).floor() as usize + 1
-            } else {
-                0
-            };
-            (even, odd, rows)
-        }
-    };
-    let capacity = |d: f64| {
-        let (even, odd, rows) = layout(d);
-        rows.div_ceil(2) * even + (rows / 2) * odd
+            fill_height - 2.0 * a
+        },
+        x_periodic: r.x_periodic,
+        y_periodic: r.y_periodic,
     };
     let min_d = 2.0 * a * (1.0 + 1e-9);
-    if capacity(min_d) < n {
+    if lattice.capacity(min_d) < n {
         return Err(too_dense(n));
     }
-    let (mut lo, mut hi) = (min_d, min_d + 2.0 * (span_x + span_y));
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if capacity(mid) >= n {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
+    let lo = lattice.widest_spacing(n, min_d);
     let mut d = lo;
-    let (even, odd, rows) = layout(d);
+    let (even, odd, rows) = lattice.layout(d);
     if r.x_periodic {
         d = width / even as f64; // tile the period exactly
     }
     // Rows half a spacing apart sideways need only the pitch of the bisected spacing `lo ≤ d`
     // between them (d²/4 + 3 lo²/4 ≥ lo²): the rows then fit the height `capacity` assumed.
-    let pitch_lo = pitch(lo);
+    let pitch_lo = row_pitch(lo);
     // Rows actually needed, spread evenly over the height.
     let mut needed = 0;
     let mut placed = 0;
@@ -140,8 +109,8 @@ fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64;
     let dy = if r.y_periodic {
         fill_height / rows as f64
     } else if needed > 1 {
-        (span_y / (needed - 1) as f64)
-            .min(2.0 * pitch(d))
+        (lattice.span_y / (needed - 1) as f64)
+            .min(2.0 * row_pitch(d))
             .max(pitch_lo)
     } else {
         pitch_lo
@@ -170,6 +139,68 @@ fn triangular(n: usize, a: f64, r: Region, fill_height: f64) -> Result<Vec<[f64;
         }
     }
     Ok(out)
+}
+
+/// Distance between the rows of a triangular lattice of spacing `d`: d·√3/2.
+fn row_pitch(d: f64) -> f64 {
+    d * 3f64.sqrt() / 2.0
+}
+
+/// Where the centres of a triangular lattice may lie: the spans in x and y (the width and the
+/// fill height, less a radius at each hard edge) and how they wrap.
+struct Lattice {
+    span_x: f64,
+    span_y: f64,
+    x_periodic: bool,
+    y_periodic: bool,
+}
+
+impl Lattice {
+    /// Columns of even and odd (half-shifted) rows, and the number of rows, at spacing `d`.
+    /// Periodic in x, even and odd rows hold the same columns; periodic in either direction,
+    /// the rows come in pairs.
+    fn layout(&self, d: f64) -> (usize, usize, usize) {
+        if self.x_periodic {
+            let cols = (self.span_x / d).floor() as usize;
+            let rows = ((self.span_y / row_pitch(d)).floor() as usize) & !1;
+            (cols, cols, rows)
+        } else {
+            let even = (self.span_x / d).floor() as usize + 1;
+            let odd = if self.span_x >= 0.5 * d {
+                ((self.span_x - 0.5 * d) / d).floor() as usize + 1
+            } else {
+                0
+            };
+            let rows = if self.y_periodic {
+                ((self.span_y / row_pitch(d)).floor() as usize) & !1
+            } else if self.span_y >= 0.0 {
+                (self.span_y / row_pitch(d)).floor() as usize + 1
+            } else {
+                0
+            };
+            (even, odd, rows)
+        }
+    }
+
+    /// How many disks the lattice of spacing `d` holds.
+    fn capacity(&self, d: f64) -> usize {
+        let (even, odd, rows) = self.layout(d);
+        rows.div_ceil(2) * even + (rows / 2) * odd
+    }
+
+    /// The widest spacing, from `min_d` up, at which `n` disks still fit (100 bisections).
+    fn widest_spacing(&self, n: usize, min_d: f64) -> f64 {
+        let (mut lo, mut hi) = (min_d, min_d + 2.0 * (self.span_x + self.span_y));
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if self.capacity(mid) >= n {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
 }
 
 /// Shuffled disks filled into rows left to right, each row as tall as its largest disk.
@@ -236,120 +267,214 @@ pub fn melt_mc(
     rng: &mut Xoshiro256PlusPlus,
 ) {
     let n = pos.len();
-    let (a_min, a_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
-        (lo.min(a), hi.max(a))
-    });
-    let width = r.x1 - r.x0;
-    let height = r.y1 - r.y0;
-    let cell = 2.0 * a_max;
-    let mut ncx = (width / cell).floor().clamp(1.0, 1e15) as usize;
-    let mut ncy = (height / cell).floor().clamp(1.0, 1e15) as usize;
-    // Centres in one cell are ≥ 2 a_min apart: at most (⌊side/(2 a_min)⌋ + 1)² of them.
-    let per_side = |ncx: usize, ncy: usize| {
-        let side = (width / ncx as f64).max(height / ncy as f64);
-        (side / (2.0 * a_min)).floor() as usize + 1
-    };
-    let p = per_side(ncx, ncy);
-    let flat = ncx
-        .saturating_mul(ncy)
-        .saturating_mul(p.saturating_mul(p) + 1)
-        <= MAX_FLAT_SLOTS;
-    if !flat {
-        // A sparse region: fewer, larger cells, each with a list of its disks.
-        while ncx.saturating_mul(ncy) > 4 * n + 1024 {
-            if ncx >= ncy {
-                ncx = ncx.div_ceil(2);
-            } else {
-                ncy = ncy.div_ceil(2);
-            }
-        }
-    }
-    let (cw, ch) = (width / ncx as f64, height / ncy as f64);
-    let cap = per_side(ncx, ncy).pow(2);
-    let mut cells = CellSlots::new(ncx * ncy, cap, flat);
-    let cell_of = |p: [f64; 2]| -> usize {
-        let cx = (((p[0] - r.x0) / cw).max(0.0) as usize).min(ncx - 1);
-        let cy = (((p[1] - r.y0) / ch).max(0.0) as usize).min(ncy - 1);
-        cy * ncx + cx
-    };
-    let mut home: Vec<usize> = Vec::with_capacity(n);
-    for (i, &p) in pos.iter().enumerate() {
-        let c = cell_of(p);
-        cells.insert(c, i as u32);
-        home.push(c);
-    }
+    let a_max = radius.iter().fold(0.0f64, |hi, &a| hi.max(a));
+    let mut grid = McGrid::new(pos, radius, r);
     let mut step = 0.5 * a_max;
     for _ in 0..sweeps {
-        let mut accepted = 0usize;
-        for i in 0..n {
-            let a = radius[i];
-            let mut p = [
-                pos[i][0] + step * (2.0 * rng.random::<f64>() - 1.0),
-                pos[i][1] + step * (2.0 * rng.random::<f64>() - 1.0),
-            ];
-            if r.x_periodic {
-                p[0] = r.x0 + (p[0] - r.x0).rem_euclid(width);
-            } else if p[0] < r.x0 + a || p[0] > r.x1 - a {
-                continue;
-            }
-            if r.y_periodic {
-                p[1] = r.y0 + (p[1] - r.y0).rem_euclid(height);
-            } else if p[1] < r.y0 + a || p[1] > r.y1 - a {
-                continue;
-            }
-            let c = cell_of(p);
-            let (cx, cy) = ((c % ncx) as i64, (c / ncx) as i64);
-            let mut free = true;
-            'search: for ddy in -1..=1i64 {
-                for ddx in -1..=1i64 {
-                    let (mut x, mut y) = (cx + ddx, cy + ddy);
-                    if x < 0 || x >= ncx as i64 {
-                        if !r.x_periodic {
-                            continue;
-                        }
-                        x = x.rem_euclid(ncx as i64);
-                    }
-                    if y < 0 || y >= ncy as i64 {
-                        if !r.y_periodic {
-                            continue;
-                        }
-                        y = y.rem_euclid(ncy as i64);
-                    }
-                    let k = y as usize * ncx + x as usize;
-                    for &j in cells.members(k) {
-                        let j = j as usize;
-                        if j == i {
-                            continue;
-                        }
-                        let mut dx = p[0] - pos[j][0];
-                        let mut dy = p[1] - pos[j][1];
-                        if r.x_periodic {
-                            dx = nearest_image(dx, width);
-                        }
-                        if r.y_periodic {
-                            dy = nearest_image(dy, height);
-                        }
-                        let s = (a + radius[j]) * (1.0 + 1e-9);
-                        if dx * dx + dy * dy < s * s {
-                            free = false;
-                            break 'search;
-                        }
-                    }
-                }
-            }
-            if free {
-                accepted += 1;
-                pos[i] = p;
-                let old = home[i];
-                if c != old {
-                    cells.remove(old, i as u32);
-                    cells.insert(c, i as u32);
-                    home[i] = c;
+        let accepted = mc_sweep(pos, radius, &mut grid, step, rng);
+        let rate = accepted as f64 / n as f64;
+        step = (step * if rate > 0.5 { 1.2 } else { 0.8 }).clamp(1e-3 * a_max, 0.9 * grid.cell);
+    }
+}
+
+/// One Monte Carlo sweep: a trial move per disk, in storage order, kept when the disk stays
+/// in the region and overlaps no other; returns how many were kept. Each trial draws two
+/// uniform numbers (x, then y) whether or not it is kept.
+fn mc_sweep(
+    pos: &mut [[f64; 2]],
+    radius: &[f64],
+    grid: &mut McGrid,
+    step: f64,
+    rng: &mut Xoshiro256PlusPlus,
+) -> usize {
+    let mut accepted = 0usize;
+    for i in 0..pos.len() {
+        let Some(p) = grid.trial_position(pos[i], radius[i], step, rng) else {
+            continue;
+        };
+        let c = grid.cell_of(p);
+        if !grid.overlaps(pos, radius, i, p, c) {
+            accepted += 1;
+            pos[i] = p;
+            grid.move_disk(i, c);
+        }
+    }
+    accepted
+}
+
+/// The Monte Carlo's cell grid over the region, and the cell each disk is filed in.
+struct McGrid {
+    /// The region the disks stay in.
+    r: Region,
+    /// Its width and height.
+    width: f64,
+    height: f64,
+    /// Side of the cells before fitting them to the region, 2 a_max.
+    cell: f64,
+    /// Cells across and up, and their width and height.
+    ncx: usize,
+    ncy: usize,
+    cw: f64,
+    ch: f64,
+    /// The disks of each cell.
+    cells: CellSlots,
+    /// The cell of each disk.
+    home: Vec<usize>,
+}
+
+impl McGrid {
+    /// Cells of side ≥ 2 a_max over the region, so that a disk can only overlap disks in its
+    /// own and the eight neighbouring cells, with every disk filed in its cell. When fixed
+    /// slots for every cell would take more than [`MAX_FLAT_SLOTS`] (a sparse region), the
+    /// cells are merged until there are about 4 per disk, each with a list.
+    fn new(pos: &[[f64; 2]], radius: &[f64], r: Region) -> McGrid {
+        let n = pos.len();
+        let (a_min, a_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
+            (lo.min(a), hi.max(a))
+        });
+        let width = r.x1 - r.x0;
+        let height = r.y1 - r.y0;
+        let cell = 2.0 * a_max;
+        let mut ncx = (width / cell).floor().clamp(1.0, 1e15) as usize;
+        let mut ncy = (height / cell).floor().clamp(1.0, 1e15) as usize;
+        // Centres in one cell are ≥ 2 a_min apart: at most (⌊side/(2 a_min)⌋ + 1)² of them.
+        let per_side = |ncx: usize, ncy: usize| {
+            let side = (width / ncx as f64).max(height / ncy as f64);
+            (side / (2.0 * a_min)).floor() as usize + 1
+        };
+        let p = per_side(ncx, ncy);
+        let flat = ncx
+            .saturating_mul(ncy)
+            .saturating_mul(p.saturating_mul(p) + 1)
+            <= MAX_FLAT_SLOTS;
+        if !flat {
+            while ncx.saturating_mul(ncy) > 4 * n + 1024 {
+                if ncx >= ncy {
+                    ncx = ncx.div_ceil(2);
+                } else {
+                    ncy = ncy.div_ceil(2);
                 }
             }
         }
-        let rate = accepted as f64 / n as f64;
-        step = (step * if rate > 0.5 { 1.2 } else { 0.8 }).clamp(1e-3 * a_max, 0.9 * cell);
+        let cap = per_side(ncx, ncy).pow(2);
+        let mut grid = McGrid {
+            r,
+            width,
+            height,
+            cell,
+            ncx,
+            ncy,
+            cw: width / ncx as f64,
+            ch: height / ncy as f64,
+            cells: CellSlots::new(ncx * ncy, cap, flat),
+            home: Vec::with_capacity(n),
+        };
+        for (i, &p) in pos.iter().enumerate() {
+            let c = grid.cell_of(p);
+            grid.cells.insert(c, i as u32);
+            grid.home.push(c);
+        }
+        grid
+    }
+
+    /// The cell holding point `p` (points on or past an edge go to the edge's cells).
+    #[inline]
+    fn cell_of(&self, p: [f64; 2]) -> usize {
+        let r = &self.r;
+        let cx = (((p[0] - r.x0) / self.cw).max(0.0) as usize).min(self.ncx - 1);
+        let cy = (((p[1] - r.y0) / self.ch).max(0.0) as usize).min(self.ncy - 1);
+        cy * self.ncx + cx
+    }
+
+    /// A trial position for a disk of radius `a` at `from`, uniform in a square of half-side
+    /// `step`: wrapped into a periodic region, or `None` where it would cross a hard edge.
+    #[inline]
+    fn trial_position(
+        &self,
+        from: [f64; 2],
+        a: f64,
+        step: f64,
+        rng: &mut Xoshiro256PlusPlus,
+    ) -> Option<[f64; 2]> {
+        let r = &self.r;
+        let mut p = [
+            from[0] + step * (2.0 * rng.random::<f64>() - 1.0),
+            from[1] + step * (2.0 * rng.random::<f64>() - 1.0),
+        ];
+        if r.x_periodic {
+            p[0] = r.x0 + (p[0] - r.x0).rem_euclid(self.width);
+        } else if p[0] < r.x0 + a || p[0] > r.x1 - a {
+            return None;
+        }
+        if r.y_periodic {
+            p[1] = r.y0 + (p[1] - r.y0).rem_euclid(self.height);
+        } else if p[1] < r.y0 + a || p[1] > r.y1 - a {
+            return None;
+        }
+        Some(p)
+    }
+
+    /// Whether disk `i`, moved to `p` in cell `c`, would overlap another disk: any in cell `c`
+    /// or its eight neighbours (wrapped where the region is periodic), nearest images compared.
+    #[inline]
+    fn overlaps(&self, pos: &[[f64; 2]], radius: &[f64], i: usize, p: [f64; 2], c: usize) -> bool {
+        let r = &self.r;
+        let (cx, cy) = ((c % self.ncx) as i64, (c / self.ncx) as i64);
+        for ddy in -1..=1i64 {
+            for ddx in -1..=1i64 {
+                let Some(k) = self.neighbour(cx + ddx, cy + ddy) else {
+                    continue;
+                };
+                for &j in self.cells.members(k) {
+                    let j = j as usize;
+                    if j == i {
+                        continue;
+                    }
+                    let mut dx = p[0] - pos[j][0];
+                    let mut dy = p[1] - pos[j][1];
+                    if r.x_periodic {
+                        dx = nearest_image(dx, self.width);
+                    }
+                    if r.y_periodic {
+                        dy = nearest_image(dy, self.height);
+                    }
+                    let s = (radius[i] + radius[j]) * (1.0 + 1e-9);
+                    if dx * dx + dy * dy < s * s {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// The cell at column `x`, row `y`, wrapped in a periodic direction; `None` beyond a hard
+    /// edge.
+    #[inline]
+    fn neighbour(&self, mut x: i64, mut y: i64) -> Option<usize> {
+        if x < 0 || x >= self.ncx as i64 {
+            if !self.r.x_periodic {
+                return None;
+            }
+            x = x.rem_euclid(self.ncx as i64);
+        }
+        if y < 0 || y >= self.ncy as i64 {
+            if !self.r.y_periodic {
+                return None;
+            }
+            y = y.rem_euclid(self.ncy as i64);
+        }
+        Some(y as usize * self.ncx + x as usize)
+    }
+
+    /// Files disk `i` under cell `c` (where it has just moved).
+    fn move_disk(&mut self, i: usize, c: usize) {
+        let old = self.home[i];
+        if c != old {
+            self.cells.remove(old, i as u32);
+            self.cells.insert(c, i as u32);
+            self.home[i] = c;
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::sweep::local::{run_dir, write_atomic};
-use crate::sweep::plan::Plan;
+use crate::sweep::plan::{Plan, RunSpec};
 use serde_json::Value;
 use std::path::Path;
 
@@ -106,52 +106,20 @@ fn flatten(prefix: &str, v: &Value, out: &mut Vec<(String, Value)>) {
     }
 }
 
-/// Reads the plan and the summaries under `dir`.
+/// Reads the plan and the summaries under `dir`: a row per run, the fields they hold, and
+/// the statistics of each numeric field over each point's completed runs.
 pub fn collect(dir: &Path) -> Result<Collected> {
     let plan = Plan::read(dir)?;
     let mut runs = Vec::with_capacity(plan.runs.len());
     let mut fields: Vec<String> = Vec::new();
     for spec in &plan.runs {
-        let run = run_dir(dir, spec.index);
-        let summary_path = run.join("summary.json");
-        let (ending, flat) = match std::fs::read_to_string(&summary_path) {
-            Ok(text) => {
-                let summary: Value = serde_json::from_str(&text).map_err(|e| {
-                    Error::Io(format!("{}: not a summary: {e}", summary_path.display()))
-                })?;
-                let mut flat = Vec::new();
-                flatten("", &summary, &mut flat);
-                let ending = summary
-                    .get("ending")
-                    .and_then(Value::as_str)
-                    .unwrap_or("unknown")
-                    .to_string();
-                (ending, flat)
-            }
-            Err(_) if run.join("error.txt").exists() => ("failed".into(), Vec::new()),
-            Err(_) => ("missing".into(), Vec::new()),
-        };
-        let seed = flat
-            .iter()
-            .find(|(k, _)| k == "seed")
-            .and_then(|(_, v)| v.as_u64())
-            .or(spec.seed);
-        let flat: Vec<(String, Value)> = flat
-            .into_iter()
-            .filter(|(k, _)| k != "seed" && k != "ending")
-            .collect();
-        for (k, _) in &flat {
+        let row = read_run(dir, spec)?;
+        for (k, _) in &row.fields {
             if !fields.contains(k) {
                 fields.push(k.clone());
             }
         }
-        runs.push(RunRow {
-            index: spec.index,
-            point: spec.point,
-            seed,
-            ending,
-            fields: flat,
-        });
+        runs.push(row);
     }
     fields.sort();
     let numeric: Vec<String> = fields
@@ -163,28 +131,7 @@ pub fn collect(dir: &Path) -> Result<Collected> {
         .cloned()
         .collect();
     let points = (0..plan.points)
-        .map(|p| {
-            let done: Vec<&RunRow> = runs
-                .iter()
-                .filter(|r| r.point == p && r.ending == "completed")
-                .collect();
-            let stats = numeric
-                .iter()
-                .map(|f| {
-                    let values: Vec<f64> = done
-                        .iter()
-                        .filter_map(|r| r.fields.iter().find(|(k, _)| k == f))
-                        .filter_map(|(_, v)| v.as_f64())
-                        .collect();
-                    Stat::of(&values)
-                })
-                .collect();
-            PointRow {
-                point: p,
-                completed: done.len(),
-                stats,
-            }
-        })
+        .map(|p| point_row(p, &runs, &numeric))
         .collect();
     Ok(Collected {
         plan,
@@ -193,6 +140,70 @@ pub fn collect(dir: &Path) -> Result<Collected> {
         numeric,
         points,
     })
+}
+
+/// The row of one run: how it ended (`failed` when it left error.txt, `missing` when it left
+/// nothing), its seed, and its summary's scalar fields.
+fn read_run(dir: &Path, spec: &RunSpec) -> Result<RunRow> {
+    let run = run_dir(dir, spec.index);
+    let summary_path = run.join("summary.json");
+    let (ending, flat) = match std::fs::read_to_string(&summary_path) {
+        Ok(text) => {
+            let summary: Value = serde_json::from_str(&text).map_err(|e| {
+                Error::Io(format!("{}: not a summary: {e}", summary_path.display()))
+            })?;
+            let mut flat = Vec::new();
+            flatten("", &summary, &mut flat);
+            let ending = summary
+                .get("ending")
+                .and_then(Value::as_str)
+                .unwrap_or("unknown")
+                .to_string();
+            (ending, flat)
+        }
+        Err(_) if run.join("error.txt").exists() => ("failed".into(), Vec::new()),
+        Err(_) => ("missing".into(), Vec::new()),
+    };
+    let seed = flat
+        .iter()
+        .find(|(k, _)| k == "seed")
+        .and_then(|(_, v)| v.as_u64())
+        .or(spec.seed);
+    let flat: Vec<(String, Value)> = flat
+        .into_iter()
+        .filter(|(k, _)| k != "seed" && k != "ending")
+        .collect();
+    Ok(RunRow {
+        index: spec.index,
+        point: spec.point,
+        seed,
+        ending,
+        fields: flat,
+    })
+}
+
+/// Point `p`'s row: each numeric field's statistics over the point's completed runs.
+fn point_row(p: usize, runs: &[RunRow], numeric: &[String]) -> PointRow {
+    let done: Vec<&RunRow> = runs
+        .iter()
+        .filter(|r| r.point == p && r.ending == "completed")
+        .collect();
+    let stats = numeric
+        .iter()
+        .map(|f| {
+            let values: Vec<f64> = done
+                .iter()
+                .filter_map(|r| r.fields.iter().find(|(k, _)| k == f))
+                .filter_map(|(_, v)| v.as_f64())
+                .collect();
+            Stat::of(&values)
+        })
+        .collect();
+    PointRow {
+        point: p,
+        completed: done.len(),
+        stats,
+    }
 }
 
 /// One CSV cell: quoted when it holds a comma, a quote or a line break.

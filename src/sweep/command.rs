@@ -5,9 +5,9 @@ use crate::output::summary::Ending;
 use crate::sweep::collect::collect;
 use crate::sweep::fit::{power_law, PowerFit};
 use crate::sweep::local::{
-    check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan,
+    check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan, PoolReport,
 };
-use crate::sweep::plan::{expand, point_label};
+use crate::sweep::plan::{expand, point_label, Plan};
 use crate::sweep::plot::{draw, Panel};
 use crate::sweep::slurm::{script, submit, SlurmOptions};
 use clap::{Subcommand, ValueEnum};
@@ -113,6 +113,7 @@ fn absolute(path: &Path) -> Result<PathBuf> {
         .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))
 }
 
+/// Maps an I/O error to one that says what could not be done to which path.
 fn io<'a>(path: &'a Path, what: &'a str) -> impl Fn(std::io::Error) -> Error + 'a {
     move |e| Error::Io(format!("cannot {what} {}: {e}", path.display()))
 }
@@ -121,103 +122,14 @@ impl SweepCommand {
     /// Runs the subcommand; returns the exit code (errors carry theirs).
     pub fn execute(self) -> Result<i32> {
         match self {
-            SweepCommand::Plan { sweep, out } => {
-                let exp = expand(&sweep)?;
-                exp.check_scenes()?;
-                print!("{}", exp.plan.listing(out.as_deref()));
-                eprintln!(
-                    "{}: ok ({} runs checked)",
-                    sweep.display(),
-                    exp.plan.runs.len()
-                );
-                Ok(0)
-            }
+            SweepCommand::Plan { sweep, out } => plan(&sweep, out.as_deref()),
             SweepCommand::Run {
                 sweep,
                 out,
                 jobs,
                 quiet,
-            } => {
-                if jobs == Some(0) {
-                    return Err(Error::input("--jobs", "must be at least 1"));
-                }
-                let exp = expand(&sweep)?;
-                exp.check_scenes()?;
-                let jobs = jobs
-                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-                crate::platform::signals::install();
-                let report = run_pool(&exp, &out, jobs, !quiet)?;
-                let n = exp.plan.runs.len();
-                let not_started =
-                    n - report.skipped - report.ran - report.failed.len() - report.interrupted;
-                eprintln!(
-                    "sweep {}: {} runs: {} ran now, {} done before{}{}{} ({})",
-                    exp.plan.name,
-                    n,
-                    report.ran,
-                    report.skipped,
-                    if report.failed.is_empty() {
-                        String::new()
-                    } else {
-                        format!(", {} failed", report.failed.len())
-                    },
-                    if report.interrupted + not_started > 0 {
-                        format!(
-                            ", {} interrupted, {} not started",
-                            report.interrupted, not_started
-                        )
-                    } else {
-                        String::new()
-                    },
-                    if jobs > 1 {
-                        format!(", {jobs} workers")
-                    } else {
-                        ", 1 worker".into()
-                    },
-                    out.display()
-                );
-                if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
-                    return Ok(crate::platform::signals::exit_code());
-                }
-                if let Some((i, first)) = report.failed.first() {
-                    return Err(Error::Runtime(format!(
-                        "{} of {n} runs failed (their folders hold error.txt); run {i}: {first}",
-                        report.failed.len()
-                    )));
-                }
-                Ok(0)
-            }
-            SweepCommand::Task { sweep, index, out } => {
-                let exp = expand(&sweep)?;
-                let n = exp.plan.runs.len();
-                if index >= n {
-                    return Err(Error::input(
-                        "--index",
-                        format!("the sweep has {n} runs (0 to {})", n.saturating_sub(1)),
-                    ));
-                }
-                write_plan(&exp.plan, &out)?;
-                if is_done(&out, index) {
-                    eprintln!("run {index}: already completed");
-                    return Ok(0);
-                }
-                crate::platform::signals::install();
-                let spec = &exp.plan.runs[index];
-                let ending = run_one(&exp.plan, spec, &exp.scenarios[index], &out)?;
-                eprintln!(
-                    "run {index} (point {}: {}, seed {}): {}",
-                    spec.point,
-                    point_label(&exp.plan.axes, &spec.values),
-                    spec.seed
-                        .map_or("of the scenario".into(), |s| s.to_string()),
-                    ending_word(ending)
-                );
-                Ok(if ending == Ending::Interrupted {
-                    130
-                } else {
-                    0
-                })
-            }
+            } => run(&sweep, &out, jobs, quiet),
+            SweepCommand::Task { sweep, index, out } => task(&sweep, index, &out),
             SweepCommand::Slurm {
                 sweep,
                 out,
@@ -225,53 +137,15 @@ impl SweepCommand {
                 time,
                 array_max,
                 sbatch,
-                submit: submit_it,
+                submit,
             } => {
-                let exp = expand(&sweep)?;
-                exp.check_scenes()?;
-                let out = absolute(&out)?;
-                let exe = std::env::current_exe()
-                    .map_err(|e| Error::Io(format!("cannot find this program's path: {e}")))?;
                 let opts = SlurmOptions {
                     partition,
                     time,
                     array_max,
                     extra: sbatch,
                 };
-                // Only the runs not completed yet (all of them the first time).
-                check_plan(&exp.plan, &out)?;
-                let pending: Vec<usize> = (0..exp.plan.runs.len())
-                    .filter(|&i| !is_done(&out, i))
-                    .collect();
-                let n = exp.plan.runs.len();
-                if pending.is_empty() {
-                    eprintln!(
-                        "all {n} runs are completed in {}: nothing to submit",
-                        out.display()
-                    );
-                    return Ok(0);
-                }
-                let text = script(&exp.plan, &pending, &exe, &out, &opts)?;
-                write_plan(&exp.plan, &out)?;
-                let logs = out.join("slurm");
-                std::fs::create_dir_all(&logs).map_err(io(&logs, "create"))?;
-                let path = out.join("sweep.sbatch");
-                write_atomic(&path, &text)?;
-                eprintln!(
-                    "wrote {} ({} array tasks{})",
-                    path.display(),
-                    pending.len(),
-                    if pending.len() < n {
-                        format!("; {} of {n} runs are completed already", n - pending.len())
-                    } else {
-                        String::new()
-                    }
-                );
-                if submit_it {
-                    let id = submit(&path)?;
-                    println!("{id}");
-                }
-                Ok(0)
+                slurm(&sweep, &out, &opts, submit)
             }
             SweepCommand::Collect {
                 dir,
@@ -285,6 +159,157 @@ impl SweepCommand {
     }
 }
 
+/// `sweep plan`: expands the sweep, builds every run's scene as `check` does, and lists the runs.
+fn plan(sweep: &Path, out: Option<&Path>) -> Result<i32> {
+    let exp = expand(sweep)?;
+    exp.check_scenes()?;
+    print!("{}", exp.plan.listing(out));
+    eprintln!(
+        "{}: ok ({} runs checked)",
+        sweep.display(),
+        exp.plan.runs.len()
+    );
+    Ok(0)
+}
+
+/// `sweep run`: every run not yet completed, on a pool of worker threads. A signal stops the
+/// pool (exit 128 + its number); a failed run fails the sweep once the others are done.
+fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32> {
+    if jobs == Some(0) {
+        return Err(Error::input("--jobs", "must be at least 1"));
+    }
+    let exp = expand(sweep)?;
+    exp.check_scenes()?;
+    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    crate::platform::signals::install();
+    let report = run_pool(&exp, out, jobs, !quiet)?;
+    eprintln!("{}", pool_tally(&exp.plan, &report, jobs, out));
+    if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
+        return Ok(crate::platform::signals::exit_code());
+    }
+    if let Some((i, first)) = report.failed.first() {
+        return Err(Error::Runtime(format!(
+            "{} of {} runs failed (their folders hold error.txt); run {i}: {first}",
+            report.failed.len(),
+            exp.plan.runs.len()
+        )));
+    }
+    Ok(0)
+}
+
+/// The line `sweep run` ends with: how many runs ran now, were done before, failed, were
+/// interrupted or never started, and on how many workers.
+fn pool_tally(plan: &Plan, report: &PoolReport, jobs: usize, out: &Path) -> String {
+    let n = plan.runs.len();
+    let not_started = n - report.skipped - report.ran - report.failed.len() - report.interrupted;
+    format!(
+        "sweep {}: {} runs: {} ran now, {} done before{}{}{} ({})",
+        plan.name,
+        n,
+        report.ran,
+        report.skipped,
+        if report.failed.is_empty() {
+            String::new()
+        } else {
+            format!(", {} failed", report.failed.len())
+        },
+        if report.interrupted + not_started > 0 {
+            format!(
+                ", {} interrupted, {} not started",
+                report.interrupted, not_started
+            )
+        } else {
+            String::new()
+        },
+        if jobs > 1 {
+            format!(", {jobs} workers")
+        } else {
+            ", 1 worker".into()
+        },
+        out.display()
+    )
+}
+
+/// `sweep task`: one run of the sweep, what each Slurm array task does; a run completed
+/// already is not run again.
+fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
+    let exp = expand(sweep)?;
+    let n = exp.plan.runs.len();
+    if index >= n {
+        return Err(Error::input(
+            "--index",
+            format!("the sweep has {n} runs (0 to {})", n.saturating_sub(1)),
+        ));
+    }
+    write_plan(&exp.plan, out)?;
+    if is_done(out, index) {
+        eprintln!("run {index}: already completed");
+        return Ok(0);
+    }
+    crate::platform::signals::install();
+    let spec = &exp.plan.runs[index];
+    let ending = run_one(&exp.plan, spec, &exp.scenarios[index], out)?;
+    eprintln!(
+        "run {index} (point {}: {}, seed {}): {}",
+        spec.point,
+        point_label(&exp.plan.axes, &spec.values),
+        spec.seed
+            .map_or("of the scenario".into(), |s| s.to_string()),
+        ending_word(ending)
+    );
+    Ok(if ending == Ending::Interrupted {
+        130
+    } else {
+        0
+    })
+}
+
+/// `sweep slurm`: writes `DIR/sweep.sbatch`, a job array over the runs not completed yet (all
+/// of them the first time), and with `--submit` submits it and prints the job id.
+fn slurm(sweep: &Path, out: &Path, opts: &SlurmOptions, submit_it: bool) -> Result<i32> {
+    let exp = expand(sweep)?;
+    exp.check_scenes()?;
+    let out = absolute(out)?;
+    let exe = std::env::current_exe()
+        .map_err(|e| Error::Io(format!("cannot find this program's path: {e}")))?;
+    check_plan(&exp.plan, &out)?;
+    let pending: Vec<usize> = (0..exp.plan.runs.len())
+        .filter(|&i| !is_done(&out, i))
+        .collect();
+    let n = exp.plan.runs.len();
+    if pending.is_empty() {
+        eprintln!(
+            "all {n} runs are completed in {}: nothing to submit",
+            out.display()
+        );
+        return Ok(0);
+    }
+    let text = script(&exp.plan, &pending, &exe, &out, opts)?;
+    write_plan(&exp.plan, &out)?;
+    let logs = out.join("slurm");
+    std::fs::create_dir_all(&logs).map_err(io(&logs, "create"))?;
+    let path = out.join("sweep.sbatch");
+    write_atomic(&path, &text)?;
+    eprintln!(
+        "wrote {} ({} array tasks{})",
+        path.display(),
+        pending.len(),
+        if pending.len() < n {
+            format!("; {} of {n} runs are completed already", n - pending.len())
+        } else {
+            String::new()
+        }
+    );
+    if submit_it {
+        let id = submit(&path)?;
+        println!("{id}");
+    }
+    Ok(0)
+}
+
+/// `sweep collect`: gathers the runs into `DIR/runs.csv` and `DIR/points.csv`; with `--x` and
+/// `--y`, plots each field's point means against x (and with `--fit`, fits and reports them).
+/// The plot's fields are checked before anything is written.
 fn collect_command(
     dir: &Path,
     x: Option<String>,
@@ -300,7 +325,6 @@ fn collect_command(
         (None, _) => return Err(Error::input("--x", "needed to plot or fit (with --y)")),
         (Some(_), true) => return Err(Error::input("--y", "needed with --x")),
     };
-    // Check the plot's fields before writing anything.
     let series = match &x {
         Some(x) => ys
             .iter()
@@ -326,26 +350,7 @@ fn collect_command(
         })
         .collect();
     if fit.is_some() {
-        let mut json = serde_json::Map::new();
-        for (y, f) in ys.iter().zip(&fits) {
-            match f {
-                Some(f) => {
-                    println!(
-                        "{y} = c·({x})^δ: δ = {:.4}{}, c = {:.4} ({} points, log–log least squares)",
-                        f.exponent,
-                        f.exponent_se.map_or(" (no error with two points)".into(), |se| format!(" ± {se:.4}")),
-                        f.prefactor,
-                        f.points
-                    );
-                    json.insert(y.clone(), serde_json::to_value(f).expect("fit serialises"));
-                }
-                None => println!("{y}: no fit (it needs two points with positive x and y)"),
-            }
-        }
-        let text = serde_json::to_string_pretty(&serde_json::json!({ "x": x, "power_law": json }))
-            .expect("fit serialises")
-            + "\n";
-        write_atomic(&dir.join("fit.json"), &text)?;
+        report_fits(dir, &x, &ys, &fits)?;
     }
     let panels: Vec<Panel> = ys
         .iter()
@@ -358,25 +363,51 @@ fn collect_command(
         })
         .collect();
     let path = plot.unwrap_or_else(|| dir.join("plot.svg"));
-    let x_label = match x.as_str() {
+    let title = format!(
+        "sweep {}: against {x} ({} seeds per point)",
+        c.plan.name,
+        c.plan.seeds_per_point()
+    );
+    draw(&path, &title, &axis_label(&x), &panels, log, log)?;
+    eprintln!("wrote {}", path.display());
+    Ok(0)
+}
+
+/// Prints each field's power-law fit y = c·x^δ (or why it has none) and writes them all to
+/// `DIR/fit.json`.
+fn report_fits(dir: &Path, x: &str, ys: &[String], fits: &[Option<PowerFit>]) -> Result<()> {
+    let mut json = serde_json::Map::new();
+    for (y, f) in ys.iter().zip(fits) {
+        match f {
+            Some(f) => {
+                println!(
+                    "{y} = c·({x})^δ: δ = {:.4}{}, c = {:.4} ({} points, log–log least squares)",
+                    f.exponent,
+                    f.exponent_se
+                        .map_or(" (no error with two points)".into(), |se| format!(
+                            " ± {se:.4}"
+                        )),
+                    f.prefactor,
+                    f.points
+                );
+                json.insert(y.clone(), serde_json::to_value(f).expect("fit serialises"));
+            }
+            None => println!("{y}: no fit (it needs two points with positive x and y)"),
+        }
+    }
+    let text = serde_json::to_string_pretty(&serde_json::json!({ "x": x, "power_law": json }))
+        .expect("fit serialises")
+        + "\n";
+    write_atomic(&dir.join("fit.json"), &text)
+}
+
+/// The plot's x label: the axis key, with the drive quantity's symbol for the drive axes.
+fn axis_label(x: &str) -> String {
+    match x {
         "drive.amplitude" => format!("{x} (A)"),
         "drive.frequency" => format!("{x} (f)"),
         "drive.gamma" => format!("{x} (Γ = Aω²/g)"),
         "drive.peak_velocity" => format!("{x} (Aω)"),
-        _ => x.clone(),
-    };
-    draw(
-        &path,
-        &format!(
-            "sweep {}: against {x} ({} seeds per point)",
-            c.plan.name,
-            c.plan.seeds_per_point()
-        ),
-        &x_label,
-        &panels,
-        log,
-        log,
-    )?;
-    eprintln!("wrote {}", path.display());
-    Ok(0)
+        _ => x.to_string(),
+    }
 }

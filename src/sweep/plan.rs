@@ -383,55 +383,8 @@ pub fn expand(path: &Path) -> Result<Expanded> {
         .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))?;
     let base_dir = sweep_path.parent().unwrap_or(Path::new("."));
     let scenario_path = base_dir.join(&sweep.scenario);
-    let text = std::fs::read_to_string(&scenario_path).map_err(|e| {
-        Error::input(
-            "scenario",
-            format!("cannot read {}: {e}", scenario_path.display()),
-        )
-    })?;
-    let mut base: Value = serde_json::from_str(&text).map_err(|e| {
-        Error::input(
-            "scenario",
-            format!(
-                "{}: malformed JSON at line {} column {}: {e}",
-                scenario_path.display(),
-                e.line(),
-                e.column()
-            ),
-        )
-    })?;
-    // The runs write into folders of their own: a recording path in the scenario would have
-    // every run write the same file. Recording is the sweep's `record` instead.
-    if let Some(output) = base.get_mut("output").and_then(Value::as_object_mut) {
-        output.remove("rrd");
-    }
-    for (k, set) in sweep.set.iter().enumerate() {
-        overrides::apply(&mut base, set).map_err(|e| rename_field(e, &format!("set[{k}]")))?;
-    }
-    let seeds: Vec<Option<u64>> = match &sweep.seeds {
-        None => vec![None],
-        Some(Seeds::Count(n)) if !(1..=MAX_RUNS as u64).contains(n) => {
-            return Err(Error::input(
-                "seeds",
-                format!("must lie in [1, {MAX_RUNS}] (got {n})"),
-            ))
-        }
-        Some(Seeds::Count(n)) => (0..*n).map(Some).collect(),
-        Some(Seeds::List(list)) if list.is_empty() => {
-            return Err(Error::input("seeds", "must list at least one seed"))
-        }
-        Some(Seeds::List(list)) => {
-            for (k, s) in list.iter().enumerate() {
-                if list[..k].contains(s) {
-                    return Err(Error::input(
-                        format!("seeds[{k}]"),
-                        format!("seed {s} is listed twice"),
-                    ));
-                }
-            }
-            list.iter().copied().map(Some).collect()
-        }
-    };
+    let base = base_scenario(&sweep, &scenario_path)?;
+    let seeds = seed_list(sweep.seeds.as_ref())?;
     #[cfg(not(feature = "record"))]
     if sweep.record {
         return Err(Error::input(
@@ -451,37 +404,7 @@ pub fn expand(path: &Path) -> Result<Expanded> {
         ));
     }
     let keys: Vec<String> = sweep.axes.iter().map(|a| a.key.clone()).collect();
-    let mut runs = Vec::with_capacity(points.len() * seeds.len());
-    let mut scenarios = Vec::with_capacity(runs.capacity());
-    for (p, values) in points.iter().enumerate() {
-        let mut sets = sweep.set.clone();
-        sets.extend(keys.iter().zip(values).map(|(k, v)| set_string(k, v)));
-        let mut at_point = base.clone();
-        for (k, v) in keys.iter().zip(values) {
-            overrides::apply(&mut at_point, &set_string(k, v))
-                .map_err(|e| at(p, values, &keys, e))?;
-        }
-        for seed in &seeds {
-            let mut value = at_point.clone();
-            let mut run_sets = sets.clone();
-            if let Some(seed) = seed {
-                value["seed"] = Value::from(*seed);
-                run_sets.push(format!("seed={seed}"));
-            }
-            let scenario = Scenario::from_value(value)
-                .and_then(|s| s.validate().map(|_| s))
-                .map_err(|e| at(p, values, &keys, e))?;
-            runs.push(RunSpec {
-                index: runs.len(),
-                point: p,
-                seed: *seed,
-                values: values.clone(),
-                sets: run_sets,
-                drive: Drive::of(&scenario),
-            });
-            scenarios.push(scenario);
-        }
-    }
+    let (runs, scenarios) = expand_runs(&base, &sweep.set, &keys, &points, &seeds)?;
     let name = sweep.name.clone().unwrap_or_else(|| {
         sweep_path
             .file_stem()
@@ -500,6 +423,106 @@ pub fn expand(path: &Path) -> Result<Expanded> {
         },
         scenarios,
     })
+}
+
+/// The base scenario as JSON, with the sweep's fixed overrides applied and without a
+/// recording path (the runs write into folders of their own: a recording path in the scenario
+/// would have every run write the same file; recording is the sweep's `record` instead).
+fn base_scenario(sweep: &SweepFile, scenario_path: &Path) -> Result<Value> {
+    let text = std::fs::read_to_string(scenario_path).map_err(|e| {
+        Error::input(
+            "scenario",
+            format!("cannot read {}: {e}", scenario_path.display()),
+        )
+    })?;
+    let mut base: Value = serde_json::from_str(&text).map_err(|e| {
+        Error::input(
+            "scenario",
+            format!(
+                "{}: malformed JSON at line {} column {}: {e}",
+                scenario_path.display(),
+                e.line(),
+                e.column()
+            ),
+        )
+    })?;
+    if let Some(output) = base.get_mut("output").and_then(Value::as_object_mut) {
+        output.remove("rrd");
+    }
+    for (k, set) in sweep.set.iter().enumerate() {
+        overrides::apply(&mut base, set).map_err(|e| rename_field(e, &format!("set[{k}]")))?;
+    }
+    Ok(base)
+}
+
+/// The seeds run at every point: `None` alone (the scenario's own seed) when the sweep sets
+/// none; a count or a list must give between 1 and [`MAX_RUNS`] distinct seeds.
+fn seed_list(seeds: Option<&Seeds>) -> Result<Vec<Option<u64>>> {
+    match seeds {
+        None => Ok(vec![None]),
+        Some(Seeds::Count(n)) if !(1..=MAX_RUNS as u64).contains(n) => Err(Error::input(
+            "seeds",
+            format!("must lie in [1, {MAX_RUNS}] (got {n})"),
+        )),
+        Some(Seeds::Count(n)) => Ok((0..*n).map(Some).collect()),
+        Some(Seeds::List(list)) if list.is_empty() => {
+            Err(Error::input("seeds", "must list at least one seed"))
+        }
+        Some(Seeds::List(list)) => {
+            for (k, s) in list.iter().enumerate() {
+                if list[..k].contains(s) {
+                    return Err(Error::input(
+                        format!("seeds[{k}]"),
+                        format!("seed {s} is listed twice"),
+                    ));
+                }
+            }
+            Ok(list.iter().copied().map(Some).collect())
+        }
+    }
+}
+
+/// Every run, point by point and seed by seed within a point, with its overrides (fixed, axes,
+/// seed) and its typed, validated scenario; the first bad point is the error.
+fn expand_runs(
+    base: &Value,
+    fixed: &[String],
+    keys: &[String],
+    points: &[Vec<Value>],
+    seeds: &[Option<u64>],
+) -> Result<(Vec<RunSpec>, Vec<Scenario>)> {
+    let mut runs = Vec::with_capacity(points.len() * seeds.len());
+    let mut scenarios = Vec::with_capacity(runs.capacity());
+    for (p, values) in points.iter().enumerate() {
+        let mut sets = fixed.to_vec();
+        sets.extend(keys.iter().zip(values).map(|(k, v)| set_string(k, v)));
+        let mut at_point = base.clone();
+        for (k, v) in keys.iter().zip(values) {
+            overrides::apply(&mut at_point, &set_string(k, v))
+                .map_err(|e| at(p, values, keys, e))?;
+        }
+        for seed in seeds {
+            let mut value = at_point.clone();
+            let mut run_sets = sets.clone();
+            if let Some(seed) = seed {
+                value["seed"] = Value::from(*seed);
+                run_sets.push(format!("seed={seed}"));
+            }
+            let scenario = Scenario::from_value(value)
+                .and_then(|s| s.validate().map(|_| s))
+                .map_err(|e| at(p, values, keys, e))?;
+            runs.push(RunSpec {
+                index: runs.len(),
+                point: p,
+                seed: *seed,
+                values: values.clone(),
+                sets: run_sets,
+                drive: Drive::of(&scenario),
+            });
+            scenarios.push(scenario);
+        }
+    }
+    Ok((runs, scenarios))
 }
 
 /// An error of a fixed override, renamed to name the sweep file's field.
