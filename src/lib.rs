@@ -8,12 +8,12 @@
 //! - [`neighbours`]: who can meet whom — Isobe's grid (dense or hashed for an open top), masks,
 //!   neighbour lists;
 //! - [`scheduler`]: the event queue (complete binary tree or calendar);
-//! - [`engine`]: the exact event-driven engine — the event loop, the event kinds and their
-//!   sources, re-mapping, disks at rest;
+//! - [`engine`]: the exact event-driven engine — the scene and its initial state, the event
+//!   loop, the event kinds and their sources, re-mapping, disks at rest;
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison;
 //! - [`measure`]: what is measured (energies, temperature, profiles);
 //! - [`output`]: what is written (summary, recording, trajectories, progress);
-//! - [`scenario`]: the scene description, its checks and the initial state;
+//! - [`scenario`]: the scene description (read strictly, overridden with `--set`) and its checks;
 //! - [`run`]: one run from scenario to outputs (driver, stops, checkpoints);
 //! - [`accuracy`] and [`sweep`]: studies made of many runs (accuracy against cost, parameter
 //!   sweeps on local cores or Slurm);

@@ -35,6 +35,7 @@ mod motion;
 mod observe;
 mod pair;
 mod parts;
+pub mod placement;
 mod predict;
 pub mod remap;
 pub mod rest;

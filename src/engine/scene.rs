@@ -1,12 +1,12 @@
 //! A scenario resolved into what the engine needs: boundaries, floor, collision law, and the
 //! initial disks (radii, masses, positions, velocities) drawn from the scenario's seed.
 
+use crate::engine::placement::{self, Region};
 use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::floor::Floor;
 use crate::physics::walls::{SideBounds, Top};
 use crate::scenario::checks::mean_disk_area;
-use crate::scenario::placement::{self, Region};
 use crate::scenario::{
     GridChoice, MaskChoice, Placement, PlacementKind, QueueChoice, Radius, RemapChoice,
     RenumberChoice, Scenario, XBoundary, YBoundary,

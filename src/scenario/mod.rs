@@ -7,7 +7,6 @@
 
 pub mod json;
 pub mod overrides;
-pub mod placement;
 
 use crate::error::{Error, Result};
 use schemars::JsonSchema;
