@@ -9,7 +9,8 @@
 //! - [`globals`]: the grid, masks and neighbour lists;
 //! - [`scheduler`]: the event sorter (complete binary tree or calendar queue);
 //! - [`simulation`]: the event loop, re-mapping (DUTC) and the scene set-up;
-//! - [`measure`], [`summary`], [`output`]: what is measured and written;
+//! - [`measure`], [`summary`], [`output`]: what is measured and written; [`figure`]: what the
+//!   SVG figures share (axes, markers, legends);
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison, and
 //!   [`accuracy`]: what accuracy costs in time (error against the exact engine vs cost);
 //! - [`scenario`], [`placement`]: the scene description and the initial state;
@@ -24,6 +25,7 @@ pub mod cli;
 pub mod disks;
 pub mod dynamics;
 pub mod error;
+pub mod figure;
 pub mod globals;
 pub mod interactions;
 pub mod locals;

@@ -358,13 +358,6 @@ fn collect_command(
         })
         .collect();
     let path = plot.unwrap_or_else(|| dir.join("plot.svg"));
-    let x_label = match x.as_str() {
-        "drive.amplitude" => format!("{x} (A)"),
-        "drive.frequency" => format!("{x} (f)"),
-        "drive.gamma" => format!("{x} (Γ = Aω²/g)"),
-        "drive.peak_velocity" => format!("{x} (Aω)"),
-        _ => x.clone(),
-    };
     draw(
         &path,
         &format!(
@@ -372,7 +365,7 @@ fn collect_command(
             c.plan.name,
             c.plan.seeds_per_point()
         ),
-        &x_label,
+        &x,
         &panels,
         log,
         log,
