@@ -28,7 +28,7 @@ pub const LEGEND_FRAME: RGBColor = RGBColor(96, 96, 96);
 /// 1/1.24 of the size asked for: 17 gives 13.7 px).
 pub const FONT: f64 = 17.0;
 /// Smallest gap in pixels between the positions of two labels on a horizontal axis.
-pub const X_LABEL_GAP: f64 = 80.0;
+pub const X_LABEL_GAP: f64 = 64.0;
 /// Smallest gap in pixels between the positions of two labels on a vertical axis.
 pub const Y_LABEL_GAP: f64 = 26.0;
 
@@ -234,23 +234,26 @@ fn log_ticks(lo: f64, hi: f64, per_decade: f64, gap: f64) -> (Vec<f64>, Vec<f64>
             }
         }
     } else {
-        // Fewer than three decades in view: 2, 3 and 5 (or 2 and 5) between them if they fit.
-        let sets: [(&[f64], f64); 2] = [(&[1.0, 2.0, 3.0, 5.0], 1.5), (&[1.0, 2.0, 5.0], 2.0)];
-        for (mantissas, closest_ratio) in sets {
-            let values = decade_values(lo, hi, mantissas, 1);
-            if f64::log10(closest_ratio) * per_decade >= gap && values.len() >= 3 {
-                major = values;
-                break;
-            }
-        }
-        if major.is_empty() && decades.len() >= 2 {
-            major = decades.clone();
-        }
-        if major.len() < 2 {
-            // Less than a decade: linear steps, spaced by where they are closest (the top).
+        // Fewer than three decades in view: the richest of 1-2-3-5, 1-2-5, 1-3 and the decades
+        // whose labels keep their distance and are at least two.
+        let sets: [(&[f64], f64); 4] = [
+            (&[1.0, 2.0, 3.0, 5.0], 1.5),
+            (&[1.0, 2.0, 5.0], 2.0),
+            (&[1.0, 3.0], 3.0),
+            (&[1.0], 10.0),
+        ];
+        major = sets
+            .iter()
+            .filter(|(_, closest_ratio)| closest_ratio.log10() * per_decade >= gap)
+            .map(|(mantissas, _)| decade_values(lo, hi, mantissas, 1))
+            .find(|values| values.len() >= 2)
+            .unwrap_or_default();
+        if major.is_empty() {
+            // A narrow range: linear steps, spaced by where they are closest (the top), and
+            // at least two of them.
             let (a, b) = (10f64.powf(lo), 10f64.powf(hi));
             let step = gap / per_decade * b * std::f64::consts::LN_10;
-            major = linear_ticks(a, b, step);
+            major = linear_ticks(a, b, step.min((b - a) / 5.0));
         }
     }
     let mantissas: &[f64] = if per_decade >= 60.0 {
@@ -477,12 +480,13 @@ mod tests {
     }
 
     #[test]
-    fn a_log_axis_within_a_decade_gets_linear_steps_that_do_not_crowd() {
-        let a = Axis::new(2.7, 19.0, true, 300.0, Y_LABEL_GAP);
-        let v: Vec<f64> = a.major.iter().map(|&p| a.value(p)).collect();
-        assert!(v.len() >= 3, "{v:?}");
-        for w in a.major.windows(2) {
-            assert!((w[1] - w[0]) * 300.0 / (a.hi - a.lo) >= Y_LABEL_GAP - 1e-9);
+    fn a_log_axis_within_a_decade_still_gets_labels_that_do_not_crowd() {
+        for (lo, hi, want) in [(2.7, 19.0, 3), (2.7, 3.5, 2), (0.00107, 0.0159, 2)] {
+            let a = Axis::new(lo, hi, true, 300.0, Y_LABEL_GAP);
+            assert!(a.major.len() >= want, "{lo}..{hi}: {:?}", labels(&a));
+            for w in a.major.windows(2) {
+                assert!((w[1] - w[0]) * 300.0 / (a.hi - a.lo) >= Y_LABEL_GAP - 1e-9);
+            }
         }
     }
 
