@@ -16,6 +16,7 @@
 use plotters::coord::cartesian::Cartesian2d;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::element::{Circle, EmptyElement, Polygon, Rectangle};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -282,6 +283,56 @@ fn linear_ticks(lo: f64, hi: f64, min_step: f64) -> Vec<f64> {
     (first..=last).map(|k| k as f64 * step).collect()
 }
 
+/// Font size of panel captions.
+pub const CAPTION_FONT: f64 = 21.0;
+
+/// Room around a plotting area, in pixels: the margin of its panel, the label areas under it
+/// (tick labels and x axis description) and left of it (tick labels and y axis description).
+#[derive(Debug, Clone, Copy)]
+pub struct Room {
+    /// Margin around the panel.
+    pub margin: u32,
+    /// Height of the label area under the plotting area.
+    pub x_area: u32,
+    /// Width of the label area left of the plotting area.
+    pub y_area: u32,
+}
+
+/// A panel on `area`: its caption, the plotting area filled with [`PLOT_BACKGROUND`], and the
+/// axes `x` and `y` with their ticks, tick labels and descriptions (which should name units).
+pub fn chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    (x, y): (&Axis, &Axis),
+    (x_desc, y_desc): (&str, &str),
+    room: Room,
+) -> Result<ChartContext<'a, DB, Cartesian2d<Ticked, Ticked>>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", CAPTION_FONT))
+        .margin(room.margin)
+        .x_label_area_size(room.x_area)
+        .y_label_area_size(room.y_area)
+        .build_cartesian_2d(x.coord(), y.coord())
+        .map_err(|e| e.to_string())?;
+    chart
+        .plotting_area()
+        .fill(&PLOT_BACKGROUND)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| x.label(*v))
+        .y_label_formatter(&|v| y.label(*v))
+        .label_style(("sans-serif", FONT))
+        .axis_desc_style(("sans-serif", FONT))
+        .bold_line_style(BLACK.mix(0.16))
+        .light_line_style(BLACK.mix(0.05))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
 /// Marker shapes, told apart without colour.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Shape {
@@ -358,7 +409,7 @@ pub enum Key {
 
 /// Draws the key of an entry centred at `(x, y)`, 28 pixels wide.
 fn draw_key<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
+    area: &DrawingArea<DB, Shift>,
     key: Key,
     (x, y): (i32, i32),
 ) -> Result<(), String> {
@@ -405,7 +456,7 @@ pub fn text_width(text: &str, size: f64) -> i32 {
 /// entries one under the other in `columns` columns, from the top left, with an optional
 /// heading. Returns the legend's frame `(x, y, width, height)` in the area's pixels.
 pub fn legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
+    area: &DrawingArea<DB, Shift>,
     heading: Option<&str>,
     entries: &[(Key, String)],
     columns: usize,

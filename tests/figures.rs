@@ -69,6 +69,7 @@ fn report() -> Report {
     rows.push(row("dissipation", "TC small", 0.0016, 0.0004));
     rows.push(row("dissipation", "speed cutoff small", 0.0059, 0.0));
     rows.push(row("floor", "fixed-position sine", 0.0057, 0.47));
+    rows.push(row("resting", "resting contacts off", 0.0061, 0.002));
     rows.push(row("recording", "recording frames on", 0.0062, 0.0));
     Report {
         scenario: "test bed".into(),
@@ -109,7 +110,8 @@ fn the_accuracy_figure_can_be_read() {
         "{:?}",
         under.iter().map(|t| &t.content).collect::<Vec<_>>()
     );
-    // Variants with error 0 everywhere are named, not silently left out.
+    // Every family is drawn and in the legend; variants with error 0 everywhere are named.
+    assert!(text.contains("resting contacts off"));
     assert!(text.contains("recording frames on") && text.contains("speed cutoff small"));
     std::fs::remove_file(&path).ok();
 }

@@ -3,6 +3,9 @@
 //! array when a Slurm cluster answers (`tests/slurm/cluster.sh start`; otherwise the test says
 //! `SKIPPED:` and why), and bad sweep files rejected with exit 2 and the culprit named.
 
+#[path = "common/svg.rs"]
+mod svg;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -299,6 +302,7 @@ fn local_sweep_is_resumable_and_the_same_on_one_or_two_workers() {
     );
     let svg = std::fs::read_to_string(two.join("plot.svg")).expect("the plot");
     assert!(svg.starts_with("<svg") && svg.contains("temperature.mean"));
+    svg::check(&svg, 2);
     assert!(two.join("fit.json").exists());
 }
 

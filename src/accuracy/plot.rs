@@ -6,7 +6,7 @@
 use super::{Errors, Report, Row};
 use crate::error::{Error, Result};
 use crate::figure::{
-    draw_markers, legend, Axis, Key, Shape, FONT, PLOT_BACKGROUND, X_LABEL_GAP, Y_LABEL_GAP,
+    chart, draw_markers, legend, Axis, Key, Room, Shape, FONT, X_LABEL_GAP, Y_LABEL_GAP,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -15,15 +15,17 @@ use std::path::Path;
 /// Width and height of the figure in pixels, and the width of the legend column.
 const SIZE: (u32, u32) = (1560, 980);
 const LEGEND_WIDTH: u32 = 340;
-/// Pixels reserved left of and under each plotting area for tick labels and axis descriptions.
-const Y_AREA: u32 = 96;
-const X_AREA: u32 = 58;
-const MARGIN: u32 = 12;
+/// Room around each plotting area for tick labels and axis descriptions.
+const ROOM: Room = Room {
+    margin: 12,
+    x_area: 58,
+    y_area: 96,
+};
 /// Height of a panel's caption.
 const CAPTION: u32 = 34;
 
 /// How each family of variants is drawn: marker, colour, joined by a line, legend text.
-const FAMILIES: [(&str, Shape, RGBColor, bool, &str); 6] = [
+const FAMILIES: [(&str, Shape, RGBColor, bool, &str); 7] = [
     (
         "reference",
         Shape::Circle,
@@ -58,6 +60,13 @@ const FAMILIES: [(&str, Shape, RGBColor, bool, &str); 6] = [
         RGBColor(148, 103, 189),
         false,
         "TC and speed cutoff",
+    ),
+    (
+        "resting",
+        Shape::Triangle,
+        RGBColor(140, 86, 75),
+        false,
+        "resting contacts off",
     ),
     (
         "recording",
@@ -130,7 +139,7 @@ fn frame(report: &Report, panel_width: u32) -> Frame<'_> {
     if !(x0.is_finite() && x1 > 0.0) {
         (x0, x1) = (1e-3, 1.0);
     }
-    let pixels = f64::from(panel_width.saturating_sub(Y_AREA + 2 * MARGIN));
+    let pixels = f64::from(panel_width.saturating_sub(ROOM.y_area + 2 * ROOM.margin));
     Frame {
         spread: report.rows.get(1).map(|r| r.errors).unwrap_or_default(),
         ref_cost: report.rows.first().map_or(f64::NAN, |r| r.wall_per_time),
@@ -177,29 +186,14 @@ fn panel(
     let height = area
         .dim_in_pixel()
         .1
-        .saturating_sub(X_AREA + CAPTION + 2 * MARGIN);
+        .saturating_sub(ROOM.x_area + CAPTION + 2 * ROOM.margin);
     let y = Axis::new(lo, hi, true, f64::from(height), Y_LABEL_GAP);
     let x = &f.x;
-    let mut chart = ChartBuilder::on(area)
-        .caption(name, ("sans-serif", 22))
-        .margin(MARGIN)
-        .x_label_area_size(X_AREA)
-        .y_label_area_size(Y_AREA)
-        .build_cartesian_2d(x.coord(), y.coord())
-        .map_err(|e| e.to_string())?;
-    chart.plotting_area().fill(&PLOT_BACKGROUND).map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("cost (wall-clock s per unit of simulated time)")
-        .y_desc("relative error (dimensionless)")
-        .x_label_formatter(&|v| x.label(*v))
-        .y_label_formatter(&|v| y.label(*v))
-        .label_style(("sans-serif", FONT))
-        .axis_desc_style(("sans-serif", FONT))
-        .bold_line_style(BLACK.mix(0.16))
-        .light_line_style(BLACK.mix(0.05))
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let descriptions = (
+        "cost (wall-clock s per unit of simulated time)",
+        "relative error (dimensionless)",
+    );
+    let mut chart = chart(area, name, (x, &y), descriptions, ROOM)?;
     let (x0, x1, y0, y1) = (x.lo, x.hi, y.lo, y.hi);
     if let Some(n) = noise.and_then(|n| y.to(n)) {
         let dashes = DashedLineSeries::new(vec![(x0, n), (x1, n)], 8, 5, SPREAD.stroke_width(2));

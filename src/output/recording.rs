@@ -673,7 +673,7 @@ impl Writer {
     fn frame_at(&self, time: f64) -> i64 {
         match (self.last_frame, self.last_time, self.step) {
             (Some(k), Some(t), Some(dt)) if dt > 0.0 => {
-                k + ((time - t) / dt + 1e-9).floor().max(0.0).min(1.0) as i64
+                k + ((time - t) / dt + 1e-9).floor().clamp(0.0, 1.0) as i64
             }
             (Some(k), ..) => k,
             (None, ..) => 0,

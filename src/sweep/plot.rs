@@ -5,7 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::figure::{
-    draw_markers, legend, Axis, Key, Shape, FONT, PLOT_BACKGROUND, X_LABEL_GAP, Y_LABEL_GAP,
+    chart, draw_markers, legend, Axis, Key, Room, Shape, FONT, X_LABEL_GAP, Y_LABEL_GAP,
 };
 use crate::sweep::collect::Stat;
 use crate::sweep::fit::PowerFit;
@@ -25,12 +25,14 @@ pub struct Panel<'a> {
 
 /// Width of the figure, height of the title and legend strip and of each panel, in pixels.
 const WIDTH: u32 = 900;
-const HEAD: u32 = 96;
+const HEAD: u32 = 120;
 const PANEL_HEIGHT: u32 = 440;
-/// Pixels reserved left of and under each plotting area for tick labels and axis descriptions.
-const Y_AREA: u32 = 96;
-const X_AREA: u32 = 58;
-const MARGIN: u32 = 14;
+/// Room around each plotting area for tick labels and axis descriptions.
+const ROOM: Room = Room {
+    margin: 14,
+    x_area: 58,
+    y_area: 96,
+};
 const CAPTION: u32 = 32;
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
@@ -150,15 +152,24 @@ pub fn draw(
     let root = root
         .titled(title, ("sans-serif", 24))
         .map_err(|e| err(e.to_string()))?;
-    let (head, body) = root.split_vertically(HEAD - 34);
+    let (head, body) = root.split_vertically(HEAD - 30);
     let mut entries = vec![(
         Key::ErrorBar(Shape::Circle, BLUE),
-        "mean over seeds ± one standard error".to_owned(),
+        "mean over seeds, bar ± one standard error (hidden by the dot when smaller)".to_owned(),
     )];
     if panels.iter().any(|p| p.fit.is_some()) {
-        entries.push((Key::Line(RED), "power-law fit c·x^δ".to_owned()));
+        entries.push((
+            Key::Line(RED),
+            "power-law fit c·x^δ (least squares on ln x, ln y)".to_owned(),
+        ));
     }
-    legend(&head.margin(4, 0, Y_AREA + MARGIN, 0), None, &entries, 2).map_err(err)?;
+    legend(
+        &head.margin(4, 0, ROOM.y_area + ROOM.margin, 0),
+        None,
+        &entries,
+        1,
+    )
+    .map_err(err)?;
     let areas = body.split_evenly((panels.len().max(1), 1));
     for (panel, area) in panels.iter().zip(&areas) {
         draw_panel(area, x_name, panel, (log_x, log_y)).map_err(err)?;
@@ -195,6 +206,15 @@ fn caption(panel: &Panel) -> String {
     }
 }
 
+/// The fitted power law across the panel, in plot coordinates, where it is inside the panel.
+fn fit_line(f: PowerFit, x: &Axis, y: &Axis) -> Vec<(f64, f64)> {
+    (0..=100)
+        .map(|i| x.lo + (x.hi - x.lo) * f64::from(i) / 100.0)
+        .filter_map(|p| Some((p, y.to(f.at(x.value(p)))?)))
+        .filter(|(_, q)| (y.lo..=y.hi).contains(q))
+        .collect()
+}
+
 /// One panel: the means with their error bars and the fit, against the sweep axis.
 fn draw_panel(
     area: &DrawingArea<SVGBackend, Shift>,
@@ -227,40 +247,17 @@ fn draw_panel(
         x0,
         x1,
         log_x,
-        f64::from(w.saturating_sub(Y_AREA + 2 * MARGIN)),
+        f64::from(w.saturating_sub(ROOM.y_area + 2 * ROOM.margin)),
         X_LABEL_GAP,
     );
-    let height = h.saturating_sub(X_AREA + CAPTION + 2 * MARGIN);
+    let height = h.saturating_sub(ROOM.x_area + CAPTION + 2 * ROOM.margin);
     let y = Axis::new(y0, y1, log_y, f64::from(height), Y_LABEL_GAP);
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption(panel), ("sans-serif", 20))
-        .margin(MARGIN)
-        .x_label_area_size(X_AREA)
-        .y_label_area_size(Y_AREA)
-        .build_cartesian_2d(x.coord(), y.coord())
-        .map_err(|e| e.to_string())?;
-    chart.plotting_area().fill(&PLOT_BACKGROUND).map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc(axis_label(x_name))
-        .y_desc(axis_label(panel.field))
-        .x_label_formatter(&|v| x.label(*v))
-        .y_label_formatter(&|v| y.label(*v))
-        .label_style(("sans-serif", FONT))
-        .axis_desc_style(("sans-serif", FONT))
-        .bold_line_style(BLACK.mix(0.16))
-        .light_line_style(BLACK.mix(0.05))
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let descriptions = (axis_label(x_name), axis_label(panel.field));
+    let descriptions = (descriptions.0.as_str(), descriptions.1.as_str());
+    let mut chart = chart(area, &caption(panel), (&x, &y), descriptions, ROOM)?;
     if let Some(f) = panel.fit {
-        let line: Vec<(f64, f64)> = (0..=100)
-            .map(|i| x.lo + (x.hi - x.lo) * f64::from(i) / 100.0)
-            .filter_map(|p| Some((p, y.to(f.at(x.value(p)))?)))
-            .filter(|(_, q)| (y.lo..=y.hi).contains(q))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(line, RED.stroke_width(2)))
-            .map_err(|e| e.to_string())?;
+        let line = LineSeries::new(fit_line(f, &x, &y), RED.stroke_width(2));
+        chart.draw_series(line).map_err(|e| e.to_string())?;
     }
     let plotted: Vec<(f64, f64, f64, f64)> = pts
         .iter()
