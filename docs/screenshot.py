@@ -3,9 +3,8 @@ docs/book/src/figures/vibrated_bed.png.
 
     python docs/screenshot.py bed.rrd docs/book/src/figures/vibrated_bed.png [--wait 12]
 
-Starts `rerun --headless` on the file (it plays from the start at one simulated time unit per
-second), waits `--wait` seconds so that the bed is past its start and the viewer's start-up
-notices are gone, saves a screenshot through the viewer's gRPC API and stops the viewer. Needs
+Starts `rerun --headless` on the file (it opens on the last frame, following the data), waits
+`--wait` seconds so that the file is loaded and the viewer's start-up notices are gone, saves a screenshot through the viewer's gRPC API and stops the viewer. Needs
 rerun-sdk (examples/requirements.txt) and a Vulkan driver (Mesa's lavapipe will do:
 `apt-get install mesa-vulkan-drivers`).
 """

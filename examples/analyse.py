@@ -127,13 +127,13 @@ def main():
         last = live[live["frame"] == live["frame"].max()]
         ax_phi.plot(last["value"], last["height"], "C0-", alpha=0.7,
                     label=f"frame {last['frame'].iloc[0]} (recording)")
-    ax_phi.set_xlabel("packing fraction φ")
-    ax_phi.set_ylabel("height")
+    ax_phi.set_xlabel("packing fraction φ (dimensionless)")
+    ax_phi.set_ylabel("height (length units of the scenario)")
     ax_phi.legend()
     ax_com.plot(series["sim_time"], series["com_height"], "C1-", label="recording")
     ax_com.plot(trajectory["time"], trajectory["mean_height"], "k.", ms=3, label="trajectory")
-    ax_com.set_xlabel("simulated time")
-    ax_com.set_ylabel("centre-of-mass height")
+    ax_com.set_xlabel("simulated time (time units of the scenario)")
+    ax_com.set_ylabel("centre-of-mass height (length units)")
     ax_com.legend()
     fig.suptitle(summary["scenario"])
     fig.tight_layout()

@@ -20,6 +20,8 @@
 //! simulated time.
 
 use crate::engine::Scene;
+pub mod plot;
+
 use crate::error::{Error, Result};
 use crate::output::summary::Summary;
 use crate::run::{run, RunOptions};
@@ -700,7 +702,7 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
     if !report.effects.is_empty() {
         write_file(&opts.out.join("effects.csv"), &report.effects_csv())?;
     }
-    plot(&report, &opts.out.join("accuracy.svg"))?;
+    plot::draw(&report, &opts.out.join("accuracy.svg"))?;
     Ok(report)
 }
 
@@ -871,135 +873,6 @@ impl Report {
         }
         out
     }
-}
-
-/// Error vs cost, log–log, one panel per observable; the reference's seed spread as a dashed
-/// line (errors below it are noise) and its cost as a vertical line.
-fn plot(report: &Report, path: &Path) -> Result<()> {
-    use plotters::prelude::*;
-    let err = |e: String| Error::Io(format!("cannot draw {}: {e}", path.display()));
-    let root = SVGBackend::new(path, (1500, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
-    let root = root
-        .titled(
-            &format!(
-                "{}: error against the exact engine vs cost ({} disks)",
-                report.scenario, report.particles
-            ),
-            ("sans-serif", 22),
-        )
-        .map_err(|e| err(e.to_string()))?;
-    let panels = root.split_evenly((2, 3));
-    let families: [(&str, RGBColor); 6] = [
-        ("reference", BLACK),
-        ("time-step", RGBColor(31, 119, 180)),
-        ("space-time", RGBColor(214, 39, 40)),
-        ("floor", RGBColor(44, 160, 44)),
-        ("dissipation", RGBColor(148, 103, 189)),
-        ("recording", RGBColor(127, 127, 127)),
-    ];
-    let spread = report.rows.get(1).map(|r| r.errors).unwrap_or_default();
-    let measured: Vec<&Row> = report
-        .rows
-        .iter()
-        .filter(|r| r.wall_per_time.is_finite() && r.wall_per_time > 0.0)
-        .collect();
-    let ref_cost = report.rows.first().map_or(f64::NAN, |r| r.wall_per_time);
-    let (mut x0, mut x1) = measured.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
-        (a.min(r.wall_per_time), b.max(r.wall_per_time))
-    });
-    if !(x0.is_finite() && x1 > 0.0) {
-        (x0, x1) = (1e-3, 1.0);
-    }
-    let (x0, x1) = (x0 / 1.5, x1 * 1.5);
-    for (k, panel) in panels.iter().enumerate() {
-        let (name, _) = Errors::default().entries()[k];
-        let pick = |e: &Errors| e.entries()[k].1.filter(|v| v.is_finite() && *v > 0.0);
-        let noise = pick(&spread);
-        let values: Vec<f64> = measured
-            .iter()
-            .filter_map(|r| pick(&r.errors))
-            .chain(noise)
-            .collect();
-        if values.is_empty() {
-            panel
-                .draw(&Text::new(
-                    format!("{name}: not measured in this scene"),
-                    (20, 40),
-                    ("sans-serif", 16),
-                ))
-                .map_err(|e| err(e.to_string()))?;
-            continue;
-        }
-        let y0 = values.iter().cloned().fold(f64::INFINITY, f64::min) / 2.0;
-        let y1 = values.iter().cloned().fold(0.0, f64::max) * 2.0;
-        let mut chart = ChartBuilder::on(panel)
-            .caption(name, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| err(e.to_string()))?;
-        chart
-            .configure_mesh()
-            .x_desc("wall s per unit simulated time")
-            .y_desc("relative error")
-            .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|e| err(e.to_string()))?;
-        if let Some(noise) = noise {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(x0, noise), (x1, noise)],
-                    6,
-                    4,
-                    BLACK.mix(0.6).stroke_width(1),
-                ))
-                .map_err(|e| err(e.to_string()))?
-                .label("reference seed spread")
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.6)));
-        }
-        if ref_cost.is_finite() {
-            chart
-                .draw_series(LineSeries::new(
-                    vec![(ref_cost, y0), (ref_cost, y1)],
-                    BLACK.mix(0.3),
-                ))
-                .map_err(|e| err(e.to_string()))?;
-        }
-        for (family, color) in families {
-            let points: Vec<(f64, f64)> = measured
-                .iter()
-                .filter(|r| r.family == family)
-                .filter_map(|r| pick(&r.errors).map(|e| (r.wall_per_time, e)))
-                .collect();
-            if points.is_empty() {
-                continue;
-            }
-            let joined = matches!(family, "time-step" | "space-time");
-            if joined {
-                chart
-                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(1)))
-                    .map_err(|e| err(e.to_string()))?;
-            }
-            chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled())))
-                .map_err(|e| err(e.to_string()))?
-                .label(family)
-                .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
-        }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .border_style(BLACK.mix(0.3))
-            .background_style(WHITE.mix(0.8))
-            .label_font(("sans-serif", 12))
-            .draw()
-            .map_err(|e| err(e.to_string()))?;
-    }
-    root.present().map_err(|e| err(e.to_string()))?;
-    Ok(())
 }
 
 /// One effect: its name, the base scene, the overrides without and with it, what is added.

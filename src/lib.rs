@@ -16,7 +16,8 @@
 //! - [`scenario`]: the scene description (read strictly, overridden with `--set`) and its checks;
 //! - [`run`]: one run from scenario to outputs (driver, stops, checkpoints);
 //! - [`accuracy`] and [`sweep`]: studies made of many runs (accuracy against cost, parameter
-//!   sweeps on local cores or Slurm);
+//!   sweeps on local cores or Slurm), and [`figure`]: what their SVG figures share (axes,
+//!   ticks, markers, legends);
 //! - [`platform`]: allocator settings, prefetch hints, signals; [`cli`]: the command line.
 //!
 //! The brute-force reference engine the tests compare against lives with the tests
@@ -26,6 +27,7 @@ pub mod accuracy;
 pub mod cli;
 pub mod engine;
 pub mod error;
+pub mod figure;
 pub mod measure;
 pub mod neighbours;
 pub mod output;

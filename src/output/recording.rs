@@ -13,6 +13,7 @@
 //! | `scene/lid`                     | static   | `LineStrips2D`: the lid at y = top (lid scenes only) |
 //! | `scene/floor`                   | temporal | `LineStrips2D`: the floor at its current height  |
 //! | `scene/speed_scale`             | static   | `LineStrips2D` and labelled `Points2D`: the colour scale (colouring by speed) |
+//! | `scene/clock`                   | static + temporal | `Points2D` at the bed's top left (static), its label `t = …` per frame: the simulated time as a plain number |
 //! | `profiles/packing_fraction`     | temporal | `LineStrips2D`: (φ, height) of the frame, one point per bin |
 //! | `profiles/temperature`          | temporal | `LineStrips2D`: ((Tx + Ty)/2, height), bins holding disks |
 //! | `profiles/<name>/axes`          | static   | `LineStrips2D` and labelled `Points2D`: axes, ticks, titles |
@@ -21,8 +22,12 @@
 //! | `log`                           | temporal | `TextLog`: notable events                        |
 //!
 //! Timelines: sequence `frame` (the frame index) and duration `sim_time` (simulated time, stored
-//! with nanosecond resolution, one simulated time unit shown as one second). The wall-clock
-//! `log_time` timeline is disabled so that the file content depends on the simulation only.
+//! with nanosecond resolution). The wall-clock `log_time` timeline is disabled so that the file
+//! content depends on the simulated run only. The viewer opens on `frame`: Rerun 0.36 has no
+//! timeline kind for a real number, and writes a duration as minutes and seconds (`+3m 20s` for
+//! t = 200), whereas a sequence is a plain number (`#200`). The simulated time itself is written
+//! as a plain number on the bed (`scene/clock`, `t = 200`), and `sim_time` keeps it exactly for
+//! tools and for anyone who picks it in the viewer.
 //!
 //! Rerun's 2D views draw y downwards; `disks`, `scene` and each profile carry a static
 //! `Transform3D` with a y scale of −1 so that gravity points down on screen (a profile's also
@@ -40,8 +45,8 @@
 //! the bed, not the empty sky. Below it: packing fraction and granular temperature against
 //! height (same heights as the bed), the time series (one view per group, i.e. per first path
 //! segment of the series names), the legend and the text log. Blueprint, selection and time
-//! panels start collapsed; the timeline is `sim_time`, following the data: a finished file
-//! opens on its last frame (press play or drag the time cursor to go through the run).
+//! panels start collapsed; the timeline is `frame`, following the data: a finished file opens on
+//! its last frame (press play or drag the time cursor to go through the run).
 //!
 //! # Cost
 //!
@@ -74,7 +79,8 @@ use rerun::components::{
 };
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
 use rerun::external::re_log_encoding::DecoderApp;
-use rerun::external::re_sdk_types::blueprint::archetypes::VisualBounds2D;
+use rerun::external::re_sdk_types::blueprint::archetypes::{TimePanelBlueprint, VisualBounds2D};
+use rerun::external::re_sdk_types::blueprint::components::TimelineName as BlueprintTimelineName;
 use rerun::external::re_sdk_types::blueprint::components::VisualBounds2D as VisualBounds2DComponent;
 use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
 use rerun::log::{Chunk, LogMsg, TimeColumn};
@@ -105,6 +111,8 @@ pub const LID_ENTITY: &str = "scene/lid";
 pub const FLOOR_ENTITY: &str = "scene/floor";
 /// Entity of the colour scale drawn in the bed view (static).
 pub const SPEED_SCALE_ENTITY: &str = "scene/speed_scale";
+/// Entity of the clock: the simulated time of the frame, written at the bed's top left.
+pub const CLOCK_ENTITY: &str = "scene/clock";
 /// Entity of the packing-fraction profile (one line strip per frame).
 pub const PACKING_PROFILE_ENTITY: &str = "profiles/packing_fraction";
 /// Entity of the temperature profile (one line strip per frame).
@@ -146,6 +154,7 @@ const FLOOR_COLOR: [u8; 3] = [230, 140, 30];
 const AXIS_COLOR: [u8; 3] = [150, 150, 150];
 const PACKING_COLOR: [u8; 3] = [80, 170, 255];
 const TEMPERATURE_COLOR: [u8; 3] = [255, 110, 80];
+const CLOCK_COLOR: [u8; 3] = [230, 230, 230];
 /// Width of a profile view in units of its height range (its values are stretched to it).
 const PROFILE_ASPECT: f64 = 0.6;
 
@@ -214,6 +223,22 @@ fn nice_ceiling(v: f64) -> f64 {
         .map(|m| m * p)
         .find(|&c| c >= v * (1.0 - 1e-12))
         .unwrap_or(10.0 * p)
+}
+
+/// The clock's label for simulated time `time`: `t = 137`, `t = 0.45`, with the digits that tell
+/// frames `step` apart (one more than the step's first significant digit), trailing zeros
+/// dropped; three decimals when the step is not known (the first frame).
+pub fn clock_label(time: f64, step: Option<f64>) -> String {
+    let decimals = step
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .map_or(3, |s| ((-s.log10()).ceil() as i64 + 1).clamp(0, 9) as usize);
+    let s = format!("{time:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &s
+    };
+    format!("t = {}", if s == "-0" { "0" } else { s })
 }
 
 /// A frame owned by the queue (the buffers are recycled).
@@ -320,7 +345,10 @@ impl RerunRecorder {
             last_radii: Vec::new(),
             last_species: Vec::new(),
             blueprint_sent: false,
+            legend_pending: None,
             last_frame: None,
+            last_time: None,
+            step: None,
             batch: Batch::default(),
         };
         writer.log_static_scene()?;
@@ -427,7 +455,8 @@ impl RerunRecorder {
     }
 
     /// Logs a line of text under `log` at simulated time `time` (on the `frame` timeline, the
-    /// last frame queued before it). `level` is a Rerun level (`TRACE`, `DEBUG`, `INFO`,
+    /// last frame queued before it, or the next frame when it is due at `time`; frame 0 before
+    /// the first frame). `level` is a Rerun level (`TRACE`, `DEBUG`, `INFO`,
     /// `WARN`, `ERROR`, `CRITICAL`; case-insensitive, `warning` means `WARN`).
     pub fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<(), String> {
         let level = match level.to_ascii_uppercase().as_str() {
@@ -502,6 +531,8 @@ struct Batch {
     packing: Column<LineStrip2D>,
     temperature: Column<LineStrip2D>,
     series: BTreeMap<&'static str, Column<f64>>,
+    /// The clock's label of each frame.
+    clock: Column<String>,
 }
 
 /// The writer thread's side: the stream and what has been logged so far.
@@ -516,8 +547,15 @@ struct Writer {
     /// Species last logged (re-logged only on change).
     last_species: Vec<u32>,
     blueprint_sent: bool,
+    /// The legend waits for the second frame, which tells the time between frames; it holds
+    /// whether the scene has profiles.
+    legend_pending: Option<bool>,
     /// Index of the last frame logged.
     last_frame: Option<i64>,
+    /// Simulated time of the last frame logged.
+    last_time: Option<f64>,
+    /// Simulated time between the first two frames.
+    step: Option<f64>,
     batch: Batch,
 }
 
@@ -547,6 +585,9 @@ impl Writer {
         let flushed = self.flush_batch();
         if !self.blueprint_sent {
             self.send_blueprint(&[], None, None)?;
+        }
+        if let Some(has_profiles) = self.legend_pending.take() {
+            self.log_legend(has_profiles, None)?;
         }
         flushed?;
         self.rec.flush_blocking().map_err(|e| err("flush", e))
@@ -626,8 +667,21 @@ impl Writer {
         );
     }
 
+    /// The frame a text at simulated time `time` belongs to on the `frame` timeline (the one
+    /// shown): the last frame logged, or the next one when `time` is already its time (frames
+    /// are `step` apart); frame 0 before any frame, so that the text shows on that timeline.
+    fn frame_at(&self, time: f64) -> i64 {
+        match (self.last_frame, self.last_time, self.step) {
+            (Some(k), Some(t), Some(dt)) if dt > 0.0 => {
+                k + ((time - t) / dt + 1e-9).floor().clamp(0.0, 1.0) as i64
+            }
+            (Some(k), ..) => k,
+            (None, ..) => 0,
+        }
+    }
+
     fn text(&mut self, time: f64, level: &str, text: &str) -> Result<(), String> {
-        self.set_time(self.last_frame, time);
+        self.set_time(Some(self.frame_at(time)), time);
         self.rec
             .log(
                 LOG_ENTITY,
@@ -645,6 +699,13 @@ impl Writer {
             self.send_blueprint(&f.series, f.profile.as_ref(), Some(view_top))?;
         }
         self.last_frame = Some(index);
+        let step = self.last_time.map(|t0| f.time - t0);
+        self.last_time = Some(f.time);
+        self.step = self.step.or(step);
+        if let (Some(has_profiles), Some(_)) = (self.legend_pending, step) {
+            self.legend_pending = None;
+            self.log_legend(has_profiles, step)?;
+        }
 
         // Open top: grow the walls when something rises above 80 % of them.
         if self.layout.top.is_none() {
@@ -696,6 +757,7 @@ impl Writer {
         }
 
         let b = &mut self.batch;
+        b.clock.push(index, t, clock_label(f.time, step));
         b.disks.push(index, t, n);
         b.positions
             .extend(f.x.iter().zip(&f.y).map(|(&x, &y)| [x as f32, y as f32]));
@@ -775,6 +837,15 @@ impl Writer {
             self.rec
                 .send_columns(entity, column.take_times(), columns)
                 .map_err(|e| err(entity, e))?;
+        }
+        if !b.clock.values.is_empty() {
+            let labels = Points2D::update_fields().with_labels(b.clock.values.drain(..));
+            let columns = labels
+                .columns_of_unit_batches()
+                .map_err(|e| err("clock", e))?;
+            self.rec
+                .send_columns(CLOCK_ENTITY, b.clock.take_times(), columns)
+                .map_err(|e| err("clock", e))?;
         }
         for (name, column) in &mut b.series {
             if column.values.is_empty() {
@@ -932,8 +1003,25 @@ impl Writer {
             .map_err(|e| err("colour scale", e))
     }
 
+    /// Logs (static) where the clock is written: at the top left of the bed view, below
+    /// `view_top`; its label comes with each frame.
+    fn log_clock(&self, view_top: f64, bottom: f64) -> Result<(), String> {
+        let (w, span) = (self.layout.width, view_top - bottom);
+        let at = [(0.06 * w) as f32, (view_top - 0.06 * span) as f32];
+        self.rec
+            .log_static(
+                CLOCK_ENTITY,
+                &Points2D::new([at])
+                    .with_radii([Radius::new_ui_points(0.0)])
+                    .with_colors([rgb(CLOCK_COLOR)])
+                    .with_show_labels(true),
+            )
+            .map_err(|e| err("clock", e))
+    }
+
     /// The legend: what the colours and the views show.
-    fn log_legend(&self, has_profiles: bool) -> Result<(), String> {
+    /// `step` is the simulated time between frames (`None` with a single frame).
+    fn log_legend(&self, has_profiles: bool, step: Option<f64>) -> Result<(), String> {
         let mut text = String::new();
         match self.color_by {
             ColorBy::Speed => text.push_str(&format!(
@@ -957,6 +1045,18 @@ impl Writer {
                  temperature T = (Tx + Ty)/2 about each bin's mean velocity.\n\n",
             );
         }
+        let spacing = step.map_or(String::new(), |dt| {
+            format!(
+                ", {} time units apart",
+                clock_label(dt, Some(dt)).trim_start_matches("t = ")
+            )
+        });
+        text.push_str(&format!(
+            "**Time**: the time panel and the plots count frames (timeline `frame`{spacing}); \
+             the simulated time of the frame shown is written at the top left of the bed \
+             (t = …). Timeline `sim_time` holds the same times, written by the viewer as \
+             durations (one time unit as one second).\n\n"
+        ));
         text.push_str("Floor: orange. Walls: grey; periodic edges: dark grey.");
         self.rec
             .log_static(
@@ -987,6 +1087,7 @@ impl Writer {
             if self.color_by == ColorBy::Speed {
                 self.log_speed_scale(top, bed_bottom)?;
             }
+            self.log_clock(top, bed_bottom)?;
             let (view, path) = view_with_path(
                 Spatial2DView::new(self.layout.name.clone())
                     .with_origin("/")
@@ -1078,7 +1179,7 @@ impl Writer {
             row.push(Vertical::new(plots).into());
             shares.push(1.4);
         }
-        self.log_legend(profile.is_some())?;
+        self.legend_pending = Some(profile.is_some());
         row.push(
             Vertical::new([
                 TextDocumentView::new("legend")
@@ -1096,7 +1197,8 @@ impl Writer {
         let root = Vertical::new([bed, Horizontal::new(row).with_column_shares(shares).into()])
             .with_row_shares([1.0, 2.0]);
         // Side and time panels collapsed (the time panel keeps its play controls), so that the
-        // views get the window; simulated time is the timeline shown.
+        // views get the window; the timeline shown is the frame number, a plain number (the
+        // module documentation says why).
         let blueprint = Blueprint::new(root)
             .with_auto_views(false)
             .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
@@ -1104,7 +1206,7 @@ impl Writer {
             .with_time_panel(
                 TimePanel::new()
                     .with_state(PanelState::Collapsed)
-                    .with_timeline(SIM_TIME_TIMELINE)
+                    .with_timeline(FRAME_TIMELINE)
                     .with_play_state(PlayState::Following),
             );
         send_with_bounds(&self.rec, &blueprint, &bounds)
@@ -1215,6 +1317,9 @@ pub type ProfileFrame = (i64, Vec<[f32; 2]>);
 pub struct LogLine {
     /// Simulated time of the entry (`None` if it has no `sim_time`).
     pub time: Option<f64>,
+    /// Frame of the entry on the `frame` timeline (`None` if it has none: the viewer, showing
+    /// that timeline, would not list it).
+    pub frame: Option<i64>,
     /// Level, e.g. `INFO`, `WARN`.
     pub level: String,
     /// The text.
@@ -1262,6 +1367,13 @@ pub struct RecordingContents {
     pub has_footer: bool,
     /// Number of chunks listed in the recording's manifest (0 without footer).
     pub manifest_chunks: usize,
+    /// Kind of each timeline of the recording's temporal data, as Rerun names it (`sequence`,
+    /// `duration`, `timestamp`).
+    pub timelines: BTreeMap<String, String>,
+    /// The timeline the blueprint's time panel shows.
+    pub shown_timeline: Option<String>,
+    /// The clock's label per frame: `(frame, "t = …")`, sorted by frame.
+    pub clock: Vec<(i64, String)>,
 }
 
 impl RecordingContents {
@@ -1287,6 +1399,26 @@ fn entity_name(chunk: &Chunk) -> String {
         .to_owned()
 }
 
+/// Reads what the tests look at in a chunk of the blueprint store: the 2D views' visual bounds
+/// and the timeline of the time panel.
+fn read_blueprint_chunk(chunk: &Chunk, out: &mut RecordingContents) {
+    if entity_name(chunk).ends_with("/VisualBounds2D") {
+        let id = VisualBounds2D::descriptor_range().component;
+        for v in chunk.iter_component::<VisualBounds2DComponent>(id) {
+            for b in v.iter() {
+                let (x, y) = (b.0.x_range.0, b.0.y_range.0);
+                out.view_bounds.push([x[0], x[1], y[0], y[1]]);
+            }
+        }
+    }
+    let id = TimePanelBlueprint::descriptor_timeline().component;
+    for v in chunk.iter_component::<BlueprintTimelineName>(id) {
+        if let Some(name) = v.first() {
+            out.shown_timeline = Some(name.0.as_str().to_owned());
+        }
+    }
+}
+
 /// Decodes a `.rrd` file written by [`RerunRecorder`] with Rerun's own decoder and returns
 /// its contents: per-entity frame counts, disk positions per frame, floor heights, series, the
 /// text log and whether the blueprint and the footer are present. Used by tests and by
@@ -1305,6 +1437,7 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
     let radii_id = Points2D::descriptor_radii().component;
     let colors_id = Points2D::descriptor_colors().component;
     let class_ids_id = Points2D::descriptor_class_ids().component;
+    let labels_id = Points2D::descriptor_labels().component;
     let strips_id = LineStrips2D::descriptor_strips().component;
     let scalars_id = Scalars::descriptor_scalars().component;
     let text_id = TextLog::descriptor_text().component;
@@ -1339,21 +1472,18 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
         let chunk = Chunk::from_arrow_msg(&arrow_msg)
             .map_err(|e| format!("decoding a chunk of {}: {e}", path.display()))?;
         if !store_id.is_recording() {
-            if entity_name(&chunk).ends_with("/VisualBounds2D") {
-                let id = VisualBounds2D::descriptor_range().component;
-                for v in chunk.iter_component::<VisualBounds2DComponent>(id) {
-                    for b in v.iter() {
-                        let (x, y) = (b.0.x_range.0, b.0.y_range.0);
-                        out.view_bounds.push([x[0], x[1], y[0], y[1]]);
-                    }
-                }
-            }
+            read_blueprint_chunk(&chunk, &mut out);
             continue;
         }
         let entity = entity_name(&chunk);
         if chunk.is_static() {
             out.static_entities.insert(entity);
             continue;
+        }
+        for column in chunk.timelines().values() {
+            let timeline = column.timeline();
+            out.timelines
+                .insert(timeline.name().to_string(), timeline.typ().to_string());
         }
         let stats = out.entities.entry(entity.clone()).or_default();
         stats.rows += chunk.num_rows();
@@ -1407,6 +1537,15 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
             {
                 colors.insert(f, v.iter().map(|c| c.to_u32()).collect());
             }
+        } else if entity == CLOCK_ENTITY {
+            for (f, v) in rows_of(labels_id)
+                .into_iter()
+                .zip(chunk.iter_component::<Text>(labels_id))
+            {
+                if let Some(t) = v.first() {
+                    out.clock.push((f, t.as_str().to_owned()));
+                }
+            }
         } else if entity == FLOOR_ENTITY {
             for (f, v) in rows_of(strips_id)
                 .into_iter()
@@ -1449,6 +1588,7 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
             for (i, text) in texts.into_iter().enumerate() {
                 out.log.push(LogLine {
                     time: times.get(i).map(|&ns| ns as f64 * 1e-9),
+                    frame: frames.get(i).copied(),
                     level: levels.get(i).cloned().unwrap_or_default(),
                     text,
                 });
@@ -1473,6 +1613,7 @@ pub fn read_back(path: &Path) -> Result<RecordingContents, String> {
         })
         .collect();
     out.floor.sort_by_key(|&(f, _)| f);
+    out.clock.sort_by_key(|(f, _)| *f);
     out.log.sort_by(|a, b| {
         a.time
             .unwrap_or(f64::NEG_INFINITY)

@@ -368,7 +368,7 @@ fn collect_command(
         c.plan.name,
         c.plan.seeds_per_point()
     );
-    draw(&path, &title, &axis_label(&x), &panels, log, log)?;
+    draw(&path, &title, &x, &panels, log, log)?;
     eprintln!("wrote {}", path.display());
     Ok(0)
 }
@@ -399,15 +399,4 @@ fn report_fits(dir: &Path, x: &str, ys: &[String], fits: &[Option<PowerFit>]) ->
         .expect("fit serialises")
         + "\n";
     write_atomic(&dir.join("fit.json"), &text)
-}
-
-/// The plot's x label: the axis key, with the drive quantity's symbol for the drive axes.
-fn axis_label(x: &str) -> String {
-    match x {
-        "drive.amplitude" => format!("{x} (A)"),
-        "drive.frequency" => format!("{x} (f)"),
-        "drive.gamma" => format!("{x} (Γ = Aω²/g)"),
-        "drive.peak_velocity" => format!("{x} (Aω)"),
-        _ => x.to_string(),
-    }
 }

@@ -1,9 +1,16 @@
 //! The sweep's plot: one panel per summary field, its mean over seeds against a sweep axis, with
-//! error bars of one standard error and, when asked, the fitted power law.
+//! error bars of one standard error and, when asked, the fitted power law. Axes are labelled with
+//! the field and its unit ([`axis_label`]); the legend sits in a strip of its own under the
+//! title, so that it never covers a point.
 
 use crate::error::{Error, Result};
+use crate::figure::{
+    chart, draw_markers, legend, Axis, Key, Room, Shape, FONT, X_LABEL_GAP, Y_LABEL_GAP,
+};
 use crate::sweep::collect::Stat;
 use crate::sweep::fit::PowerFit;
+use plotters::coord::Shift;
+use plotters::prelude::*;
 use std::path::Path;
 
 /// One panel: a field's statistics per point, and its fit.
@@ -14,6 +21,106 @@ pub struct Panel<'a> {
     pub series: &'a [(f64, Stat)],
     /// The fitted power law, drawn as a line.
     pub fit: Option<PowerFit>,
+}
+
+/// Width of the figure, height of the title and legend strip and of each panel, in pixels.
+const WIDTH: u32 = 900;
+const HEAD: u32 = 120;
+const PANEL_HEIGHT: u32 = 440;
+/// Room around each plotting area for tick labels and axis descriptions.
+const ROOM: Room = Room {
+    margin: 14,
+    x_area: 58,
+    y_area: 96,
+};
+const CAPTION: u32 = 32;
+const BLUE: RGBColor = RGBColor(31, 119, 180);
+const RED: RGBColor = RGBColor(214, 39, 40);
+
+/// What a field or sweep key means and its unit, in the scenario's units of length, time and
+/// mass. A name ending in `.` stands for every field under it.
+const QUANTITIES: [(&str, &str, &str); 34] = [
+    ("drive.amplitude", "floor amplitude A", "length"),
+    ("drive.frequency", "floor frequency f", "1/time"),
+    ("drive.gamma", "Γ = Aω²/g", "dimensionless"),
+    (
+        "drive.peak_velocity",
+        "peak floor velocity Aω",
+        "length/time",
+    ),
+    ("floor.amplitude", "floor amplitude A", "length"),
+    ("floor.frequency", "floor frequency f", "1/time"),
+    ("floor.gamma", "Γ = Aω²/g", "dimensionless"),
+    ("floor.restitution", "floor restitution", "dimensionless"),
+    ("floor.phase", "floor phase", "rad"),
+    ("collisions.restitution", "restitution e", "dimensionless"),
+    ("collisions.tc", "TC duration", "time"),
+    ("collisions.speed_cutoff", "speed cutoff", "length/time"),
+    ("particles.count", "disks", "count"),
+    ("particles", "disks", "count"),
+    ("particles.radius", "disk radius", "length"),
+    (
+        "particles.packing_fraction",
+        "packing fraction",
+        "dimensionless",
+    ),
+    (
+        "particles.temperature",
+        "initial temperature",
+        "mass·length²/time²",
+    ),
+    ("gravity", "gravity g", "length/time²"),
+    ("domain.width", "width", "length"),
+    ("domain.height", "height", "length"),
+    ("run.duration", "duration", "time"),
+    ("sim_time", "simulated time", "time"),
+    ("wall_seconds", "wall-clock time", "s"),
+    (
+        "collisions_per_second",
+        "collisions per wall-clock second",
+        "1/s",
+    ),
+    ("temperature.", "granular temperature", "mass·length²/time²"),
+    ("energy.", "energy", "mass·length²/time²"),
+    ("com_height", "centre-of-mass height", "length"),
+    (
+        "impacts_per_unit_time",
+        "floor impacts per unit time",
+        "1/time",
+    ),
+    (
+        "floor_pressure.",
+        "floor pressure (force per width)",
+        "mass/time²",
+    ),
+    ("packing_fraction", "packing fraction", "dimensionless"),
+    ("compressibility_factor", "Z = PA/(NkT)", "dimensionless"),
+    ("max_overlap", "largest overlap", "length"),
+    ("at_rest_since", "time to rest", "time"),
+    ("events.", "event count", "count"),
+];
+
+/// The meaning and unit of a summary field or sweep key (`None` if not known).
+fn quantity(name: &str) -> Option<(&'static str, &'static str)> {
+    QUANTITIES
+        .iter()
+        .find(|(key, ..)| {
+            if key.ends_with('.') {
+                name.starts_with(key)
+            } else {
+                name == *key
+            }
+        })
+        .map(|&(_, meaning, unit)| (meaning, unit))
+}
+
+/// The axis description of a field or sweep key: its name and unit, e.g.
+/// `drive.peak_velocity (length/time)`; `scenario units` when the unit is not known.
+pub fn axis_label(name: &str) -> String {
+    format!(
+        "{name} ({})",
+        quantity(name).map_or("scenario units", |q| q.1)
+    )
 }
 
 /// Axis range padded by a margin: a factor on log axes, a fraction of the span on linear ones.
@@ -28,24 +135,8 @@ fn padded(lo: f64, hi: f64, log: bool) -> (f64, f64) {
     }
 }
 
-/// A tick label: up to four decimals without trailing zeros, or an exponent for tiny and huge
-/// values.
-fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 || (1e-3..1e5).contains(&a) {
-        let s = format!("{v:.4}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        if s == "-0" {
-            "0".into()
-        } else {
-            s.into()
-        }
-    } else {
-        format!("{v:.2e}")
-    }
-}
-
-/// Draws the panels stacked vertically into an SVG file at `path`.
+/// Draws the panels stacked vertically into an SVG file at `path`, under `title` and a legend;
+/// `x_name` is the sweep axis (described with [`axis_label`]).
 pub fn draw(
     path: &Path,
     title: &str,
@@ -54,128 +145,132 @@ pub fn draw(
     log_x: bool,
     log_y: bool,
 ) -> Result<()> {
-    use plotters::coord::combinators::IntoLogRange;
-    use plotters::prelude::*;
     let err = |e: String| Error::Io(format!("cannot draw {}: {e}", path.display()));
-    let height = 60 + 380 * panels.len() as u32;
-    let root = SVGBackend::new(path, (760, height)).into_drawing_area();
+    let height = HEAD + PANEL_HEIGHT * panels.len().max(1) as u32;
+    let root = SVGBackend::new(path, (WIDTH, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
     let root = root
-        .titled(title, ("sans-serif", 20))
+        .titled(title, ("sans-serif", 24))
         .map_err(|e| err(e.to_string()))?;
-    let areas = root.split_evenly((panels.len().max(1), 1));
-    let blue = RGBColor(31, 119, 180);
-    let red = RGBColor(214, 39, 40);
+    let (head, body) = root.split_vertically(HEAD - 30);
+    let mut entries = vec![(
+        Key::ErrorBar(Shape::Circle, BLUE),
+        "mean over seeds, bar ± one standard error (hidden by the dot when smaller)".to_owned(),
+    )];
+    if panels.iter().any(|p| p.fit.is_some()) {
+        entries.push((
+            Key::Line(RED),
+            "power-law fit c·x^δ (least squares on ln x, ln y)".to_owned(),
+        ));
+    }
+    legend(
+        &head.margin(4, 0, ROOM.y_area + ROOM.margin, 0),
+        None,
+        &entries,
+        1,
+    )
+    .map_err(err)?;
+    let areas = body.split_evenly((panels.len().max(1), 1));
     for (panel, area) in panels.iter().zip(&areas) {
-        let pts: Vec<(f64, f64, f64)> = panel
-            .series
-            .iter()
-            .map(|(x, s)| (*x, s.mean, s.se.unwrap_or(0.0)))
-            .filter(|(x, y, _)| x.is_finite() && y.is_finite())
-            .filter(|(x, y, _)| (!log_x || *x > 0.0) && (!log_y || *y > 0.0))
-            .collect();
-        if pts.is_empty() {
-            area.draw(&Text::new(
-                format!("{}: no completed runs to plot", panel.field),
-                (20, 40),
-                ("sans-serif", 16),
-            ))
-            .map_err(|e| err(e.to_string()))?;
-            continue;
-        }
-        let fold = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
-            pts.iter()
-                .map(f)
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                })
-        };
-        let (x0, x1) = fold(&|p| p.0);
-        let (y0, _) = fold(&|p| if log_y { p.1 } else { p.1 - p.2 });
-        let (_, y1) = fold(&|p| p.1 + p.2);
-        let (x0, x1) = padded(x0, x1, log_x);
-        let (y0, y1) = padded(y0, y1, log_y);
-        let caption = match panel.fit {
-            Some(f) => format!(
-                "{}: fit ∝ x^δ, δ = {:.3}{}",
-                panel.field,
-                f.exponent,
-                f.exponent_se
-                    .map_or(String::new(), |se| format!(" ± {se:.3}"))
-            ),
-            None => panel.field.to_string(),
-        };
-        let mut builder = ChartBuilder::on(area);
-        builder
-            .caption(caption, ("sans-serif", 16))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70);
-        // Four combinations of linear and log axes: one generic body.
-        macro_rules! body {
-            ($xr:expr, $yr:expr) => {{
-                let mut chart = builder
-                    .build_cartesian_2d($xr, $yr)
-                    .map_err(|e| err(e.to_string()))?;
-                chart
-                    .configure_mesh()
-                    .x_desc(x_name)
-                    .y_desc(panel.field)
-                    .x_label_formatter(&|v| tick(*v))
-                    .y_label_formatter(&|v| tick(*v))
-                    .draw()
-                    .map_err(|e| err(e.to_string()))?;
-                if let Some(f) = panel.fit {
-                    let k = 50;
-                    let line: Vec<(f64, f64)> = (0..=k)
-                        .map(|i| {
-                            let u = i as f64 / k as f64;
-                            let x = if log_x {
-                                x0 * (x1 / x0).powf(u)
-                            } else {
-                                x0 + (x1 - x0) * u
-                            };
-                            (x, f.at(x))
-                        })
-                        .filter(|(_, y)| *y >= y0 && *y <= y1)
-                        .collect();
-                    chart
-                        .draw_series(LineSeries::new(line, red.stroke_width(1)))
-                        .map_err(|e| err(e.to_string()))?
-                        .label("power-law fit")
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], red));
-                }
-                chart
-                    .draw_series(pts.iter().map(|&(x, y, se)| {
-                        let lo = if log_y { (y - se).max(y0) } else { y - se };
-                        ErrorBar::new_vertical(x, lo, y, y + se, blue.stroke_width(1), 8)
-                    }))
-                    .map_err(|e| err(e.to_string()))?;
-                chart
-                    .draw_series(
-                        pts.iter()
-                            .map(|&(x, y, _)| Circle::new((x, y), 3, blue.filled())),
-                    )
-                    .map_err(|e| err(e.to_string()))?
-                    .label("mean over seeds ± standard error")
-                    .legend(move |(x, y)| Circle::new((x + 10, y), 3, blue.filled()));
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperLeft)
-                    .border_style(BLACK.mix(0.3))
-                    .background_style(WHITE.mix(0.8))
-                    .label_font(("sans-serif", 12))
-                    .draw()
-                    .map_err(|e| err(e.to_string()))?;
-            }};
-        }
-        match (log_x, log_y) {
-            (false, false) => body!(x0..x1, y0..y1),
-            (true, false) => body!((x0..x1).log_scale(), y0..y1),
-            (false, true) => body!(x0..x1, (y0..y1).log_scale()),
-            (true, true) => body!((x0..x1).log_scale(), (y0..y1).log_scale()),
-        }
+        draw_panel(area, x_name, panel, (log_x, log_y)).map_err(err)?;
     }
     root.present().map_err(|e| err(e.to_string()))?;
+    Ok(())
+}
+
+/// The panel's points `(x, mean, standard error)` that its axes can show.
+fn points(panel: &Panel, (log_x, log_y): (bool, bool)) -> Vec<(f64, f64, f64)> {
+    panel
+        .series
+        .iter()
+        .map(|(x, s)| (*x, s.mean, s.se.unwrap_or(0.0)))
+        .filter(|(x, y, _)| x.is_finite() && y.is_finite())
+        .filter(|(x, y, _)| (!log_x || *x > 0.0) && (!log_y || *y > 0.0))
+        .collect()
+}
+
+/// The caption of a panel: the field, its meaning, and the fitted exponent.
+fn caption(panel: &Panel) -> String {
+    let name = match quantity(panel.field) {
+        Some((meaning, _)) => format!("{}: {meaning}", panel.field),
+        None => panel.field.to_owned(),
+    };
+    match panel.fit {
+        Some(f) => format!(
+            "{name}; fit ∝ x^δ, δ = {:.3}{}",
+            f.exponent,
+            f.exponent_se
+                .map_or(String::new(), |se| format!(" ± {se:.3}"))
+        ),
+        None => name,
+    }
+}
+
+/// The fitted power law across the panel, in plot coordinates, where it is inside the panel.
+fn fit_line(f: PowerFit, x: &Axis, y: &Axis) -> Vec<(f64, f64)> {
+    (0..=100)
+        .map(|i| x.lo + (x.hi - x.lo) * f64::from(i) / 100.0)
+        .filter_map(|p| Some((p, y.to(f.at(x.value(p)))?)))
+        .filter(|(_, q)| (y.lo..=y.hi).contains(q))
+        .collect()
+}
+
+/// One panel: the means with their error bars and the fit, against the sweep axis.
+fn draw_panel(
+    area: &DrawingArea<SVGBackend, Shift>,
+    x_name: &str,
+    panel: &Panel,
+    (log_x, log_y): (bool, bool),
+) -> std::result::Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let pts = points(panel, (log_x, log_y));
+    if pts.is_empty() {
+        let text = format!("{}: no completed runs to plot", panel.field);
+        return area
+            .draw(&Text::new(text, (20, 40), ("sans-serif", FONT)))
+            .map_err(e);
+    }
+    let range = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        pts.iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let (x0, x1) = range(&|p| p.0);
+    let (y0, _) = range(&|p| if log_y { p.1 } else { p.1 - p.2 });
+    let (_, y1) = range(&|p| p.1 + p.2);
+    let (x0, x1) = padded(x0, x1, log_x);
+    let (y0, y1) = padded(y0, y1, log_y);
+    let (w, h) = area.dim_in_pixel();
+    let x = Axis::new(
+        x0,
+        x1,
+        log_x,
+        f64::from(w.saturating_sub(ROOM.y_area + 2 * ROOM.margin)),
+        X_LABEL_GAP,
+    );
+    let height = h.saturating_sub(ROOM.x_area + CAPTION + 2 * ROOM.margin);
+    let y = Axis::new(y0, y1, log_y, f64::from(height), Y_LABEL_GAP);
+    let descriptions = (axis_label(x_name), axis_label(panel.field));
+    let descriptions = (descriptions.0.as_str(), descriptions.1.as_str());
+    let mut chart = chart(area, &caption(panel), (&x, &y), descriptions, ROOM)?;
+    if let Some(f) = panel.fit {
+        let line = LineSeries::new(fit_line(f, &x, &y), RED.stroke_width(2));
+        chart.draw_series(line).map_err(|e| e.to_string())?;
+    }
+    let plotted: Vec<(f64, f64, f64, f64)> = pts
+        .iter()
+        .filter_map(|&(xv, m, se)| {
+            let lo = y.to(m - se).unwrap_or(y.lo).max(y.lo);
+            Some((x.to(xv)?, lo, y.to(m)?, y.to(m + se)?))
+        })
+        .collect();
+    let bars = plotted
+        .iter()
+        .map(|&(p, lo, m, hi)| ErrorBar::new_vertical(p, lo, m, hi, BLUE.stroke_width(1), 10));
+    chart.draw_series(bars).map_err(|e| e.to_string())?;
+    let marks: Vec<(f64, f64)> = plotted.iter().map(|&(p, _, m, _)| (p, m)).collect();
+    draw_markers(&mut chart, Shape::Circle, &marks, BLUE, 5)?;
     Ok(())
 }

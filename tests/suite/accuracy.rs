@@ -2,6 +2,8 @@
 //! seeds, a non-zero spread across seeds), the approximate schemes show errors that fall with
 //! their step, and the command writes its table, CSV and SVG plot.
 
+use crate::common::svg;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use vibrobed::accuracy::{report, Options};
@@ -167,6 +169,7 @@ fn the_command_writes_table_csv_and_plot() {
     assert!(csv.lines().count() > 10, "{csv}");
     let svg = std::fs::read_to_string(out.join("accuracy.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("circle"), "not a plot");
+    svg::check(&svg, 6);
     assert!(std::fs::read_to_string(out.join("effects.csv"))
         .unwrap()
         .contains("walls vs periodic"));

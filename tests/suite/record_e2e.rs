@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
-use vibrobed::output::recording::{read_back, RecordingContents, RerunRecorder};
+use vibrobed::output::recording::{clock_label, read_back, RecordingContents, RerunRecorder};
 use vibrobed::output::summary::Summary;
 use vibrobed::run::{run, FrameSink, RunOptions};
 use vibrobed::{Error, Scenario};
@@ -179,6 +179,7 @@ fn recorded_run_reads_back_as_simulated() {
         "log".into(),
         "profiles/packing_fraction".into(),
         "profiles/temperature".into(),
+        "scene/clock".into(),
         "scene/floor".into(),
     ];
     temporal.extend(SERIES.iter().map(|n| format!("series/{n}")));
@@ -306,6 +307,21 @@ fn recorded_run_reads_back_as_simulated() {
     assert_eq!(texts[2], "run completed");
     assert!((c.log[2].time.unwrap() - DURATION).abs() < 1e-9);
     assert!(c.log.iter().all(|l| l.level == "INFO"));
+
+    // Time as the viewer shows it: the frame number (a sequence: plain numbers, where a
+    // duration reads `+3m 20s`), the simulated time on the bed, the log on that timeline.
+    assert_eq!(c.shown_timeline.as_deref(), Some("frame"));
+    assert_eq!(c.timelines["frame"], "sequence");
+    let clock: Vec<(i64, String)> = (0..FRAMES)
+        .map(|k| {
+            let step = (k > 0).then_some(FRAME_INTERVAL);
+            (k as i64, clock_label(c.disks[k].time, step))
+        })
+        .collect();
+    assert_eq!(c.clock, clock);
+    assert_eq!(c.clock[FRAMES - 1].1, "t = 2.9");
+    let frames: Vec<Option<i64>> = c.log.iter().map(|l| l.frame).collect();
+    assert_eq!(frames, [Some(0), Some(10), Some(FRAMES as i64 - 1)]);
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use vibrobed::measure::ProfileTable;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
-use vibrobed::output::recording::{read_back, RerunRecorder};
+use vibrobed::output::recording::{clock_label, read_back, RerunRecorder};
 
 const N: usize = 3;
 const FRAMES: u64 = 10;
@@ -93,6 +93,47 @@ fn write(path: &Path, color_by: ColorBy, top: Option<f64>) -> RerunRecorder {
         }
     }
     rec
+}
+
+/// The viewer writes a duration timeline as minutes and seconds (`+3m 20s` for t = 200): the
+/// recording opens on the `frame` sequence (a plain number) and writes the simulated time of
+/// each frame as a plain number on the bed; every log line is on the shown timeline.
+#[test]
+fn the_viewer_shows_simulated_time_as_plain_numbers() {
+    let path = tmp("clock");
+    write(&path, ColorBy::Speed, None).finish().unwrap();
+    let c = read_back(&path).unwrap();
+    assert_eq!(c.shown_timeline.as_deref(), Some("frame"));
+    assert_eq!(c.timelines["frame"], "sequence", "{:?}", c.timelines);
+    assert_eq!(c.timelines["sim_time"], "duration", "{:?}", c.timelines);
+    assert!(c.static_entities.contains("scene/clock"));
+    let labels: Vec<(i64, String)> = (0..FRAMES as i64)
+        .map(|k| {
+            (
+                k,
+                format!("t = {}", (k as f64 * DT * 100.0).round() / 100.0),
+            )
+        })
+        .collect();
+    assert_eq!(c.clock, labels);
+    assert_eq!(c.clock[1].1, "t = 0.05");
+    let frames: Vec<Option<i64>> = c.log.iter().map(|l| l.frame).collect();
+    assert_eq!(
+        frames,
+        [Some(0), Some(4)],
+        "log lines on the frame timeline"
+    );
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn clock_labels_tell_frames_apart() {
+    assert_eq!(clock_label(0.0, None), "t = 0");
+    assert_eq!(clock_label(200.0, Some(1.0)), "t = 200");
+    assert_eq!(clock_label(137.5, Some(0.5)), "t = 137.5");
+    assert_eq!(clock_label(0.25, Some(0.25)), "t = 0.25");
+    assert_eq!(clock_label(1.0 / 3.0, None), "t = 0.333");
+    assert_eq!(clock_label(12.000_03, Some(1e-5)), "t = 12.00003");
 }
 
 #[test]

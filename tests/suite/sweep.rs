@@ -3,6 +3,8 @@
 //! array on a Slurm cluster (ignored unless asked for: `.ci/run` starts a one-node cluster with
 //! `tests/slurm/cluster.sh start` and runs it), and bad sweep files rejected with exit 2 and the culprit named.
 
+use crate::common::svg;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -299,6 +301,7 @@ fn local_sweep_is_resumable_and_the_same_on_one_or_two_workers() {
     );
     let svg = std::fs::read_to_string(two.join("plot.svg")).expect("the plot");
     assert!(svg.starts_with("<svg") && svg.contains("temperature.mean"));
+    svg::check(&svg, 2);
     assert!(two.join("fit.json").exists());
 }
 

@@ -3,6 +3,7 @@
 
 pub mod reference;
 pub mod same_run;
+pub mod svg;
 
 use vibrobed::engine::{Scene, Simulation};
 use vibrobed::physics::disks::Disks;
