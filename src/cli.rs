@@ -124,7 +124,7 @@ pub enum Command {
     Sweep {
         /// What to do with the sweep.
         #[command(subcommand)]
-        command: crate::sweep::command::SweepCommand,
+        command: crate::studies::sweep::command::SweepCommand,
     },
     /// Validate a scenario without running it.
     Check {
@@ -242,7 +242,7 @@ fn execute(cli: Cli) -> Result<i32> {
             effects,
             quiet,
         } => {
-            let options = crate::accuracy::Options {
+            let options = crate::studies::accuracy::Options {
                 out,
                 quick,
                 effects,
@@ -308,7 +308,11 @@ fn check(scenario: &Path, sets: &[String]) -> Result<i32> {
 
 /// `vibrobed accuracy`: checks `--out` and `--seeds` before the (long) ensembles start, then
 /// prints the table and names the files written.
-fn accuracy(scenario: &Path, sets: &[String], options: crate::accuracy::Options) -> Result<i32> {
+fn accuracy(
+    scenario: &Path,
+    sets: &[String],
+    options: crate::studies::accuracy::Options,
+) -> Result<i32> {
     let s = Scenario::load(scenario, sets)?;
     let out = &options.out;
     if out.exists() && !out.is_dir() {
@@ -323,7 +327,7 @@ fn accuracy(scenario: &Path, sets: &[String], options: crate::accuracy::Options)
             format!("must lie in [1, {MAX_SEEDS}] (got {k})"),
         ));
     }
-    let report = crate::accuracy::report(&s, &options)?;
+    let report = crate::studies::accuracy::report(&s, &options)?;
     print!("{}", report.table());
     eprintln!(
         "wrote {}/accuracy.csv, accuracy.txt, accuracy.svg{}",

@@ -15,19 +15,16 @@
 //! - [`output`]: what is written (summary, recording, trajectories, progress);
 //! - [`scenario`]: the scene description (read strictly, overridden with `--set`) and its checks;
 //! - [`run`]: one run from scenario to outputs (driver, stops, checkpoints);
-//! - [`accuracy`] and [`sweep`]: studies made of many runs (accuracy against cost, parameter
-//!   sweeps on local cores or Slurm), and [`figure`]: what their SVG figures share (axes,
-//!   ticks, markers, legends);
+//! - [`studies`]: what is made of many runs — accuracy against cost, parameter sweeps on local
+//!   cores or Slurm — and the figures they draw;
 //! - [`platform`]: allocator settings, prefetch hints, signals; [`cli`]: the command line.
 //!
 //! The brute-force reference engine the tests compare against lives with the tests
 //! (`tests/suite/common/reference.rs`).
 
-pub mod accuracy;
 pub mod cli;
 pub mod engine;
 pub mod error;
-pub mod figure;
 pub mod measure;
 pub mod neighbours;
 pub mod output;
@@ -37,7 +34,7 @@ pub mod run;
 pub mod scenario;
 pub mod scheduler;
 pub mod schemes;
-pub mod sweep;
+pub mod studies;
 
 pub use error::{Error, Result};
 pub use scenario::Scenario;

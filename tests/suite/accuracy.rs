@@ -6,7 +6,7 @@ use crate::common::svg;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use vibrobed::accuracy::{report, Options};
+use vibrobed::studies::accuracy::{report, Options};
 use vibrobed::Scenario;
 
 /// A small vibrated bed that runs in a blink.

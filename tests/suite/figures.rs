@@ -6,10 +6,10 @@
 use crate::common::svg;
 
 use std::path::PathBuf;
-use vibrobed::accuracy::{Errors, Report, Row};
-use vibrobed::sweep::collect::Stat;
-use vibrobed::sweep::fit::power_law;
-use vibrobed::sweep::plot::{draw, Panel};
+use vibrobed::studies::accuracy::{Errors, Report, Row};
+use vibrobed::studies::sweep::collect::Stat;
+use vibrobed::studies::sweep::fit::power_law;
+use vibrobed::studies::sweep::plot::{draw, Panel};
 
 fn out(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
@@ -84,7 +84,7 @@ fn report() -> Report {
 #[test]
 fn the_accuracy_figure_can_be_read() {
     let path = out("accuracy");
-    vibrobed::accuracy::plot::draw(&report(), &path).unwrap();
+    vibrobed::studies::accuracy::plot::draw(&report(), &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     svg::check(&text, 6);
     // Errors are labelled at decades, as decimals down to 0.001 and as powers of ten below;

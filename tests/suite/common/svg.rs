@@ -4,7 +4,7 @@
 //! with its unit in parentheses; every legend lies outside every plotting area; every data point
 //! lies inside a plotting area (or is a legend's key).
 
-use vibrobed::figure::{LEGEND_FRAME, PLOT_BACKGROUND};
+use vibrobed::studies::figure::{LEGEND_FRAME, PLOT_BACKGROUND};
 
 /// A `<text>` element.
 #[derive(Debug, Clone)]

@@ -5,8 +5,8 @@
 //! the point's completed runs).
 
 use crate::error::{Error, Result};
-use crate::sweep::local::{run_dir, write_atomic};
-use crate::sweep::plan::{Plan, RunSpec};
+use crate::studies::sweep::local::{run_dir, write_atomic};
+use crate::studies::sweep::plan::{Plan, RunSpec};
 use serde_json::Value;
 use std::path::Path;
 

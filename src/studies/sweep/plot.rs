@@ -4,11 +4,11 @@
 //! title, so that it never covers a point.
 
 use crate::error::{Error, Result};
-use crate::figure::{
+use crate::studies::figure::{
     chart, draw_markers, legend, Axis, Key, Room, Shape, FONT, X_LABEL_GAP, Y_LABEL_GAP,
 };
-use crate::sweep::collect::Stat;
-use crate::sweep::fit::PowerFit;
+use crate::studies::sweep::collect::Stat;
+use crate::studies::sweep::fit::PowerFit;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

@@ -13,7 +13,7 @@ use crate::output::summary::Ending;
 pub use crate::output::write_atomic;
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
-use crate::sweep::plan::{Expanded, Plan, RunSpec};
+use crate::studies::sweep::plan::{Expanded, Plan, RunSpec};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;

@@ -5,7 +5,7 @@
 
 use super::{Errors, Report, Row};
 use crate::error::{Error, Result};
-use crate::figure::{
+use crate::studies::figure::{
     chart, draw_markers, legend, Axis, Key, Room, Shape, FONT, X_LABEL_GAP, Y_LABEL_GAP,
 };
 use plotters::coord::Shift;

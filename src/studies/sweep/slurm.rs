@@ -2,7 +2,7 @@
 //! (the same code path as a local run), and its submission with `sbatch --parsable`.
 
 use crate::error::{Error, Result};
-use crate::sweep::plan::{plural, Plan};
+use crate::studies::sweep::plan::{plural, Plan};
 use std::path::Path;
 
 /// What goes into the job script besides the array.

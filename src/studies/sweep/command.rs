@@ -2,14 +2,14 @@
 
 use crate::error::{Error, Result};
 use crate::output::summary::Ending;
-use crate::sweep::collect::collect;
-use crate::sweep::fit::{power_law, PowerFit};
-use crate::sweep::local::{
+use crate::studies::sweep::collect::collect;
+use crate::studies::sweep::fit::{power_law, PowerFit};
+use crate::studies::sweep::local::{
     check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan, PoolReport,
 };
-use crate::sweep::plan::{expand, point_label, Plan};
-use crate::sweep::plot::{draw, Panel};
-use crate::sweep::slurm::{script, submit, SlurmOptions};
+use crate::studies::sweep::plan::{expand, point_label, Plan};
+use crate::studies::sweep::plot::{draw, Panel};
+use crate::studies::sweep::slurm::{script, submit, SlurmOptions};
 use clap::{Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
