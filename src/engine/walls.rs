@@ -1,5 +1,5 @@
 //! The side walls and the lid as event sources: when a disk next hits one (the impact times are
-//! [`physics::walls`](crate::physics::walls)'), and what the impact does.
+//! [`physics::walls`](crate::physics::walls)'s), and what the impact does.
 
 use super::event::{code, Event};
 use super::predict::{Next, State};
