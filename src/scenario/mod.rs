@@ -232,8 +232,8 @@ impl Default for Placement {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum PlacementKind {
-    /// Uniform random non-overlapping positions (random sequential addition when dilute, a
-    /// melted triangular lattice when dense).
+    /// Uniform random non-overlapping positions: the rows of the lattice placement, melted by
+    /// hard-disk Monte Carlo sweeps.
     Random,
     /// A perfect triangular lattice.
     Lattice,
@@ -391,7 +391,7 @@ pub struct Engine {
     #[serde(default)]
     pub remap: RemapChoice,
     /// Event queue of the event-driven engine: `calendar` (Paul's calendar of linked lists with
-    /// a small heap; faster) or `tree` (Isobe's complete binary tree; 12 bytes per disk less).
+    /// a small heap; faster) or `tree` (Isobe's complete binary tree; a little less memory).
     /// Both pop the same events in the same order; only speed and memory differ.
     #[serde(default)]
     pub queue: QueueChoice,
@@ -482,7 +482,7 @@ pub enum RemapChoice {
     Global,
     /// Each disk keeps a shell around the place its list was built at and rebuilds its own list
     /// when it leaves it (a per-disk displacement budget; anchors in linked cells): faster than
-    /// the global re-mapping on every benchmark (README, Benchmarks).
+    /// the global re-mapping on every benchmark (the book's Performance page).
     Local,
 }
 
@@ -519,7 +519,7 @@ pub const RENUMBER_FROM: usize = 8192;
 #[serde(rename_all = "kebab-case")]
 pub enum QueueChoice {
     /// Calendar of linked lists plus a small heap for the current bucket (Paul 2007): O(1)
-    /// per event on average, about 20 bytes per disk.
+    /// per event on average.
     #[default]
     Calendar,
     /// Complete binary tree over the disks (Isobe 1999): O(log N) per event, 8 bytes per disk.
