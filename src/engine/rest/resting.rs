@@ -501,3 +501,22 @@ impl<F: Flight> Simulation<F> {
         self.rest.carried = carried;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::engine::rest::jams::tests::run_hard_case;
+
+    /// A bed poured on a static floor ends with disks resting on disks (and so costs no events);
+    /// without resting contacts none rests on another.
+    #[test]
+    fn a_poured_bed_rests_on_disks_only_with_resting_contacts() {
+        let with = run_hard_case("bed_at_rest_60.json", &[]);
+        assert!(with.stacked() > 0, "disks at rest on disks");
+        assert!(with.counts().rest > 0);
+        let without = run_hard_case(
+            "bed_at_rest_60.json",
+            &["collisions.resting_contacts=false"],
+        );
+        assert_eq!(without.stacked(), 0);
+    }
+}

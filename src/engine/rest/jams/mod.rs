@@ -82,7 +82,7 @@ pub fn instant2(g: f64, floor: Option<&Floor>) -> f64 {
 
 /// What the rules' tests share: a hard case run to its end.
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use crate::engine::{JamCounts, Scene, Simulation};
     use crate::physics::flight::Ballistic;
     use crate::scenario::Scenario;
@@ -90,6 +90,15 @@ mod tests {
     /// Runs the hard case `scenarios/hard/{file}` (with `--set` overrides `sets`) to its end,
     /// with the invariant checks on: the jam rules that engaged.
     pub(super) fn jams_in(file: &str, sets: &[&str]) -> JamCounts {
+        run_hard_case(file, sets).jam_counts()
+    }
+
+    /// The engine after running the hard case `scenarios/hard/{file}` (with `--set` overrides
+    /// `sets`) to its end, with the invariant checks on.
+    pub(in crate::engine::rest) fn run_hard_case(
+        file: &str,
+        sets: &[&str],
+    ) -> Simulation<Ballistic> {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("scenarios/hard")
             .join(file);
@@ -101,7 +110,7 @@ mod tests {
         let mut sim = Simulation::new(Ballistic { g }, &scene, disks).expect("engine starts");
         sim.advance_to(scenario.run.duration)
             .expect("runs with the checks on");
-        sim.jam_counts()
+        sim
     }
 
     /// Every jam rule is one of the resting contacts: without them none engages, in the cases
