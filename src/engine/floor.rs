@@ -55,6 +55,13 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
+    /// The floor's height and velocity now: what disks at rest move with (a scene with disks at
+    /// rest has a floor).
+    pub(in crate::engine) fn floor_now(&self) -> (f64, f64) {
+        let floor = self.bounds.floor.as_ref().expect("riders need a floor");
+        floor.ride(self.now)
+    }
+
     /// Flying disk `i` hits the floor.
     pub(super) fn hit_floor(&mut self, i: usize) {
         self.bring(i, self.now);

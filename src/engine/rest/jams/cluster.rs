@@ -57,12 +57,7 @@ impl<F: Flight> Simulation<F> {
     pub(in crate::engine) fn settle_cluster(&mut self, seed: usize) {
         let n = self.disks.len();
         let now = self.now;
-        let (h, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (h, hd) = self.floor_now();
         let mut member = std::mem::take(&mut self.rest.in_cluster);
         member.resize(n, false);
         let mut cluster = std::mem::take(&mut self.rest.cluster);

@@ -26,12 +26,7 @@ impl<F: Flight> Simulation<F> {
     /// the row at rest on its seats: the rule goes there at once.
     pub(in crate::engine) fn seat_row(&mut self, i: usize, j: usize) -> bool {
         let now = self.now;
-        let (h, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (h, hd) = self.floor_now();
         let mut row = std::mem::take(&mut self.rest.cluster);
         let mut seats = Vec::new();
         let ok = self.full_row(i, j, &mut row)
@@ -88,12 +83,7 @@ impl<F: Flight> Simulation<F> {
     /// motion would collapse inelastically to the row at rest.
     pub(in crate::engine) fn stop_floor_row(&mut self, i: usize, j: usize) -> bool {
         let now = self.now;
-        let (h, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (h, hd) = self.floor_now();
         let mut row = std::mem::take(&mut self.rest.cluster);
         let ok = self.full_row(i, j, &mut row)
             && row.iter().all(|&m| {

@@ -70,12 +70,7 @@ impl<F: Flight> Simulation<F> {
         if self.disks.motion[s].vx != 0.0 {
             return false;
         }
-        let (_, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(self.now);
+        let (_, hd) = self.floor_now();
         let mk = &self.disks.motion[k];
         let u = (mk.vx * sx + (mk.vy - hd) * sy) / sx.hypot(sy);
         -u < self.sleep_speed(k)
@@ -97,12 +92,7 @@ impl<F: Flight> Simulation<F> {
         (sx, sy): (f64, f64),
     ) -> Result<()> {
         let now = self.now;
-        let (_, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (_, hd) = self.floor_now();
         let dist = (sx * sx + sy * sy).sqrt();
         let (nx, ny) = (sx / dist, sy / dist);
         // Normal velocity relative to the row, which moves with the floor.

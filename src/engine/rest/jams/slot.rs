@@ -32,12 +32,7 @@ impl<F: Flight> Simulation<F> {
         let ak = self.disks.radius[k];
         let touch = TOUCH * ak;
         let vs = self.disks.motion[s].vx;
-        let (h, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (h, hd) = self.floor_now();
         let (vx, vy) = (vxk - vs, vyk - hd);
         // A parallel slot holds a disk barely moving along it, between supports that do not
         // slide (a sliding one would close or open it).

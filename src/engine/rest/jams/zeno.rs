@@ -51,12 +51,7 @@ impl<F: Flight> Simulation<F> {
         self.tally.counts.zeno += 1;
         self.tally.jams.zeno += 1;
         self.bring(i, now);
-        let (h, hd) = self
-            .bounds
-            .floor
-            .as_ref()
-            .expect("riders need a floor")
-            .ride(now);
+        let (h, hd) = self.floor_now();
         let pressed = self.sleep_speed(i) > 0.0;
         // At rest where it is, if the floor presses and the place holds it (on the floor, or
         // between disks at rest that do not slide, or walls): still, it would be pressed back
