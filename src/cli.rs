@@ -3,10 +3,12 @@
 //! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
-//! failure, 130 interrupted by Ctrl-C (the summary so far is still written, marked
+//! failure (or a summary or profiles that could not be written), 3 an output (recording,
+//! trajectory, checkpoint) that could not be written while the run went on, 128 + n stopped by
+//! signal n (130 Ctrl-C; the summary so far is still written, marked
 //! `"ending": "interrupted"`, and the recording is closed properly).
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
 use crate::output::summary::Ending;
 use crate::platform::signals;
 use crate::run::checkpoint::{check_resume_sets, Checkpoint};
@@ -172,20 +174,8 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
                 format!("{} is a directory: name a file", path.display()),
             ));
         }
-        let parent = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        if !parent.is_dir() {
-            return Err(Error::input(
-                field,
-                format!(
-                    "{}: the directory {} does not exist",
-                    path.display(),
-                    parent.display()
-                ),
-            ));
-        }
+        writable_directory(path)
+            .map_err(|why| Error::input(field, format!("{}: {why}", path.display())))?;
     }
     if args.profiles.is_some() && s.gravity.is_none() {
         return Err(Error::input(
@@ -205,6 +195,37 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Why no file can be written as `path`, if so: its directory does not exist, cannot be reached,
+/// is not a directory, or refuses a new file (permissions, ownership, a read-only or full
+/// filesystem; tried with an empty file, removed at once, so that what the system says is
+/// what a run would meet).
+pub fn writable_directory(path: &Path) -> std::result::Result<(), String> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match std::fs::metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(format!("the directory {} does not exist", dir.display()))
+        }
+        Err(e) => return Err(format!("cannot reach the directory {}: {e}", dir.display())),
+        Ok(m) if !m.is_dir() => return Err(format!("{} is not a directory", dir.display())),
+        Ok(_) => {}
+    }
+    let probe = dir.join(format!(".vibrobed-probe-{}", std::process::id()));
+    match std::fs::File::create_new(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(format!(
+            "cannot write in the directory {}: {e}",
+            dir.display()
+        )),
+    }
 }
 
 /// Most seeds an accuracy ensemble may ask for (each seed is a full run of every variant).
@@ -455,6 +476,10 @@ fn simulate(
     quiet: bool,
 ) -> Result<i32> {
     signals::install();
+    let written_after = [("profiles", &files.profiles), ("summary", &files.summary)]
+        .into_iter()
+        .filter_map(|(output, path)| Some((output, path.clone()?)))
+        .collect();
     let result = run(
         s,
         RunOptions {
@@ -465,6 +490,7 @@ fn simulate(
             progress: !quiet,
             checkpoint,
             resume,
+            written_after,
         },
     )?;
     write_results(&result, files.profiles.as_deref(), files.summary.as_deref())
@@ -478,30 +504,45 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Writes a run's profiles and summary; the exit code of its ending.
+/// Writes a run's profiles and summary, each whatever becomes of the other; a summary that
+/// cannot be written goes to stdout instead (a batch job's log keeps it). Returns the exit code:
+/// 1 when one of them could not be written, else 128 + the signal that stopped the run, else
+/// [`EXIT_OUTPUT_FAILED`] when an output failed during the run, else 0.
 fn write_results(
     result: &crate::output::summary::Summary,
     profiles: Option<&Path>,
     summary: Option<&Path>,
 ) -> Result<i32> {
+    let mut lost = false;
     if let Some(path) = profiles {
-        match &result.profiles {
-            Some(p) => crate::output::write_atomic(path, &p.to_csv())?,
-            None => {
-                return Err(Error::input(
-                    "--profiles",
-                    "this scene has no height profiles (they need gravity)",
-                ))
-            }
+        let Some(p) = &result.profiles else {
+            return Err(Error::input(
+                "--profiles",
+                "this scene has no height profiles (they need gravity)",
+            ));
+        };
+        if let Err(e) = crate::output::write_atomic(path, &p.to_csv()) {
+            eprintln!("vibrobed: {e}");
+            lost = true;
         }
     }
     let json = result.to_json();
-    match summary {
-        Some(path) => crate::output::write_atomic(path, &json)?,
+    match summary.map(|path| crate::output::write_atomic(path, &json)) {
         None => print!("{json}"),
+        Some(Ok(())) => {}
+        Some(Err(e)) => {
+            eprintln!("vibrobed: {e}; the summary follows on stdout");
+            print!("{json}");
+            lost = true;
+        }
     }
-    Ok(match result.ending {
-        Ending::Completed | Ending::EventLimit => 0,
-        Ending::Interrupted => signals::exit_code(),
+    Ok(if lost {
+        1
+    } else if result.ending == Ending::Interrupted {
+        signals::exit_code()
+    } else if !result.output_failures.is_empty() {
+        EXIT_OUTPUT_FAILED
+    } else {
+        0
     })
 }

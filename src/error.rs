@@ -1,6 +1,11 @@
-//! Errors and their exit codes: 2 for bad input (naming the field), 1 for a runtime failure.
+//! Errors and their exit codes: 2 for bad input (naming the field), 1 for a runtime failure;
+//! [`EXIT_OUTPUT_FAILED`] for a run that ended well but could not write one of its outputs.
 
 use std::fmt;
+
+/// Exit code of a run that went on without an output it could not write (a recording, a
+/// trajectory, a checkpoint): its summary is written and lists them under `output_failures`.
+pub const EXIT_OUTPUT_FAILED: i32 = 3;
 
 /// Everything that can stop vibrobed.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,6 +7,7 @@ use crate::output::frame::{FrameView, SceneLayout};
 use crate::output::progress::{ProgressMode, ProgressReport};
 use crate::output::summary::Summary;
 use crate::output::trajectory::TrajectoryWriter;
+use crate::output::watch::{Target, Watch};
 use crate::physics::flight::{Ballistic, Flight, Straight};
 use crate::scenario::{Scenario, Scheme, XBoundary, YBoundary};
 use crate::schemes::{space_time::SpaceTime, time_step::TimeStep, Integrator};
@@ -51,6 +52,9 @@ pub struct RunOptions {
     pub resume: Option<Box<Checkpoint>>,
     /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
     pub progress: bool,
+    /// Files written once the run has ended (`summary`, `profiles`: the output and its path),
+    /// whose directories are watched while it runs.
+    pub written_after: Vec<(&'static str, PathBuf)>,
 }
 
 /// Where and how often a run writes checkpoints, and what it needs to rebuild its scene.
@@ -295,6 +299,31 @@ fn open_recording(
     ))
 }
 
+/// What the watch looks at: the recording's and the trajectory's temporary files, and the
+/// directories of the checkpoint and of the files written at the end.
+fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Target> {
+    let streamed = [
+        (
+            "recording",
+            driver.rrd.clone().filter(|_| driver.sink.is_some()),
+        ),
+        (
+            "trajectory",
+            driver.trajectory.as_ref().map(|w| w.partial().path.clone()),
+        ),
+    ];
+    let later = opts
+        .checkpoint
+        .iter()
+        .map(|c| ("checkpoint", c.path.clone()))
+        .chain(opts.written_after.iter().cloned());
+    streamed
+        .into_iter()
+        .filter_map(|(output, path)| Target::streamed(output, path.as_deref()?))
+        .chain(later.map(|(output, path)| Target::later(output, &path)))
+        .collect()
+}
+
 /// Drives engine `sim` through the scenario and summarises the run.
 fn drive<E: Integrator>(
     sim: E,
@@ -311,8 +340,10 @@ fn drive<E: Integrator>(
         driver.resume(*ck)?;
     }
     if let Some(rrd) = out.rrd {
-        driver.recordings.push(rrd);
+        driver.recordings.push(rrd.clone());
+        driver.rrd = Some(rrd);
     }
+    driver.watch = Watch::start(watch_targets(&driver, opts));
     let progress = ProgressReport::start(
         ProgressMode::for_stderr(opts.progress),
         &s.name,

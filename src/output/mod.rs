@@ -1,10 +1,12 @@
 //! Output plugins: what the simulation writes out.
 pub mod frame;
+pub mod partial;
 pub mod progress;
 #[cfg(feature = "record")]
 pub mod recording;
 pub mod summary;
 pub mod trajectory;
+pub mod watch;
 
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};

@@ -152,6 +152,25 @@ pub struct Summary {
     /// Steps and errors of an approximate scheme (`engine.scheme` `time-step` or `space-time`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub approximation: Option<crate::schemes::SchemeStats>,
+    /// Outputs this run (or this resumed part) could not write; the run went on without them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub output_failures: Vec<OutputFailure>,
+}
+
+/// An output the run could not write: a recording or trajectory (dropped from then on) or a
+/// checkpoint (tried again at the next interval and at the end).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutputFailure {
+    /// `recording`, `trajectory` or `checkpoint`.
+    pub output: &'static str,
+    /// The file that could not be written.
+    pub path: String,
+    /// Simulated time at which the run noticed the first failure.
+    pub time: f64,
+    /// The first failure, with the operating system's reason.
+    pub error: String,
+    /// How many times writing it failed (a checkpoint is tried again).
+    pub failures: u64,
 }
 
 impl Summary {

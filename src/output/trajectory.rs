@@ -29,15 +29,18 @@
 //! # Atomic write
 //!
 //! Frames go to `FILE.partial` beside `FILE`; [`TrajectoryWriter::finish`] (or dropping the
-//! writer, e.g. after an error or an interrupt) flushes the complete frames and renames the file
-//! into place. A process killed outright leaves only `FILE.partial`, never a truncated `FILE`.
+//! writer, e.g. after an error elsewhere or an interrupt) flushes the complete frames and renames
+//! the file into place. A process killed outright leaves only `FILE.partial`, never a truncated
+//! `FILE`. A frame that cannot be written (a full disk, a quota, an I/O error) fails the writer:
+//! the error names the file and the operating system's reason, and `FILE.partial` is removed.
 
 use std::fmt::Write as _;
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::frame::{FrameView, SceneLayout};
+use super::partial::Partial;
 
 /// The element symbols written for species 0, 1, 2, … (atomic numbers 1, 2, 3, …).
 const SYMBOLS: [&str; 36] = [
@@ -65,8 +68,7 @@ fn push_real(out: &mut String, v: f64) {
 #[derive(Debug)]
 pub struct TrajectoryWriter {
     out: Option<BufWriter<File>>,
-    tmp: PathBuf,
-    path: PathBuf,
+    partial: Partial,
     layout: SceneLayout,
     frames: u64,
     /// One frame's text, reused.
@@ -76,15 +78,15 @@ pub struct TrajectoryWriter {
 impl TrajectoryWriter {
     /// Opens `FILE.partial` beside `path` for writing (truncating it). `layout` gives the cell.
     pub fn create(path: &Path, layout: &SceneLayout) -> Result<Self, String> {
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".partial");
-        let tmp = PathBuf::from(tmp);
-        let file = File::create(&tmp)
-            .map_err(|e| format!("cannot create trajectory {}: {e}", tmp.display()))?;
+        let (partial, file) = Partial::create(path).map_err(|e| {
+            format!(
+                "cannot create trajectory {}: {e}",
+                super::partial::partial_name(path).display()
+            )
+        })?;
         Ok(Self {
             out: Some(BufWriter::with_capacity(1 << 20, file)),
-            tmp,
-            path: path.to_owned(),
+            partial,
             layout: layout.clone(),
             frames: 0,
             text: String::new(),
@@ -155,8 +157,13 @@ impl TrajectoryWriter {
             t.push_str(" 0\n");
         }
         let out = self.out.as_mut().ok_or("trajectory already closed")?;
-        out.write_all(self.text.as_bytes())
-            .map_err(|e| format!("cannot write trajectory {}: {e}", self.tmp.display()))?;
+        if let Err(e) = out.write_all(self.text.as_bytes()) {
+            self.discard();
+            return Err(format!(
+                "cannot write trajectory {}: {e}",
+                self.partial.tmp.display()
+            ));
+        }
         self.frames += 1;
         Ok(())
     }
@@ -167,15 +174,35 @@ impl TrajectoryWriter {
         Ok(self.frames)
     }
 
+    /// The temporary file this writer writes (`FILE.partial`).
+    pub fn partial(&self) -> &Partial {
+        &self.partial
+    }
+
     fn close(&mut self) -> Result<(), String> {
         let Some(out) = self.out.take() else {
             return Ok(());
         };
-        out.into_inner()
+        let done = out
+            .into_inner()
             .map_err(|e| e.into_error())
-            .and_then(|file| file.sync_all())
-            .and_then(|_| std::fs::rename(&self.tmp, &self.path))
-            .map_err(|e| format!("cannot write trajectory {}: {e}", self.path.display()))
+            .and_then(|file| self.partial.commit(file));
+        done.map_err(|e| {
+            self.partial.discard();
+            format!(
+                "cannot write trajectory {}: {e}",
+                self.partial.tmp.display()
+            )
+        })
+    }
+
+    /// Stops writing and removes the temporary file.
+    fn discard(&mut self) {
+        // The buffered rest is dropped unwritten: the file is going.
+        if let Some(out) = self.out.take() {
+            let _ = out.into_parts();
+        }
+        self.partial.discard();
     }
 }
 

@@ -13,9 +13,13 @@ static SIGNAL: LazyLock<Arc<AtomicI32>> = LazyLock::new(|| Arc::new(AtomicI32::n
 
 /// Handles SIGINT (Ctrl-C), SIGTERM (batch systems at their time limit) and SIGHUP (a closed
 /// terminal) alike: the first asks the run to stop cleanly; a second SIGINT ends the process at
-/// once (exit 130), for a user who does not want to wait.
+/// once (exit 130), for a user who does not want to wait. SIGXFSZ (a file grown past the
+/// process's size limit, `ulimit -f`) is caught and does nothing, so that the write fails with
+/// EFBIG and the run handles it as any other failure to write, instead of being killed.
 pub fn install() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
+    // SAFETY: the action does nothing, which is async-signal-safe.
+    let _ = unsafe { signal_hook::low_level::register(SIGXFSZ, || {}) };
     for sig in [SIGINT, SIGTERM, SIGHUP] {
         if sig == SIGINT {
             // Registered first, so it sees the flag as it was before this signal.

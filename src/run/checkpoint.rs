@@ -79,8 +79,10 @@ fn refuse(path: &Path, why: impl std::fmt::Display) -> Error {
 }
 
 impl Checkpoint {
-    /// Writes the checkpoint to `path` atomically: a temporary file next to it, synced and
-    /// renamed over it, so that a run killed while writing leaves the previous checkpoint intact.
+    /// Writes the checkpoint to `path` atomically: a temporary file next to it (`FILE.tmp`),
+    /// synced and renamed over it, so that a run killed while writing leaves the previous
+    /// checkpoint intact. A failure removes the temporary file and names it with the operating
+    /// system's reason.
     pub fn write(&self, path: &Path) -> Result<()> {
         let payload = postcard::to_stdvec(self)
             .map_err(|e| Error::Runtime(format!("cannot encode the checkpoint: {e}")))?;
@@ -94,16 +96,17 @@ impl Checkpoint {
         let mut tmp = path.as_os_str().to_owned();
         tmp.push(".tmp");
         let tmp = PathBuf::from(tmp);
-        let io = |e: std::io::Error| {
-            Error::Io(format!("cannot write checkpoint {}: {e}", path.display()))
-        };
-        {
+        let written = (|| {
             use std::io::Write;
-            let mut f = std::fs::File::create(&tmp).map_err(io)?;
-            f.write_all(&bytes).map_err(io)?;
-            f.sync_all().map_err(io)?;
-        }
-        std::fs::rename(&tmp, path).map_err(io)
+            let mut f = std::fs::File::create(&tmp)?;
+            f.write_all(&bytes)?;
+            f.sync_all()?;
+            std::fs::rename(&tmp, path)
+        })();
+        written.map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            Error::Io(format!("cannot write checkpoint {}: {e}", path.display()))
+        })
     }
 
     /// Reads and checks a checkpoint: refused (exit 2) if it is not one, comes from another

@@ -11,14 +11,15 @@ use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
 use crate::output::summary::{
-    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary,
+    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, OutputFailure, Summary,
 };
 use crate::output::trajectory::TrajectoryWriter;
+use crate::output::watch::Watch;
 use crate::physics::walls::Top;
 use crate::run::checkpoint::Checkpoint;
 use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
 use crate::schemes::Integrator;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -54,6 +55,14 @@ pub(super) struct Driver<'a, E: Integrator> {
     /// Wall time of the parts before a resume, and the clock of this part.
     pub(super) wall_before: f64,
     pub(super) clock: Instant,
+    /// The recording file of this part, if one is written.
+    pub(super) rrd: Option<PathBuf>,
+    /// Outputs that could not be written (see [`Driver::output_failed`]).
+    pub(super) failures: Vec<OutputFailure>,
+    /// Whether the last checkpoint could not be written.
+    pub(super) checkpoint_failing: bool,
+    /// The thread that notices output files removed during the run.
+    pub(super) watch: Watch,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -98,6 +107,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             recordings: Vec::new(),
             wall_before: 0.0,
             clock: Instant::now(),
+            rrd: None,
+            failures: Vec::new(),
+            checkpoint_failing: false,
+            watch: Watch::start(Vec::new()),
         }
     }
 
@@ -175,14 +188,12 @@ impl<'a, E: Integrator> Driver<'a, E> {
 
     /// Runs from stop to stop until the duration, the event limit or an interrupt.
     pub(super) fn run(&mut self, progress: &ProgressReport) -> Result<Ending> {
-        if let Some(sink) = self.sink.as_mut() {
-            let text = format!(
-                "start: {} disks, scene {}",
-                self.sim.disks().len(),
-                self.s.name
-            );
-            sink.log_text(0.0, "INFO", &text)?;
-        }
+        let text = format!(
+            "start: {} disks, scene {}",
+            self.sim.disks().len(),
+            self.s.name
+        );
+        self.log_text(0.0, "INFO", &text);
         loop {
             if self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
                 return Ok(Ending::Interrupted);
@@ -205,15 +216,16 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 self.sample()?;
             }
             if stop.frame {
-                self.frame()?;
+                self.frame();
             }
             if stop.trajectory {
-                self.trajectory_frame()?;
+                self.trajectory_frame();
             }
             if stop.checkpoint {
                 self.stops.k_checkpoint += 1;
-                self.save_checkpoint()?;
+                self.checkpoint()?;
             }
+            self.drop_outputs_gone();
             progress.update(stop.time, self.sim.counts().collisions());
             if stop.time >= self.stops.duration {
                 return Ok(Ending::Completed);
@@ -229,8 +241,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             floor_impacts: self.sim.counts().floor,
             floor_impulse: self.sim.energy_flow_at(t).floor_impulse,
         });
-        if let (Some(sink), true) = (self.sink.as_mut(), self.stops.warmup > 0.0) {
-            sink.log_text(t, "INFO", "warm-up over: averaging starts")?;
+        if self.stops.warmup > 0.0 {
+            self.log_text(t, "INFO", "warm-up over: averaging starts");
         }
         Ok(())
     }
@@ -254,11 +266,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
         Ok(())
     }
 
-    /// A frame: the disks and the time series, to the sink.
-    pub(super) fn frame(&mut self) -> Result<()> {
+    /// A frame: the disks and the time series, to the sink (dropped if it fails).
+    pub(super) fn frame(&mut self) {
         self.stops.k_frame += 1;
         let Some(sink) = self.sink.as_mut() else {
-            return Ok(());
+            return;
         };
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let sim = &self.sim;
@@ -288,37 +300,148 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .as_ref()
             .map(|p| p.of_instant(snap, d));
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        sink.frame(&frame_view(
+        let sent = sink.frame(&frame_view(
             self.stops.k_frame - 1,
             snap,
             (&radius, &species),
             &series,
             profile.as_ref(),
-        ))
+        ));
+        if let Err(e) = sent {
+            self.recording_failed(e);
+        }
     }
 
-    /// A trajectory frame: every disk, to the extended XYZ file.
-    pub(super) fn trajectory_frame(&mut self) -> Result<()> {
+    /// A line of text to the sink (dropped if it fails).
+    fn log_text(&mut self, time: f64, level: &str, text: &str) {
+        if let Some(Err(e)) = self.sink.as_mut().map(|s| s.log_text(time, level, text)) {
+            self.recording_failed(e);
+        }
+    }
+
+    /// The recording failed: the run goes on without it.
+    fn recording_failed(&mut self, e: Error) {
+        self.sink = None; // Its writer has stopped; dropping it removes its temporary file.
+        let path = self.rrd.clone().unwrap_or_default();
+        self.output_failed("recording", &path, e);
+    }
+
+    /// The trajectory failed: the run goes on without it.
+    fn trajectory_failed(&mut self, e: Error) {
+        if let Some(w) = self.trajectory.take() {
+            let path = w.partial().path.clone();
+            drop(w);
+            self.output_failed("trajectory", &path, e);
+        }
+    }
+
+    /// An output could not be written: said on stderr and kept for the summary; the run goes
+    /// on. A checkpoint failing again is only counted.
+    pub(super) fn output_failed(&mut self, output: &'static str, path: &Path, e: Error) {
+        let error = match e {
+            Error::Io(m) | Error::Runtime(m) => m,
+            other => other.to_string(),
+        };
+        let path = path.display().to_string();
+        if let Some(f) = self
+            .failures
+            .iter_mut()
+            .find(|f| f.output == output && f.path == path)
+        {
+            f.failures += 1;
+            return;
+        }
+        let goes_on = match output {
+            "checkpoint" => {
+                "the run goes on, and tries the checkpoint again at the next interval and at the end \
+                 (an earlier checkpoint stays whole)"
+            }
+            _ => "the run goes on without it",
+        };
+        eprintln!("vibrobed: warning: {error}; {goes_on}");
+        self.failures.push(OutputFailure {
+            output,
+            path,
+            time: self.sim.time(),
+            error,
+            failures: 1,
+        });
+    }
+
+    /// Drops the recording and the trajectory when the watch found their files gone.
+    fn drop_outputs_gone(&mut self) {
+        for output in self.watch.gone() {
+            let gone = |path: &Path| {
+                Error::Io(format!(
+                    "{output} {}: removed during the run",
+                    crate::output::partial::partial_name(path).display()
+                ))
+            };
+            match output {
+                "recording" if self.sink.is_some() => {
+                    let e = gone(self.rrd.as_deref().unwrap_or(Path::new("")));
+                    self.recording_failed(e);
+                }
+                "trajectory" => {
+                    if let Some(e) = self.trajectory.as_ref().map(|w| gone(&w.partial().path)) {
+                        self.trajectory_failed(e);
+                    }
+                }
+                _ => {} // Written later: the watch has said it; writing it will tell.
+            }
+        }
+    }
+
+    /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes
+    /// on), any other error ends the run.
+    fn checkpoint(&mut self) -> Result<()> {
+        match self.save_checkpoint() {
+            Ok(()) => {
+                if std::mem::take(&mut self.checkpoint_failing) {
+                    if let Some(plan) = &self.checkpoint {
+                        eprintln!(
+                            "vibrobed: note: checkpoint {} written again at t = {}",
+                            plan.path.display(),
+                            self.sim.time()
+                        );
+                    }
+                }
+                Ok(())
+            }
+            Err(e @ Error::Io(_)) => {
+                self.checkpoint_failing = true;
+                let path = self.checkpoint.as_ref().map(|c| c.path.clone());
+                self.output_failed("checkpoint", &path.unwrap_or_default(), e);
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// A trajectory frame: every disk, to the extended XYZ file (dropped if it fails).
+    pub(super) fn trajectory_frame(&mut self) {
         self.stops.k_trajectory += 1;
         let Some(w) = self.trajectory.as_mut() else {
-            return Ok(());
+            return;
         };
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        w.frame(&frame_view(
+        let written = w.frame(&frame_view(
             self.stops.k_trajectory - 1,
             snap,
             (&radius, &species),
             &[],
             None,
-        ))
-        .map_err(Error::Io)
+        ));
+        if let Err(e) = written {
+            self.trajectory_failed(Error::Io(e));
+        }
     }
 
     /// Closes the recording with a note on how the run ended.
-    pub(super) fn close_sink(&mut self, ending: Ending, end_time: f64) -> Result<()> {
-        if let Some(mut sink) = self.sink.take() {
+    pub(super) fn close_sink(&mut self, ending: Ending, end_time: f64) {
+        if self.sink.is_some() {
             let note = match ending {
                 Ending::Completed => "run completed".to_string(),
                 Ending::Interrupted => format!("interrupted at t = {end_time}"),
@@ -329,10 +452,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
             } else {
                 "WARN"
             };
-            sink.log_text(end_time, level, &note)?;
-            sink.finish()?;
+            self.log_text(end_time, level, &note);
         }
-        Ok(())
+        if let Some(Err(e)) = self.sink.take().map(|sink| sink.finish()) {
+            self.recording_failed(e);
+        }
     }
 
     /// Ends the run: the final state, the outputs closed, the summary.
@@ -349,12 +473,16 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         // However the run ended (completed, event limit, signal), its state is saved: a resume
         // can extend the duration or the event budget.
-        self.save_checkpoint()?;
+        self.checkpoint()?;
         progress.finish(ending, end_time, self.sim.counts().collisions());
+        self.drop_outputs_gone();
         if let Some(w) = self.trajectory.take() {
-            w.finish().map_err(Error::Io)?;
+            let path = w.partial().path.clone();
+            if let Err(e) = w.finish() {
+                self.output_failed("trajectory", &path, Error::Io(e));
+            }
         }
-        self.close_sink(ending, end_time)?;
+        self.close_sink(ending, end_time);
         Ok(self.summarise(ending, end_time, wall))
     }
 
@@ -433,6 +561,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 samples: avg.samples,
             },
             approximation: sim.approximation(),
+            output_failures: self.failures.clone(),
         }
     }
 }

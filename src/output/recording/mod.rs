@@ -58,16 +58,21 @@
 //!
 //! # Completeness of the file
 //!
-//! The footer (with the chunk manifest) is written when the underlying `RecordingStream` is
-//! dropped. [`RerunRecorder::finish`] drains the queue, flushes, drops the stream and reports
-//! errors; simply dropping a `RerunRecorder` (e.g. while unwinding from an error) also drains
-//! the queue and completes the file. Only a process that exits without running destructors
-//! (`std::process::exit`, default SIGINT handling, abort) leaves a file without its footer.
+//! Frames go to `FILE.partial`; the footer (with the chunk manifest) is written, the file synced
+//! and renamed to `FILE` when the recorder finishes ([`RerunRecorder::finish`], or dropping it,
+//! e.g. after an error elsewhere in the run). A process killed outright leaves `FILE.partial`,
+//! readable as far as it got. A file that cannot be written (a full disk, a quota, an I/O error,
+//! the file removed) stops the writer at once: its error names the file and the operating
+//! system's reason, the temporary file is removed, and the next [`RerunRecorder::frame`] (or
+//! `finish`) returns that error. Nothing waits for ever on the writer: once SIGINT, SIGTERM or
+//! SIGHUP has been received, the recorder gives up a writer stuck for more than [`GRACE`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
+use std::sync::atomic::Ordering;
+use std::sync::mpsc::{self, Receiver, Sender, SyncSender, TrySendError};
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
@@ -132,6 +137,11 @@ pub const QUEUE_BYTES: usize = 64 << 20;
 /// Frames logged together, column-wise, by the writer thread (fewer when they hold more than
 /// 2²⁰ disks together).
 pub const BATCH: usize = 32;
+/// Longest wait for Rerun's pipeline to hand what is logged to the file (which writes each
+/// message as it comes, so this is the disk's time, not a queue's).
+const FLUSH_TIMEOUT: Duration = Duration::from_secs(60);
+/// How long the recorder still waits for its writer once a signal asked the run to stop.
+pub const GRACE: Duration = Duration::from_secs(2);
 /// Disk positions gathered at most before a batch is logged.
 const BATCH_POINTS: usize = 1 << 20;
 
@@ -151,11 +161,13 @@ fn nanos(time: f64) -> i64 {
 
 /// A short label for an axis tick or a speed: `0`, `0.25`, `1.9`, `120`.
 mod decode;
+mod file;
 mod layout;
 mod style;
 mod writer;
 
 pub use decode::*;
+use file::RrdFile;
 use style::*;
 pub use style::{clock_label, speed_color};
 use writer::*;
@@ -215,6 +227,8 @@ pub struct RerunRecorder {
     /// Buffers the writer is done with.
     recycled: Option<Receiver<Box<FrameBuf>>>,
     worker: Option<JoinHandle<Result<(), String>>>,
+    /// The temporary file being written (for messages).
+    file: std::path::PathBuf,
     layout: SceneLayout,
     color_by: ColorBy,
 }
@@ -249,15 +263,22 @@ impl RerunRecorder {
         if let Some(id) = recording_id {
             builder = builder.recording_id(id);
         }
+        let file = RrdFile::create(path)?;
+        let tmp = file.partial().tmp;
+        let sink: Box<dyn rerun::sink::LogSink> = Box::new(file.clone());
         let rec = builder
             .recording_name(layout.name.clone())
             // An explicit `--rrd` wins over a `RERUN=0` environment variable.
             .enabled(true)
-            .save(path)
-            .map_err(|e| err(&format!("cannot create {}", path.display()), e))?;
+            .set_sinks(vec![sink])
+            .map_err(|e| {
+                file.partial().discard();
+                err(&format!("cannot create {}", path.display()), e)
+            })?;
         rec.set_log_time_enabled(false);
         let mut writer = Writer {
             rec,
+            file,
             layout: layout.clone(),
             color_by,
             wall_height: None,
@@ -270,12 +291,15 @@ impl RerunRecorder {
             step: None,
             batch: Batch::default(),
         };
-        writer.log_static_scene()?;
+        if let Err(e) = writer.log_static_scene() {
+            return Err(writer.complete().err().unwrap_or(e));
+        }
         Ok(Self {
             pending: Some(writer),
             tx: None,
             recycled: None,
             worker: None,
+            file: tmp,
             layout: layout.clone(),
             color_by,
         })
@@ -308,34 +332,46 @@ impl RerunRecorder {
                 Msg::Frame(_) => Err(err("send", "the writer thread was not started")),
             };
         }
-        let sent = self
+        let tx = self
             .tx
             .as_ref()
-            .ok_or_else(|| err("send", "the recording is closed"))?
-            .send(msg);
-        if sent.is_err() {
-            self.tx = None;
-            return Err(self
-                .join()
-                .err()
-                .unwrap_or_else(|| err("send", "the writer thread stopped")));
+            .ok_or_else(|| err("send", "the recording is closed"))?;
+        let mut msg = msg;
+        let mut waiting = Waiting::new(&self.file);
+        loop {
+            match tx.try_send(msg) {
+                Ok(()) => return Ok(()),
+                Err(TrySendError::Full(m)) => msg = m,
+                Err(TrySendError::Disconnected(_)) => {
+                    self.tx = None;
+                    return Err(self
+                        .join()
+                        .err()
+                        .unwrap_or_else(|| err("send", "the writer thread stopped")));
+                }
+            }
+            waiting.pause()?;
         }
-        Ok(())
     }
 
     /// Closes the queue and waits for the writer thread, which completes the file (or, before
     /// the first frame, completes it on this thread).
     fn join(&mut self) -> Result<(), String> {
-        if let Some(mut writer) = self.pending.take() {
-            return writer.close();
+        if let Some(writer) = self.pending.take() {
+            return writer.complete();
         }
         self.tx = None;
-        match self.worker.take() {
-            Some(worker) => worker
-                .join()
-                .unwrap_or_else(|_| Err(err("writer thread", "panicked"))),
-            None => Ok(()),
+        let Some(worker) = self.worker.take() else {
+            return Ok(());
+        };
+        let mut waiting = Waiting::new(&self.file);
+        while !worker.is_finished() {
+            // A writer stuck past the grace is left behind: the process ends without it.
+            waiting.pause()?;
         }
+        worker
+            .join()
+            .unwrap_or_else(|_| Err(err("writer thread", "panicked")))
     }
 
     /// Queues one frame, written on timelines `frame` = `f.index` and `sim_time` = `f.time`:
@@ -394,6 +430,43 @@ impl RerunRecorder {
     /// calling this also completes the file, but silently.
     pub fn finish(mut self) -> Result<(), String> {
         self.join()
+    }
+}
+
+/// Waiting on the writer thread: short sleeps, for as long as it takes, but no longer than
+/// [`GRACE`] once a signal has asked the run to stop.
+struct Waiting<'a> {
+    /// The recording's temporary file.
+    file: &'a Path,
+    /// When the stop signal was first seen while waiting.
+    signalled: Option<Instant>,
+}
+
+impl<'a> Waiting<'a> {
+    fn new(file: &'a Path) -> Self {
+        Waiting {
+            file,
+            signalled: None,
+        }
+    }
+
+    fn pause(&mut self) -> Result<(), String> {
+        if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
+            let since = *self.signalled.get_or_insert_with(Instant::now);
+            if since.elapsed() > GRACE {
+                return Err(err(
+                    "writer",
+                    format!(
+                        "still writing {} {} s after the stop signal: given up, the file is \
+                         left as it is",
+                        self.file.display(),
+                        GRACE.as_secs()
+                    ),
+                ));
+            }
+        }
+        std::thread::sleep(Duration::from_millis(1));
+        Ok(())
     }
 }
 

@@ -55,6 +55,8 @@ pub(super) struct Batch {
 /// The writer thread's side: the stream and what has been logged so far.
 pub(super) struct Writer {
     pub(super) rec: RecordingStream,
+    /// The file the stream writes (its first error stops the writer).
+    pub(super) file: RrdFile,
     pub(super) layout: SceneLayout,
     pub(super) color_by: ColorBy,
     /// Height the walls are currently drawn to (open top only).
@@ -77,7 +79,8 @@ pub(super) struct Writer {
 }
 
 impl Writer {
-    /// Logs the queued messages until the queue closes, then completes the file.
+    /// Logs the queued messages until the queue closes or the file fails, then completes the
+    /// file (or removes it after a failure).
     pub(super) fn run(
         mut self,
         rx: Receiver<Msg>,
@@ -93,16 +96,29 @@ impl Writer {
                 }
                 Msg::Text { time, level, text } => self.text(time, &level, &text),
             };
-            if let Err(e) = step {
+            if let Err(e) = step.and_then(|()| self.file.error().map_or(Ok(()), Err)) {
                 result = Err(e);
                 break; // Dropping `rx` tells the recorder.
             }
         }
-        let closed = self.close();
-        result.and(closed)
+        let completed = self.complete();
+        result.and(completed)
     }
 
-    pub(super) fn close(&mut self) -> Result<(), String> {
+    /// Logs what is gathered, closes the stream and completes the file: footer, sync, rename
+    /// into place; or removes it after a failure. A failure of the file comes first: it says
+    /// what the operating system refused.
+    pub(super) fn complete(mut self) -> Result<(), String> {
+        let closed = self.close();
+        let Writer { rec, file, .. } = self;
+        drop(rec); // Joins Rerun's threads: every message has reached `file`.
+        match (file.finish(), closed) {
+            (Err(e), _) | (Ok(()), Err(e)) => Err(e),
+            (Ok(()), Ok(())) => Ok(()),
+        }
+    }
+
+    fn close(&mut self) -> Result<(), String> {
         let flushed = self.flush_batch();
         if !self.blueprint_sent {
             self.send_blueprint(&[], None, None)?;
@@ -111,8 +127,9 @@ impl Writer {
             self.log_legend(has_profiles, None)?;
         }
         flushed?;
-        self.rec.flush_blocking().map_err(|e| err("flush", e))
-        // The stream is dropped with `self`: the footer is written then.
+        self.rec
+            .flush_with_timeout(FLUSH_TIMEOUT)
+            .map_err(|e| err("flush", e))
     }
 
     pub(super) fn log_static_scene(&mut self) -> Result<(), String> {
