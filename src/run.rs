@@ -32,6 +32,10 @@ pub trait FrameSink {
     fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()>;
     /// Closes the output (writes footers).
     fn finish(self: Box<Self>) -> Result<()>;
+    /// The file being written, for the watch that notices it removed during the run.
+    fn file(&self) -> Option<crate::output::partial::Partial> {
+        None
+    }
 }
 
 /// How to run.
@@ -275,6 +279,9 @@ fn open_recording(
         fn finish(self: Box<Self>) -> Result<()> {
             self.0.finish().map_err(Error::Io)
         }
+        fn file(&self) -> Option<crate::output::partial::Partial> {
+            Some(self.0.file().clone())
+        }
     }
 
     let color = match s.output.color_by {
@@ -303,14 +310,15 @@ fn open_recording(
 /// directories of the checkpoint and of the files written at the end.
 fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Target> {
     let streamed = [
-        (
-            "recording",
-            driver.rrd.clone().filter(|_| driver.sink.is_some()),
-        ),
-        (
-            "trajectory",
-            driver.trajectory.as_ref().map(|w| w.partial().path.clone()),
-        ),
+        driver
+            .sink
+            .as_ref()
+            .and_then(|s| s.file())
+            .map(|f| ("recording", f)),
+        driver
+            .trajectory
+            .as_ref()
+            .map(|w| ("trajectory", w.partial().clone())),
     ];
     let later = opts
         .checkpoint
@@ -319,7 +327,8 @@ fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Ta
         .chain(opts.written_after.iter().cloned());
     streamed
         .into_iter()
-        .filter_map(|(output, path)| Target::streamed(output, path.as_deref()?))
+        .flatten()
+        .map(|(output, file)| Target::streamed(output, file))
         .chain(later.map(|(output, path)| Target::later(output, &path)))
         .collect()
 }

@@ -6,6 +6,8 @@
 use std::fs::File;
 use std::io;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// `FILE.partial`, the name `FILE` is written under until it is complete.
 pub fn partial_name(path: &Path) -> PathBuf {
@@ -15,7 +17,8 @@ pub fn partial_name(path: &Path) -> PathBuf {
 }
 
 /// A file being written under its temporary name: which file it is on disk, so that its removal
-/// (or its directory's) during the run can be noticed.
+/// (or its directory's) during the run can be noticed. Clones share whether the writer is done
+/// with it (renamed or removed it), after which it is no longer watched.
 #[derive(Debug, Clone)]
 pub struct Partial {
     /// The temporary name.
@@ -24,6 +27,8 @@ pub struct Partial {
     pub path: PathBuf,
     /// Device and inode of the file created.
     id: (u64, u64),
+    /// Renamed into place or removed by its writer.
+    settled: Arc<AtomicBool>,
 }
 
 impl Partial {
@@ -35,18 +40,14 @@ impl Partial {
             id: file_id(&file.metadata()?),
             tmp,
             path: path.to_owned(),
+            settled: Arc::default(),
         };
         Ok((partial, file))
     }
 
-    /// The temporary file of `path` as it is now (written by someone else).
-    pub fn existing(path: &Path) -> io::Result<Partial> {
-        let tmp = partial_name(path);
-        Ok(Partial {
-            id: file_id(&std::fs::metadata(&tmp)?),
-            tmp,
-            path: path.to_owned(),
-        })
+    /// Whether its writer is done with it (renamed it into place or removed it).
+    pub fn settled(&self) -> bool {
+        self.settled.load(Ordering::Relaxed)
     }
 
     /// Fails when the temporary file is no longer the one created: removed, replaced, or its
@@ -66,6 +67,7 @@ impl Partial {
     /// Syncs `file` and renames it to its final name.
     pub fn commit(&self, file: File) -> io::Result<()> {
         self.check()?;
+        self.settled.store(true, Ordering::Relaxed);
         file.sync_all()?;
         drop(file);
         std::fs::rename(&self.tmp, &self.path)
@@ -73,7 +75,7 @@ impl Partial {
 
     /// Removes the temporary file (a failed output: its room goes back to the disk).
     pub fn discard(&self) {
-        if self.check().is_ok() {
+        if self.check().is_ok() && !self.settled.swap(true, Ordering::Relaxed) {
             let _ = std::fs::remove_file(&self.tmp);
         }
     }

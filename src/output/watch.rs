@@ -32,12 +32,12 @@ enum What {
 }
 
 impl Target {
-    /// The temporary file of `path`, being written now (`None` if it is not there).
-    pub fn streamed(output: &'static str, path: &Path) -> Option<Target> {
-        Partial::existing(path).ok().map(|p| Target {
+    /// A file being written under its temporary name.
+    pub fn streamed(output: &'static str, file: Partial) -> Target {
+        Target {
             output,
-            what: What::Streamed(p),
-        })
+            what: What::Streamed(file),
+        }
     }
 
     /// A file that will be written in `path`'s directory.
@@ -48,13 +48,21 @@ impl Target {
         }
     }
 
+    /// Whether the run is done with it (a streamed file renamed into place or removed).
+    fn settled(&self) -> bool {
+        matches!(&self.what, What::Streamed(p) if p.settled())
+    }
+
     /// `None` while the output can still be written, else why not (a sentence naming the file).
     fn fault(&self) -> Option<String> {
         match &self.what {
-            What::Streamed(p) => p
-                .check()
-                .err()
-                .map(|e| format!("{} {}: {e}", self.output, p.tmp.display())),
+            What::Streamed(p) => p.check().err().map(|e| {
+                format!(
+                    "{} {}: {e}; the run goes on without it",
+                    self.output,
+                    p.tmp.display()
+                )
+            }),
             What::Later(path) => {
                 let dir = match path.parent() {
                     Some(d) if !d.as_os_str().is_empty() => d,
@@ -67,7 +75,8 @@ impl Target {
                 }
                 .map(|why| {
                     format!(
-                        "{} {}: its directory is gone during the run ({why})",
+                        "{} {}: its directory is gone during the run ({why}); it cannot be \
+                         written unless the directory comes back",
                         self.output,
                         path.display()
                     )
@@ -117,6 +126,7 @@ impl Watch {
 fn watch(mut targets: Vec<Target>, shared: &Shared) {
     while !shared.stop.load(Ordering::Relaxed) {
         targets.retain(|t| match t.fault() {
+            _ if t.settled() => false,
             None => true,
             Some(fault) => {
                 eprintln!("vibrobed: warning: {fault}");

@@ -63,6 +63,8 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) checkpoint_failing: bool,
     /// The thread that notices output files removed during the run.
     pub(super) watch: Watch,
+    /// Outputs whose failure the watch has said already.
+    said: Vec<&'static str>,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -111,6 +113,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             failures: Vec::new(),
             checkpoint_failing: false,
             watch: Watch::start(Vec::new()),
+            said: Vec::new(),
         }
     }
 
@@ -335,6 +338,33 @@ impl<'a, E: Integrator> Driver<'a, E> {
         }
     }
 
+    /// Outputs the watch found gone (it has said so): the run goes on without them.
+    fn drop_outputs_gone(&mut self) {
+        for output in self.watch.gone() {
+            let gone = |path: &Path| {
+                Error::Io(format!(
+                    "{output} {}: removed during the run",
+                    crate::output::partial::partial_name(path).display()
+                ))
+            };
+            let e = match output {
+                "recording" if self.sink.is_some() => {
+                    gone(self.rrd.as_deref().unwrap_or(Path::new("")))
+                }
+                "trajectory" => match &self.trajectory {
+                    Some(w) => gone(&w.partial().path),
+                    None => continue,
+                },
+                _ => continue, // Written later: writing it will tell.
+            };
+            self.said.push(output);
+            match output {
+                "recording" => self.recording_failed(e),
+                _ => self.trajectory_failed(e),
+            }
+        }
+    }
+
     /// An output could not be written: said on stderr and kept for the summary; the run goes
     /// on. A checkpoint failing again is only counted.
     pub(super) fn output_failed(&mut self, output: &'static str, path: &Path, e: Error) {
@@ -351,6 +381,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             f.failures += 1;
             return;
         }
+        let said = self.said.iter().position(|&o| o == output);
+        if let Some(k) = said {
+            self.said.swap_remove(k);
+        }
         let goes_on = match output {
             "checkpoint" => {
                 "the run goes on, and tries the checkpoint again at the next interval and at the end \
@@ -358,7 +392,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             }
             _ => "the run goes on without it",
         };
-        eprintln!("vibrobed: warning: {error}; {goes_on}");
+        if said.is_none() {
+            eprintln!("vibrobed: warning: {error}; {goes_on}");
+        }
         self.failures.push(OutputFailure {
             output,
             path,
@@ -366,30 +402,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
             error,
             failures: 1,
         });
-    }
-
-    /// Drops the recording and the trajectory when the watch found their files gone.
-    fn drop_outputs_gone(&mut self) {
-        for output in self.watch.gone() {
-            let gone = |path: &Path| {
-                Error::Io(format!(
-                    "{output} {}: removed during the run",
-                    crate::output::partial::partial_name(path).display()
-                ))
-            };
-            match output {
-                "recording" if self.sink.is_some() => {
-                    let e = gone(self.rrd.as_deref().unwrap_or(Path::new("")));
-                    self.recording_failed(e);
-                }
-                "trajectory" => {
-                    if let Some(e) = self.trajectory.as_ref().map(|w| gone(&w.partial().path)) {
-                        self.trajectory_failed(e);
-                    }
-                }
-                _ => {} // Written later: the watch has said it; writing it will tell.
-            }
-        }
     }
 
     /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use serde_json::Value;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
 use vibrobed::output::recording::{clock_label, read_back, RecordingContents, RerunRecorder};
-use vibrobed::output::summary::Summary;
+use vibrobed::output::summary::{Ending, Summary};
 use vibrobed::run::{run, FrameSink, RunOptions};
 use vibrobed::{Error, Scenario};
 
@@ -396,8 +396,9 @@ impl FrameSink for FailingRecorder {
     }
 }
 
-/// A run that fails in the middle, after frames were written, returns the error and leaves a
-/// complete file: the driver's early return drops the recorder, which closes the stream.
+/// A sink that fails in the middle of a run, after frames were written, is dropped and the run
+/// goes on: the summary lists the failure, and the recorder behind the sink, dropped, leaves a
+/// complete file with the frames it was given.
 #[test]
 fn run_failing_mid_way_leaves_a_complete_file() {
     let dir = scratch("failed");
@@ -414,15 +415,21 @@ fn run_failing_mid_way_leaves_a_complete_file() {
         speed_scale: 2.0,
     };
     let rec = RerunRecorder::create(&path, &layout, ColorBy::Speed).unwrap();
-    let e = run(
+    let summary = run(
         &s,
         RunOptions {
             sink: Some(Box::new(FailingRecorder { rec, fail_at: 12 })),
             ..RunOptions::default()
         },
     )
-    .expect_err("the sink fails");
-    assert_eq!(e, Error::Io("disk full at frame 12".into()));
+    .expect("the run goes on without its recording");
+    assert_eq!(summary.ending, Ending::Completed);
+    let [failure] = &summary.output_failures[..] else {
+        panic!("one failure expected: {:?}", summary.output_failures);
+    };
+    assert_eq!(failure.output, "recording");
+    assert_eq!(failure.error, "disk full at frame 12");
+    assert_eq!(failure.failures, 1);
     let c = read_back(&path).expect("the file is a valid recording");
     assert!(c.has_footer, "footer missing after an error");
     assert!(c.has_blueprint);
@@ -496,9 +503,11 @@ fn interrupted_binary_leaves_a_complete_file() {
         .spawn()
         .expect("the vibrobed binary starts");
 
-    // The file exists once the run (and its Ctrl-C handler) has started; then let it run.
+    // The file exists (under its temporary name until it is complete) once the run (and its
+    // Ctrl-C handler) has started; then let it run.
+    let partial = dir.join("long.rrd.partial");
     let start = Instant::now();
-    while !rrd.exists() {
+    while !partial.exists() {
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "no recording after 60 s"

@@ -227,8 +227,8 @@ pub struct RerunRecorder {
     /// Buffers the writer is done with.
     recycled: Option<Receiver<Box<FrameBuf>>>,
     worker: Option<JoinHandle<Result<(), String>>>,
-    /// The temporary file being written (for messages).
-    file: std::path::PathBuf,
+    /// The temporary file being written.
+    file: crate::output::partial::Partial,
     layout: SceneLayout,
     color_by: ColorBy,
 }
@@ -264,7 +264,7 @@ impl RerunRecorder {
             builder = builder.recording_id(id);
         }
         let file = RrdFile::create(path)?;
-        let tmp = file.partial().tmp;
+        let partial = file.partial();
         let sink: Box<dyn rerun::sink::LogSink> = Box::new(file.clone());
         let rec = builder
             .recording_name(layout.name.clone())
@@ -299,7 +299,7 @@ impl RerunRecorder {
             tx: None,
             recycled: None,
             worker: None,
-            file: tmp,
+            file: partial,
             layout: layout.clone(),
             color_by,
         })
@@ -337,7 +337,7 @@ impl RerunRecorder {
             .as_ref()
             .ok_or_else(|| err("send", "the recording is closed"))?;
         let mut msg = msg;
-        let mut waiting = Waiting::new(&self.file);
+        let mut waiting = Waiting::new(&self.file.tmp);
         loop {
             match tx.try_send(msg) {
                 Ok(()) => return Ok(()),
@@ -364,7 +364,7 @@ impl RerunRecorder {
         let Some(worker) = self.worker.take() else {
             return Ok(());
         };
-        let mut waiting = Waiting::new(&self.file);
+        let mut waiting = Waiting::new(&self.file.tmp);
         while !worker.is_finished() {
             // A writer stuck past the grace is left behind: the process ends without it.
             waiting.pause()?;
@@ -423,6 +423,11 @@ impl RerunRecorder {
             level,
             text: text.to_owned(),
         })
+    }
+
+    /// The file being written (`FILE.partial` until the recorder finishes).
+    pub fn file(&self) -> &crate::output::partial::Partial {
+        &self.file
     }
 
     /// Writes what is queued, sends the blueprint if no frame was written, flushes everything

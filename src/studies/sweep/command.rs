@@ -181,6 +181,7 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32
     let exp = expand(sweep)?;
     exp.check_scenes()?;
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    writable_out(out)?;
     crate::platform::signals::install();
     let report = run_pool(&exp, out, jobs, !quiet)?;
     eprintln!("{}", pool_tally(&exp.plan, &report, jobs, out));
@@ -195,6 +196,14 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32
         )));
     }
     Ok(0)
+}
+
+/// Refuses (exit 2) an output directory that cannot be created or written in, before any run.
+fn writable_out(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| Error::input("--out", format!("cannot create {}: {e}", out.display())))?;
+    crate::cli::writable_directory(&out.join("plan.json"))
+        .map_err(|why| Error::input("--out", format!("{}: {why}", out.display())))
 }
 
 /// The line `sweep run` ends with: how many runs ran now, were done before, failed, were

@@ -1,10 +1,10 @@
 //! Running a sweep's runs: one run into its folder (shared by `sweep run` and a Slurm task), and
 //! a pool of worker threads over the runs not yet done.
 //!
-//! A run writes `DIR/<index>/profiles.csv` (gravity scenes), then `summary.json` (each to a
-//! temporary name renamed into place), and `recording.rrd` when the sweep records. The summary
-//! comes last, so a summary that says `"ending": "completed"` means the run is complete: a rerun
-//! skips it. Runs that were interrupted, failed or never started are run again from the start.
+//! A run writes `DIR/<index>/recording.rrd` when the sweep records, then `profiles.csv`
+//! (gravity scenes), then `summary.json` (each to a temporary name renamed into place). The
+//! summary comes last, so a summary that says `"ending": "completed"` (and lists no
+//! `output_failures`) means the run is complete: a rerun skips it. Runs that were interrupted, failed or never started are run again from the start.
 //! The engine is deterministic given the scenario and its seed, so run i gives the same result
 //! whichever worker runs it and in whatever order.
 
@@ -24,7 +24,7 @@ pub fn run_dir(out: &Path, index: usize) -> PathBuf {
 }
 
 /// Whether run `index` has a complete summary (`"ending": "completed"`, or `"event-limit"`,
-/// which a rerun would only repeat).
+/// which a rerun would only repeat) and wrote all its outputs (no `output_failures`).
 pub fn is_done(out: &Path, index: usize) -> bool {
     let path = run_dir(out, index).join("summary.json");
     let Ok(text) = std::fs::read_to_string(path) else {
@@ -33,10 +33,11 @@ pub fn is_done(out: &Path, index: usize) -> bool {
     let Ok(summary) = serde_json::from_str::<serde_json::Value>(&text) else {
         return false;
     };
-    matches!(
+    let complete = matches!(
         summary.get("ending").and_then(|e| e.as_str()),
         Some("completed" | "event-limit")
-    )
+    );
+    complete && summary.get("output_failures").is_none()
 }
 
 /// Writes `DIR/plan.json`, or checks that the one already there is the same sweep (the same
@@ -78,7 +79,9 @@ pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
 }
 
 /// Runs one run into `DIR/<index>/` and returns how it ended. A runtime failure leaves
-/// `error.txt` (and no summary) in the run's folder.
+/// `error.txt` (and no summary) in the run's folder; an output the run could not write (its
+/// recording) leaves `error.txt` beside the summary, and the run counts as failed: a rerun runs
+/// it again.
 pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> Result<Ending> {
     let dir = run_dir(out, spec.index);
     std::fs::create_dir_all(&dir)
@@ -87,34 +90,42 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
     let error_path = dir.join("error.txt");
     let _ = std::fs::remove_file(&error_path);
     let rrd = dir.join("recording.rrd");
-    let rrd_tmp = dir.join(format!(".recording.{}.partial.rrd", std::process::id()));
     let result = run(
         scenario,
         RunOptions {
-            rrd: plan.record.then(|| rrd_tmp.clone()),
+            rrd: plan.record.then(|| rrd.clone()),
             interrupt: Some(crate::platform::signals::stop_flag()),
             progress: false,
+            written_after: vec![("summary", summary_path.clone())],
             ..Default::default()
         },
     );
+    let failed = |e: Error| {
+        let _ = std::fs::write(&error_path, format!("{e}\n"));
+        Err(e)
+    };
     let summary = match result {
         Ok(summary) => summary,
         Err(e) => {
             let _ = std::fs::remove_file(&summary_path);
-            let _ = std::fs::remove_file(&rrd_tmp);
-            let _ = std::fs::write(&error_path, format!("{e}\n"));
-            return Err(e);
+            let _ = std::fs::remove_file(&rrd);
+            return failed(e);
         }
     };
-    if plan.record {
-        std::fs::rename(&rrd_tmp, &rrd)
-            .map_err(|e| Error::Io(format!("cannot write {}: {e}", rrd.display())))?;
+    let written = summary
+        .profiles
+        .as_ref()
+        .map_or(Ok(()), |p| {
+            write_atomic(&dir.join("profiles.csv"), &p.to_csv())
+        })
+        .and_then(|()| write_atomic(&summary_path, &summary.to_json()));
+    if let Err(e) = written {
+        return failed(e);
     }
-    if let Some(p) = &summary.profiles {
-        write_atomic(&dir.join("profiles.csv"), &p.to_csv())?;
+    match summary.output_failures.first() {
+        Some(f) => failed(Error::Io(f.error.clone())),
+        None => Ok(summary.ending),
     }
-    write_atomic(&summary_path, &summary.to_json())?;
-    Ok(summary.ending)
 }
 
 /// How a run ended, in words.
