@@ -11,6 +11,7 @@ mod brute_force;
 mod checkpoint;
 mod cli;
 mod equation_of_state;
+mod faults;
 mod figures;
 mod fuzz_inputs;
 mod gravity;
