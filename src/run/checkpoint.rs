@@ -104,8 +104,16 @@ impl Checkpoint {
             std::fs::rename(&tmp, path)
         })();
         written.map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Io(format!("cannot write checkpoint {}: {e}", path.display()))
+            let left = match std::fs::remove_file(&tmp) {
+                Err(r) if r.kind() != std::io::ErrorKind::NotFound => {
+                    format!(" ({} is left: cannot remove it: {r})", tmp.display())
+                }
+                _ => String::new(),
+            };
+            Error::Io(format!(
+                "cannot write checkpoint {}: {e}{left}",
+                path.display()
+            ))
         })
     }
 

@@ -558,7 +558,10 @@ fn outputs_removed_during_the_run_are_noticed_within_a_second() {
         SHORT_RUN,
     );
     assert!(took < Duration::from_secs(1), "said after {took:?}");
-    std::fs::remove_dir_all(&sub).unwrap();
+    // The run may create a checkpoint's temporary file in it while it goes: try again.
+    while let Err(e) = std::fs::remove_dir_all(&sub) {
+        assert_eq!(e.kind(), std::io::ErrorKind::DirectoryNotEmpty, "{e}");
+    }
     let took = running.wait_for(&["summary", "its directory is gone"], SHORT_RUN);
     assert!(took < Duration::from_secs(1), "said after {took:?}");
     running.signal(libc::SIGINT);
@@ -721,7 +724,12 @@ fn a_directory_made_read_only_during_the_run() {
     let s: Value = serde_json::from_str(&ended.stdout).expect("the summary on stdout");
     assert_eq!(s["ending"], "interrupted");
     assert_eq!(failed_outputs(&s), ["checkpoint"]);
-    assert_eq!(names(&out), ["c.ckpt"]);
+    if names(&out) != ["c.ckpt"] {
+        // The directory turned read-only between creating the temporary file and renaming it:
+        // nobody can remove it then, and the warning says so.
+        assert_eq!(names(&out), ["c.ckpt", "c.ckpt.tmp"]);
+        ended.says(&["c.ckpt.tmp is left: cannot remove it: Permission denied"]);
+    }
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o777)).unwrap();
     let resumed = run(
         &[
