@@ -29,7 +29,7 @@ RANDOM="$seed"
 
 # The run: an event budget well inside the duration, a sample every time unit.
 args=(scenarios/vibrated_bed.json --quiet
-  --set run.duration=100000000 --set "run.max_events=$events" --set output.sample_interval=1
+  --set run.duration=1000000 --set "run.max_events=$events" --set output.sample_interval=1
   --checkpoint-every "$every")
 
 echo "soak: $events events, $kills kills (seed $seed), checkpoint every $every; files in $dir"
@@ -53,6 +53,7 @@ while (( killed < kills )); do
   # Between 0.2 and 1.0 of a (KILLS+1)-th of the run, in milliseconds.
   slice=$(echo "$wall * 1000 / ($kills + 1)" | bc)
   delay_ms=$(( slice / 5 + RANDOM % (slice * 4 / 5 + 1) ))
+  [[ -f "$ckpt" ]] || echo "part $part: no checkpoint yet: from the start"
   "${cmd[@]}" &
   pid=$!
   sleep "$(echo "scale=3; $delay_ms / 1000" | bc)"
@@ -69,8 +70,13 @@ while (( killed < kills )); do
   part=$((part + 1))
 done
 if [[ ! -f "$dir/killed.json" ]] || (( killed == kills )); then
-  "$bin" resume "$ckpt" --quiet --summary "$dir/killed.json"
-  echo "part $part: resumed to the end"
+  if [[ -f "$ckpt" ]]; then
+    "$bin" resume "$ckpt" --quiet --summary "$dir/killed.json"
+    echo "part $part: resumed to the end"
+  else
+    "$bin" run "${args[@]}" --checkpoint "$ckpt" --summary "$dir/killed.json"
+    echo "part $part: no checkpoint yet, run from the start to the end"
+  fi
 fi
 
 python3 - "$dir/straight.json" "$dir/killed.json" <<'EOF'
