@@ -170,7 +170,18 @@ fn start(args: &[String], cwd: &Path, under: &Under) -> Running {
             Ok(())
         });
     }
-    let mut child = cmd.spawn().expect("the vibrobed binary starts");
+    // A copy of the binary just written may be busy while another test forks (the copy's
+    // descriptor lives in that child until it execs): try again.
+    let mut tries = 0;
+    let mut child = loop {
+        match cmd.spawn() {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && tries < 100 => {
+                tries += 1;
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            spawned => break spawned.expect("the vibrobed binary starts"),
+        }
+    };
     let reader = |mut pipe: Box<dyn Read + Send>| {
         let text = Arc::new(Mutex::new(String::new()));
         let sink = Arc::clone(&text);
@@ -523,6 +534,89 @@ fn signals_are_honoured_while_outputs_fail() {
         assert_eq!(names(&dir), ["s.json"], "{}", ended.describe());
         std::fs::remove_dir_all(&dir).ok();
     }
+}
+
+/// SIGINT during the fault under `resume` (its checkpoint stays as it was) and `sweep run` (the
+/// run in flight stops, its summary says so and lists the lost recording; a rerun runs it again).
+#[test]
+fn sigint_is_honoured_while_outputs_fail_under_resume_and_sweep() {
+    let dir = scratch("signal-resume");
+    let ckpt = dir.join("a.ckpt");
+    let mut args = bed("6");
+    args.extend(["--checkpoint".into(), ckpt.display().to_string()]);
+    args.extend([
+        "--summary".into(),
+        dir.join("first.json").display().to_string(),
+    ]);
+    run(&args, &dir, &Under::default()).assert(0, SHORT_RUN);
+    let saved = std::fs::read(&ckpt).unwrap();
+    let mut args: Vec<String> = ["resume", &ckpt.display().to_string(), "--quiet"]
+        .map(String::from)
+        .to_vec();
+    args.extend(["--set".into(), "run.duration=100000".into()]);
+    args.extend(["--checkpoint-every".into(), "1".into()]);
+    args.extend(output_args(&dir, &["recording"]));
+    args.extend(["--summary".into(), dir.join("s.json").display().to_string()]);
+    let filling = Under {
+        file_size: Some(FILLS_AT),
+        ..Under::default()
+    };
+    let mut running = start(&args, &dir, &filling);
+    running.wait_for(
+        &["cannot write checkpoint", "cannot write recording"],
+        SHORT_RUN,
+    );
+    running.signal(libc::SIGINT);
+    let ended = running.wait(SHORT_RUN * 2);
+    ended.assert(130, AFTER_SIGNAL);
+    assert_eq!(summary(&dir.join("s.json"))["ending"], "interrupted");
+    assert_eq!(
+        std::fs::read(&ckpt).unwrap(),
+        saved,
+        "the checkpoint changed"
+    );
+    assert_eq!(names(&dir), ["a.ckpt", "first.json", "s.json"]);
+    std::fs::remove_dir_all(&dir).ok();
+
+    let dir = scratch("signal-sweep");
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/vibrated_bed.json");
+    let sweep = dir.join("sweep.json");
+    std::fs::write(
+        &sweep,
+        format!(
+            r#"{{ "scenario": "{}", "record": true,
+                 "set": ["run.duration=100000", "run.warmup=5", "output.frame_interval=0.1"] }}"#,
+            scenario.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let args: Vec<String> = [
+        "sweep",
+        "run",
+        &sweep.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+        "--quiet",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut running = start(&args, &dir, &filling);
+    running.wait_for_file(&out.join("0").join("recording.rrd.partial"));
+    // The recording fills its 150 kB within the first hundred frames; give it a second.
+    std::thread::sleep(Duration::from_secs(1));
+    running.signal(libc::SIGINT);
+    let ended = running.wait(SHORT_RUN * 2);
+    ended.assert(130, AFTER_SIGNAL);
+    let folder = out.join("0");
+    let s = summary(&folder.join("summary.json"));
+    assert_eq!(s["ending"], "interrupted");
+    assert_eq!(failed_outputs(&s), ["recording"]);
+    assert_eq!(
+        names(&folder),
+        ["error.txt", "profiles.csv", "summary.json"]
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Outputs removed during the run (the files, then the directory of the checkpoint and the
