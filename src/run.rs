@@ -19,6 +19,7 @@ use std::time::Instant;
 mod averages;
 pub mod checkpoint;
 mod driver;
+mod failures;
 pub mod state;
 mod stops;
 

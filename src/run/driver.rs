@@ -2,6 +2,7 @@
 //! frames and checkpoints, and the summary.
 
 use super::averages::{empty_profiles, Averages, Window};
+use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
@@ -11,7 +12,7 @@ use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
 use crate::output::summary::{
-    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, OutputFailure, Summary,
+    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary,
 };
 use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::Watch;
@@ -57,14 +58,10 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) clock: Instant,
     /// The recording file of this part, if one is written.
     pub(super) rrd: Option<PathBuf>,
-    /// Outputs that could not be written (see [`Driver::output_failed`]).
-    pub(super) failures: Vec<OutputFailure>,
-    /// Whether the last checkpoint could not be written.
-    pub(super) checkpoint_failing: bool,
+    /// Outputs that could not be written.
+    pub(super) failures: Failures,
     /// The thread that notices output files removed during the run.
     pub(super) watch: Watch,
-    /// Outputs whose failure the watch has said already.
-    said: Vec<&'static str>,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -110,10 +107,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             wall_before: 0.0,
             clock: Instant::now(),
             rrd: None,
-            failures: Vec::new(),
-            checkpoint_failing: false,
+            failures: Failures::default(),
             watch: Watch::start(Vec::new()),
-            said: Vec::new(),
         }
     }
 
@@ -311,34 +306,36 @@ impl<'a, E: Integrator> Driver<'a, E> {
             profile.as_ref(),
         ));
         if let Err(e) = sent {
-            self.recording_failed(e);
+            self.drop_recording(e, false);
         }
     }
 
     /// A line of text to the sink (dropped if it fails).
     fn log_text(&mut self, time: f64, level: &str, text: &str) {
         if let Some(Err(e)) = self.sink.as_mut().map(|s| s.log_text(time, level, text)) {
-            self.recording_failed(e);
+            self.drop_recording(e, false);
         }
     }
 
-    /// The recording failed: the run goes on without it.
-    fn recording_failed(&mut self, e: Error) {
+    /// The recording failed (`said`: the watch has said so): the run goes on without it.
+    fn drop_recording(&mut self, e: Error, said: bool) {
         self.sink = None; // Its writer has stopped; dropping it removes its temporary file.
         let path = self.rrd.clone().unwrap_or_default();
-        self.output_failed("recording", &path, e);
+        let time = self.sim.time();
+        self.failures.record("recording", &path, e, time, said);
     }
 
-    /// The trajectory failed: the run goes on without it.
-    fn trajectory_failed(&mut self, e: Error) {
+    /// The trajectory failed (`said`: the watch has said so): the run goes on without it.
+    fn drop_trajectory(&mut self, e: Error, said: bool) {
         if let Some(w) = self.trajectory.take() {
             let path = w.partial().path.clone();
             drop(w);
-            self.output_failed("trajectory", &path, e);
+            let time = self.sim.time();
+            self.failures.record("trajectory", &path, e, time, said);
         }
     }
 
-    /// Outputs the watch found gone (it has said so): the run goes on without them.
+    /// Drops the outputs whose files the watch found gone (it has said so).
     fn drop_outputs_gone(&mut self) {
         for output in self.watch.gone() {
             let gone = |path: &Path| {
@@ -347,87 +344,34 @@ impl<'a, E: Integrator> Driver<'a, E> {
                     crate::output::partial::partial_name(path).display()
                 ))
             };
-            let e = match output {
-                "recording" if self.sink.is_some() => {
-                    gone(self.rrd.as_deref().unwrap_or(Path::new("")))
-                }
-                "trajectory" => match &self.trajectory {
-                    Some(w) => gone(&w.partial().path),
-                    None => continue,
-                },
-                _ => continue, // Written later: writing it will tell.
-            };
-            self.said.push(output);
             match output {
-                "recording" => self.recording_failed(e),
-                _ => self.trajectory_failed(e),
+                "recording" if self.sink.is_some() => {
+                    let e = gone(self.rrd.as_deref().unwrap_or(Path::new("")));
+                    self.drop_recording(e, true);
+                }
+                "trajectory" => {
+                    if let Some(e) = self.trajectory.as_ref().map(|w| gone(&w.partial().path)) {
+                        self.drop_trajectory(e, true);
+                    }
+                }
+                _ => {} // Written later: writing it will tell.
             }
         }
-    }
-
-    /// An output could not be written: said on stderr and kept for the summary; the run goes
-    /// on. A checkpoint failing again is only counted.
-    pub(super) fn output_failed(&mut self, output: &'static str, path: &Path, e: Error) {
-        let error = match e {
-            Error::Io(m) | Error::Runtime(m) => m,
-            other => other.to_string(),
-        };
-        let path = path.display().to_string();
-        if let Some(f) = self
-            .failures
-            .iter_mut()
-            .find(|f| f.output == output && f.path == path)
-        {
-            f.failures += 1;
-            return;
-        }
-        let said = self.said.iter().position(|&o| o == output);
-        if let Some(k) = said {
-            self.said.swap_remove(k);
-        }
-        let goes_on = match output {
-            "checkpoint" => {
-                "the run goes on, and tries the checkpoint again at the next interval and at the end \
-                 (an earlier checkpoint stays whole)"
-            }
-            _ => "the run goes on without it",
-        };
-        if said.is_none() {
-            eprintln!("vibrobed: warning: {error}; {goes_on}");
-        }
-        self.failures.push(OutputFailure {
-            output,
-            path,
-            time: self.sim.time(),
-            error,
-            failures: 1,
-        });
     }
 
     /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes
     /// on), any other error ends the run.
     fn checkpoint(&mut self) -> Result<()> {
-        match self.save_checkpoint() {
-            Ok(()) => {
-                if std::mem::take(&mut self.checkpoint_failing) {
-                    if let Some(plan) = &self.checkpoint {
-                        eprintln!(
-                            "vibrobed: note: checkpoint {} written again at t = {}",
-                            plan.path.display(),
-                            self.sim.time()
-                        );
-                    }
-                }
-                Ok(())
+        let path = self.checkpoint.as_ref().map(|c| c.path.clone());
+        let time = self.sim.time();
+        match (self.save_checkpoint(), path) {
+            (Ok(()), Some(path)) => self.failures.checkpoint_written(&path, time),
+            (Err(e @ Error::Io(_)), Some(path)) => {
+                self.failures.record("checkpoint", &path, e, time, false)
             }
-            Err(e @ Error::Io(_)) => {
-                self.checkpoint_failing = true;
-                let path = self.checkpoint.as_ref().map(|c| c.path.clone());
-                self.output_failed("checkpoint", &path.unwrap_or_default(), e);
-                Ok(())
-            }
-            Err(e) => Err(e),
+            (result, _) => result?,
         }
+        Ok(())
     }
 
     /// A trajectory frame: every disk, to the extended XYZ file (dropped if it fails).
@@ -447,7 +391,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             None,
         ));
         if let Err(e) = written {
-            self.trajectory_failed(Error::Io(e));
+            self.drop_trajectory(Error::Io(e), false);
         }
     }
 
@@ -467,7 +411,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             self.log_text(end_time, level, &note);
         }
         if let Some(Err(e)) = self.sink.take().map(|sink| sink.finish()) {
-            self.recording_failed(e);
+            self.drop_recording(e, false);
         }
     }
 
@@ -491,7 +435,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
         if let Some(w) = self.trajectory.take() {
             let path = w.partial().path.clone();
             if let Err(e) = w.finish() {
-                self.output_failed("trajectory", &path, Error::Io(e));
+                let time = self.sim.time();
+                self.failures
+                    .record("trajectory", &path, Error::Io(e), time, false);
             }
         }
         self.close_sink(ending, end_time);
@@ -573,7 +519,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 samples: avg.samples,
             },
             approximation: sim.approximation(),
-            output_failures: self.failures.clone(),
+            output_failures: self.failures.list(),
         }
     }
 }
