@@ -920,3 +920,32 @@ fn a_full_filesystem_keeps_the_summary_and_the_profiles() {
     drop(disk);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A run killed outright (SIGKILL, no destructor runs) leaves its recording and trajectory under
+/// their temporary names only, never under the final ones; the recording decodes message by
+/// message as far as it got (what the viewer shows of it).
+#[cfg(feature = "record")]
+#[test]
+fn a_killed_run_leaves_readable_partial_files() {
+    use rerun::external::re_log_encoding::DecoderApp;
+    let dir = scratch("killed");
+    let mut args = bed("100000");
+    args.extend(output_args(&dir, &["recording", "trajectory"]));
+    let mut running = start(&args, &dir, &Under::default());
+    let partial = dir.join("a.rrd.partial");
+    running.wait_for_file(&partial);
+    let since = Instant::now();
+    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 200_000 {
+        assert!(since.elapsed() < SHORT_RUN, "the recording does not grow");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    running.signal(libc::SIGKILL);
+    let ended = running.wait(SHORT_RUN);
+    assert_eq!(ended.code, None, "{}", ended.describe());
+    assert_eq!(names(&dir), ["a.rrd.partial", "a.xyz.partial"]);
+    let reader = std::io::BufReader::new(std::fs::File::open(&partial).unwrap());
+    let decoder = DecoderApp::decode_eager(reader).expect("an RRD stream");
+    let chunks = decoder.take_while(Result::is_ok).count();
+    assert!(chunks > 10, "only {chunks} messages decode");
+    std::fs::remove_dir_all(&dir).ok();
+}
