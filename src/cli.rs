@@ -174,7 +174,7 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
                 format!("{} is a directory: name a file", path.display()),
             ));
         }
-        writable_directory(path)
+        crate::output::writable_directory(path)
             .map_err(|why| Error::input(field, format!("{}: {why}", path.display())))?;
     }
     if args.profiles.is_some() && s.gravity.is_none() {
@@ -195,37 +195,6 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-/// Why no file can be written as `path`, if so: its directory does not exist, cannot be reached,
-/// is not a directory, or refuses a new file (permissions, ownership, a read-only or full
-/// filesystem; tried with an empty file, removed at once, so that what the system says is
-/// what a run would meet).
-pub fn writable_directory(path: &Path) -> std::result::Result<(), String> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    match std::fs::metadata(dir) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(format!("the directory {} does not exist", dir.display()))
-        }
-        Err(e) => return Err(format!("cannot reach the directory {}: {e}", dir.display())),
-        Ok(m) if !m.is_dir() => return Err(format!("{} is not a directory", dir.display())),
-        Ok(_) => {}
-    }
-    let probe = dir.join(format!(".vibrobed-probe-{}", std::process::id()));
-    match std::fs::File::create_new(&probe) {
-        Ok(_) => {
-            let _ = std::fs::remove_file(&probe);
-            Ok(())
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
-        Err(e) => Err(format!(
-            "cannot write in the directory {}: {e}",
-            dir.display()
-        )),
-    }
 }
 
 /// Most seeds an accuracy ensemble may ask for (each seed is a full run of every variant).

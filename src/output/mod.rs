@@ -29,3 +29,34 @@ fn temp_name(path: &Path) -> PathBuf {
         .map_or("out".into(), |n| n.to_string_lossy());
     path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
+
+/// Why no file can be written as `path`, if so: its directory does not exist, cannot be reached,
+/// is not a directory, or refuses a new file (permissions, ownership, a read-only filesystem;
+/// tried with an empty file, removed at once, so that what the system says is what a run would
+/// meet). Checked before a run, which is then refused naming the option.
+pub fn writable_directory(path: &Path) -> std::result::Result<(), String> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match std::fs::metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(format!("the directory {} does not exist", dir.display()))
+        }
+        Err(e) => return Err(format!("cannot reach the directory {}: {e}", dir.display())),
+        Ok(m) if !m.is_dir() => return Err(format!("{} is not a directory", dir.display())),
+        Ok(_) => {}
+    }
+    let probe = dir.join(format!(".vibrobed-probe-{}", std::process::id()));
+    match std::fs::File::create_new(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(format!(
+            "cannot write in the directory {}: {e}",
+            dir.display()
+        )),
+    }
+}

@@ -202,7 +202,7 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32
 fn writable_out(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)
         .map_err(|e| Error::input("--out", format!("cannot create {}: {e}", out.display())))?;
-    crate::cli::writable_directory(&out.join("plan.json"))
+    crate::output::writable_directory(&out.join("plan.json"))
         .map_err(|why| Error::input("--out", format!("{}: {why}", out.display())))
 }
 
