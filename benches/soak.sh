@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soak test of checkpoints (not in CI: about an hour at the default size on one core).
+# The soak test of checkpoints (not in CI: some 20 minutes at the default size on a free core).
 #
 # The vibrated bed runs to an event budget twice with the same command line: once without a
 # stop, and once killed with SIGKILL at KILLS random moments (some land while a checkpoint is
