@@ -503,5 +503,6 @@ fn write_results(
     Ok(match result.ending {
         Ending::Completed | Ending::EventLimit => 0,
         Ending::Interrupted => signals::exit_code(),
+        Ending::Stalled => 1,
     })
 }

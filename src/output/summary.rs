@@ -14,6 +14,9 @@ pub enum Ending {
     Interrupted,
     /// Stopped by `run.max_events`.
     EventLimit,
+    /// Simulated time stopped advancing (a bug of the engine's rules, reported on standard
+    /// error with the disks and rules involved); the summary covers the time simulated so far.
+    Stalled,
 }
 
 /// Kinetic and potential energy at one time.

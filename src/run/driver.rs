@@ -196,6 +196,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Progress::Reached => {}
                 Progress::EventLimit => return Ok(Ending::EventLimit),
                 Progress::Interrupted => return Ok(Ending::Interrupted),
+                Progress::Stalled => {
+                    let report = self.sim.stall_report().unwrap_or("no report");
+                    eprintln!("vibrobed: {report}");
+                    return Ok(Ending::Stalled);
+                }
             }
             self.now = stop.time;
             if stop.window {
@@ -323,6 +328,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Ending::Completed => "run completed".to_string(),
                 Ending::Interrupted => format!("interrupted at t = {end_time}"),
                 Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+                Ending::Stalled => format!("simulated time stopped advancing at t = {end_time}"),
             };
             let level = if ending == Ending::Completed {
                 "INFO"

@@ -123,6 +123,7 @@ pub fn ending_word(ending: Ending) -> &'static str {
         Ending::Completed => "completed",
         Ending::Interrupted => "interrupted",
         Ending::EventLimit => "stopped at the event limit",
+        Ending::Stalled => "stopped: simulated time stalled",
     }
 }
 
