@@ -505,7 +505,7 @@ fn write_results(
             lost = true;
         }
     }
-    Ok(if lost {
+    Ok(if lost || result.ending == Ending::Stalled {
         1
     } else if result.ending == Ending::Interrupted {
         signals::exit_code()

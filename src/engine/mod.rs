@@ -41,6 +41,7 @@ pub mod remap;
 pub mod rest;
 pub mod scene;
 mod setup;
+mod stall;
 mod state;
 mod walls;
 
@@ -72,6 +73,9 @@ pub enum Progress {
     EventLimit,
     /// An interrupt was requested.
     Interrupted,
+    /// Simulated time stopped advancing (see [`stall`](stall.rs)): the report is in
+    /// [`Simulation::stall_report`].
+    Stalled,
 }
 
 /// The exact event-driven engine, generic over free flight (straight or under gravity). Its
@@ -105,8 +109,14 @@ impl<F: Flight> Simulation<F> {
             if self.tally.counts.guarded() >= self.control.event_limit {
                 return Ok(Progress::EventLimit);
             }
-            if turns & 0x3ff == 0 && self.interrupted() {
-                return Ok(Progress::Interrupted);
+            if turns & 0x3ff == 0 {
+                if self.interrupted() {
+                    return Ok(Progress::Interrupted);
+                }
+                if let Some(report) = self.stalled()? {
+                    self.control.stall_report = Some(report);
+                    return Ok(Progress::Stalled);
+                }
             }
             turns = turns.wrapping_add(1);
             let i = self.events.queue.min();

@@ -82,6 +82,12 @@ impl<F: Flight> Simulation<F> {
         self.tally.counts
     }
 
+    /// Why simulated time stopped advancing, once [`advance_to`](Self::advance_to) has
+    /// returned [`Progress::Stalled`](super::Progress::Stalled): the disks and rules involved.
+    pub fn stall_report(&self) -> Option<&str> {
+        self.control.stall_report.as_deref()
+    }
+
     /// How often each jam rule engaged since the engine started (not kept across a resume).
     pub fn jam_counts(&self) -> JamCounts {
         self.tally.jams

@@ -7,6 +7,7 @@ use super::remap::dutc::Dutc;
 use super::remap::numbering::Numbering;
 use super::remap::shells::Shells;
 use super::rest::riders::Riders;
+use super::stall::ClockMark;
 use super::Scene;
 use super::{EnergyFlow, EventCounts, JamCounts};
 use crate::neighbours::{Cells, GridGeometry, Mask, NeighbourLists};
@@ -142,6 +143,10 @@ pub(super) struct Control {
     /// alone under the global one from
     /// [`KEEP_AHEAD_FROM`](crate::platform::prefetch::KEEP_AHEAD_FROM)).
     pub pipelining: bool,
+    /// Where the clock stood when last seen to move (see [`stall`](super::stall)), and the
+    /// report once it has stalled.
+    pub clock_mark: ClockMark,
+    pub stall_report: Option<String>,
 }
 
 impl Control {
@@ -154,6 +159,8 @@ impl Control {
             log: None,
             prefetching: n >= crate::platform::prefetch::PREFETCH_FROM,
             pipelining,
+            clock_mark: ClockMark::default(),
+            stall_report: None,
         }
     }
 }

@@ -109,6 +109,7 @@ impl ProgressReport {
             Ending::Completed => "completed",
             Ending::Interrupted => "interrupted",
             Ending::EventLimit => "stopped by the event limit",
+            Ending::Stalled => "stopped: simulated time stalled",
         };
         eprintln!(
             "vibrobed: {how} at t = {t} of {} in {wall:.1} s: {collisions} collisions ({}/s)",

@@ -14,6 +14,9 @@ pub enum Ending {
     Interrupted,
     /// Stopped by `run.max_events`.
     EventLimit,
+    /// Simulated time stopped advancing (a bug of the engine's rules, reported on standard
+    /// error with the disks and rules involved); the summary covers the time simulated so far.
+    Stalled,
 }
 
 /// Kinetic and potential energy at one time.
@@ -155,6 +158,9 @@ pub struct Summary {
     /// Outputs this run (or this resumed part) could not write; the run went on without them.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub output_failures: Vec<OutputFailure>,
+    /// Why simulated time stopped advancing (ending `stalled`): the disks and rules involved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stall: Option<String>,
 }
 
 /// An output the run could not write: a recording or trajectory (dropped from then on) or a

@@ -205,6 +205,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Progress::Reached => {}
                 Progress::EventLimit => return Ok(Ending::EventLimit),
                 Progress::Interrupted => return Ok(Ending::Interrupted),
+                Progress::Stalled => {
+                    let report = self.sim.stall_report().unwrap_or("no report");
+                    eprintln!("vibrobed: {report}");
+                    return Ok(Ending::Stalled);
+                }
             }
             self.now = stop.time;
             if stop.window {
@@ -402,6 +407,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Ending::Completed => "run completed".to_string(),
                 Ending::Interrupted => format!("interrupted at t = {end_time}"),
                 Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+                Ending::Stalled => format!("simulated time stopped advancing at t = {end_time}"),
             };
             let level = if ending == Ending::Completed {
                 "INFO"
@@ -520,6 +526,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             approximation: sim.approximation(),
             output_failures: self.failures.list(),
+            stall: sim.stall_report().map(str::to_owned),
         }
     }
 }

@@ -100,6 +100,10 @@ pub trait Integrator {
     /// The invariant check at absolute time `t ≥ time()` (no overlap beyond tolerance for the
     /// exact engine; the approximate schemes overlap by design and report it instead).
     fn check_state(&self, t: f64) -> Result<()>;
+    /// Why simulated time stopped advancing, after [`Progress::Stalled`].
+    fn stall_report(&self) -> Option<&str> {
+        None
+    }
     /// How the engine is set up.
     fn setup(&self) -> Setup;
     /// Errors and steps of an approximate scheme (`None` for the exact engine).
@@ -135,6 +139,9 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         Simulation::advance_to(self, target)
+    }
+    fn stall_report(&self) -> Option<&str> {
+        Simulation::stall_report(self)
     }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         Simulation::visit_states(self, t, visit)

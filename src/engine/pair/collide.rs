@@ -79,11 +79,14 @@ impl<F: Flight> Simulation<F> {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
             // Separation from the disk at rest to the flying one.
             let (sx, sy) = if k == i { (dx, dy) } else { (-dx, -dy) };
-            if sy >= 0.0 && self.pushed_gently(k, s, (sx, sy)) {
+            // From above, or level within a flat angle (rows at rest differ in height by
+            // round-off): a push that cannot lift the disk at rest.
+            let level = sy >= -crate::engine::rest::jams::WEDGE_DROP * sx.abs();
+            if level && self.pushed_gently(k, s, (sx, sy)) {
                 self.tally.jams.gentle_push += 1;
                 return self.meet_held(k, s, (sx, sy));
             }
-            if sy >= 0.0 && self.in_jammed_row(s, -sx) {
+            if level && self.in_jammed_row(s, -sx) {
                 self.tally.jams.jammed_row += 1;
                 return self.meet_held(k, s, (sx, sy));
             }

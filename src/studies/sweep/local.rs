@@ -80,8 +80,8 @@ pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
 
 /// Runs one run into `DIR/<index>/` and returns how it ended. A runtime failure leaves
 /// `error.txt` (and no summary) in the run's folder; an output the run could not write (its
-/// recording) leaves `error.txt` beside the summary, and the run counts as failed: a rerun runs
-/// it again.
+/// recording), or a clock that stopped (the stall's report), leaves `error.txt` beside the
+/// summary, and the run counts as failed: a rerun runs it again.
 pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> Result<Ending> {
     let dir = run_dir(out, spec.index);
     std::fs::create_dir_all(&dir)
@@ -122,8 +122,11 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
     if let Err(e) = written {
         return failed(e);
     }
-    match summary.output_failures.first() {
-        Some(f) => failed(Error::Io(f.error.clone())),
+    if let Some(f) = summary.output_failures.first() {
+        return failed(Error::Io(f.error.clone()));
+    }
+    match &summary.stall {
+        Some(report) => failed(Error::Runtime(report.clone())),
         None => Ok(summary.ending),
     }
 }
@@ -134,6 +137,7 @@ pub fn ending_word(ending: Ending) -> &'static str {
         Ending::Completed => "completed",
         Ending::Interrupted => "interrupted",
         Ending::EventLimit => "stopped at the event limit",
+        Ending::Stalled => "stopped: simulated time stalled",
     }
 }
 

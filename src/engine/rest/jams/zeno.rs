@@ -3,6 +3,7 @@
 //! slow flying disks it touches.
 
 use super::*;
+use crate::engine::event::code;
 use crate::engine::rest::riders::NO_DISK;
 use crate::engine::Simulation;
 use crate::physics::flight::Flight;
@@ -77,7 +78,8 @@ impl<F: Flight> Simulation<F> {
             return;
         }
         // The slow flying disks it touches, directly or through each other, ring with it (a
-        // push passes round them and back at one instant): they stop with it.
+        // push passes round them and back at one instant): they stop with it, and wait an
+        // instant (see `wait_an_instant`).
         let mut member = std::mem::take(&mut self.rest.in_cluster);
         member.resize(self.disks.len(), false);
         let mut cluster = std::mem::take(&mut self.rest.cluster);
@@ -88,11 +90,32 @@ impl<F: Flight> Simulation<F> {
         }
         for &c in &cluster {
             self.moved(c as usize);
+            self.wait_an_instant(c as usize);
             member[c as usize] = false;
         }
         cluster.clear();
         self.rest.cluster = cluster;
         self.rest.in_cluster = member;
+    }
+
+    /// Disk `k`, stopped where no place holds it, with its next event within an [`INSTANT`]
+    /// (`INSTANT √(a/(g + h''_max))`): the event waits until the instant has passed, and a
+    /// re-check then works it out afresh. Its ring would start again at once — a disk at rest
+    /// beside it rises with the floor while it falls, a contact a hair off level closes in
+    /// round-off, and the rebound of a landing sets it going — and ties go to the same disks
+    /// each time: the neighbour whose move ends the ring (a support sliding away, due now or a
+    /// little later) would never get its turn, and time would stop.
+    fn wait_an_instant(&mut self, k: usize) {
+        let now = self.now;
+        let old = self.events.time[k];
+        let after = now + (self.rest.zeno_instant2 * self.disks.radius[k]).sqrt();
+        if old >= after {
+            return;
+        }
+        self.events.time[k] = after;
+        self.events.code[k] = code::RECHECK;
+        self.events.counter[k] = 0;
+        self.events.queue.update(&self.events.time, k, old);
     }
 }
 
