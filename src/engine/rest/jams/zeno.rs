@@ -93,6 +93,16 @@ impl<F: Flight> Simulation<F> {
             self.wait_an_instant(c as usize);
             member[c as usize] = false;
         }
+        // The disks at rest beside them, rising with the floor, would press them into the ring
+        // again at once: they wait the instant too.
+        for &c in &cluster {
+            for k in 0..self.map.lists.of(c as usize).len() {
+                let r = self.map.lists.of(c as usize)[k] as usize;
+                if self.is_riding(r) {
+                    self.wait_an_instant(r);
+                }
+            }
+        }
         cluster.clear();
         self.rest.cluster = cluster;
         self.rest.in_cluster = member;
