@@ -12,6 +12,7 @@
 //! temporary file is left behind.
 #![cfg(target_os = "linux")]
 
+use crate::guarded::entries as names;
 use serde_json::Value;
 use std::io::Read;
 use std::os::unix::fs::PermissionsExt;
@@ -56,17 +57,18 @@ fn scratch(test: &str) -> PathBuf {
     dir
 }
 
-/// The names in `dir`, sorted (hidden files too).
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .map(|it| {
-            it.filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    names.sort();
-    names
+/// `vibrobed sweep run SWEEP --out OUT --quiet` and `more` arguments.
+fn sweep_run_args(sweep: &Path, out: &Path, more: &[&str]) -> Vec<String> {
+    let mut args = vec![
+        "sweep".to_string(),
+        "run".to_string(),
+        sweep.display().to_string(),
+        "--out".to_string(),
+        out.display().to_string(),
+        "--quiet".to_string(),
+    ];
+    args.extend(more.iter().map(|a| a.to_string()));
+    args
 }
 
 /// What a started process runs under.
@@ -441,18 +443,7 @@ fn a_sweep_on_a_filling_disk_runs_its_lost_recordings_again() {
     )
     .unwrap();
     let out = dir.join("out");
-    let args: Vec<String> = [
-        "sweep",
-        "run",
-        &sweep.display().to_string(),
-        "--out",
-        &out.display().to_string(),
-        "--jobs",
-        "1",
-        "--quiet",
-    ]
-    .map(String::from)
-    .to_vec();
+    let args = sweep_run_args(&sweep, &out, &["--jobs", "1"]);
     let ended = run(
         &args,
         &dir,
@@ -591,16 +582,7 @@ fn sigint_is_honoured_while_outputs_fail_under_resume_and_sweep() {
     )
     .unwrap();
     let out = dir.join("out");
-    let args: Vec<String> = [
-        "sweep",
-        "run",
-        &sweep.display().to_string(),
-        "--out",
-        &out.display().to_string(),
-        "--quiet",
-    ]
-    .map(String::from)
-    .to_vec();
+    let args = sweep_run_args(&sweep, &out, &[]);
     let mut running = start(&args, &dir, &filling);
     running.wait_for_file(&out.join("0").join("recording.rrd.partial"));
     // The recording fills its 150 kB within the first hundred frames; give it a second.
@@ -770,16 +752,7 @@ fn a_denied_directory_is_refused_before_the_run() {
         r#"{ "scenario": "bed.json", "set": ["run.duration=1", "run.warmup=0"] }"#,
     )
     .unwrap();
-    let args: Vec<String> = [
-        "sweep",
-        "run",
-        "sweep.json",
-        "--out",
-        "denied/out",
-        "--quiet",
-    ]
-    .map(String::from)
-    .to_vec();
+    let args = sweep_run_args(Path::new("sweep.json"), Path::new("denied/out"), &[]);
     let ended = run(&args, &dir, &under);
     ended.assert(2, SHORT_RUN);
     ended.says(&["vibrobed: --out: ", "denied/out", "Permission denied"]);
