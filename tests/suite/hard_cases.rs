@@ -557,6 +557,49 @@ fn a_thrown_disk_wakes_a_column_at_rest_as_the_exact_engine_does() {
 /// that would throw both off the floor — but slide on together at their common velocity, both
 /// still at rest on the floor: momentum kept exactly, the relative kinetic energy dissipated,
 /// the energy budget closed, and no more events between them.
+/// Three disks at rest on the floor that meet slowly slide on as one row, at once: merged pair
+/// by pair, the middle one passed the difference back and forth at one instant, halving it each
+/// time (a ring of 200 such disks round the periodic sides stalled the shipped bed at Γ = 0.8
+/// with the speed cutoff 0.0015).
+#[test]
+fn a_row_at_rest_that_meets_slowly_slides_on_as_one() {
+    let json = r#"{"name": "three sliding disks", "seed": 1,
+        "domain": {"width": 100.0, "x_boundary": "walls", "y_boundary": "open"},
+        "gravity": 1.0, "floor": {"restitution": 0.5},
+        "particles": {"count": 3, "radius": 0.5, "placement": {
+            "positions": [[10.0, 0.5], [11.001, 0.5], [12.003, 0.5]],
+            "velocities": [[0.0106, 0.0], [0.0102, 0.0], [0.01, 0.0]]}},
+        "collisions": {"restitution": 0.5},
+        "run": {"duration": 100.0}, "engine": {"check_invariants": true}}"#;
+    let mut sim = common::ballistic(json);
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.riders(), 3, "all rest on the floor, sliding");
+    let p0: f64 = sim.snapshot(1.0).vx.iter().sum();
+    // The first two meet at t = 2.5, the row meets the third at t = 6.25.
+    sim.advance_to(20.0).unwrap();
+    let snap = sim.snapshot(20.0);
+    assert_eq!(sim.riders(), 3, "a disk left the floor");
+    assert!(
+        snap.vx[0] == snap.vx[1] && snap.vx[1] == snap.vx[2],
+        "they do not slide together: {:?}",
+        snap.vx
+    );
+    assert!((snap.vx.iter().sum::<f64>() - p0).abs() < 1e-15);
+    assert!(
+        sim.counts().pair <= 2,
+        "{} pair events: the row merged pair by pair",
+        sim.counts().pair
+    );
+    let flow = sim.energy_flow();
+    let m = sim.disks().mass[0];
+    // Both merges lose the relative kinetic energy: ½ μ Δv² (μ = m/2), then Σ ½ m (v − v̄)².
+    let first = 0.25 * m * 0.0004f64.powi(2);
+    let v: f64 = (2.0 * 0.0104 + 0.01) / 3.0;
+    let second = 0.5 * m * (2.0 * (0.0104 - v).powi(2) + (0.01 - v).powi(2));
+    assert!((flow.dissipated - first - second).abs() < 1e-15 * m);
+    assert!(sim.max_overlap() < TOLERANCE);
+}
+
 #[test]
 fn disks_at_rest_that_touch_slowly_slide_on_together() {
     let json = r#"{"name": "two sliding disks", "seed": 1,

@@ -430,7 +430,9 @@ impl<F: Flight> Simulation<F> {
     /// approaching slower than the sleep speed: instead of a collision that would throw both
     /// off their supports, they stay at rest and slide on together with their common horizontal
     /// velocity (momentum kept, the relative kinetic energy booked as dissipated), or stop if
-    /// that is below the sleep speed too. Returns `false` (nothing done) for a faster approach.
+    /// that is below the sleep speed too. On the floor, the whole row touching them that slides
+    /// within the sleep speed of that velocity joins them (see [`slide_row_together`](Self::slide_row_together)).
+    /// Returns `false` (nothing done) for a faster approach.
     pub(in crate::engine) fn rest_together(
         &mut self,
         i: usize,
@@ -446,6 +448,12 @@ impl<F: Flight> Simulation<F> {
             return Ok(false);
         }
         self.check_contact(i, j, dist)?;
+        if self.rest.riders.on_floor(i)
+            && self.rest.riders.on_floor(j)
+            && self.slide_row_together(i, j, dx, sleep)
+        {
+            return Ok(true);
+        }
         let (mi, mj) = (self.disks.mass[i], self.disks.mass[j]);
         let v = (mi * vi + mj * vj) / (mi + mj);
         self.tally.flow.dissipated += 0.5 * mi * mj / (mi + mj) * (vi - vj).powi(2);
@@ -464,6 +472,89 @@ impl<F: Flight> Simulation<F> {
         self.release_carried(i, None);
         self.release_carried(j, None);
         Ok(true)
+    }
+
+    /// Disks `i` and `j` riding the floor (`dx` from `j` to `i`) come to slide together, and
+    /// other disks riding the floor touch them, directly or through each other, sliding within
+    /// `sleep` of their common velocity: the whole row slides on together with its common
+    /// velocity (or stops, below `sleep`), momentum kept. Merging pair by pair instead, a row of
+    /// three or more passes the difference back and forth at one instant without end, each
+    /// merge halving it (a ring of 200 disks round the periodic sides stalled so). Returns
+    /// `false`, doing nothing, if no other disk joins them.
+    fn slide_row_together(&mut self, i: usize, j: usize, dx: f64, sleep: f64) -> bool {
+        let now = self.now;
+        let (mi, mj) = (self.disks.mass[i], self.disks.mass[j]);
+        let (vi, vj) = (self.disks.motion[i].vx, self.disks.motion[j].vx);
+        let v_pair = (mi * vi + mj * vj) / (mi + mj);
+        // Members and their positions along the row, relative to `i`.
+        let mut row = std::mem::take(&mut self.rest.cluster);
+        let mut along = vec![0.0, -dx];
+        row.extend([i as u32, j as u32]);
+        let mut next = 0;
+        while let Some(&from) = row.get(next) {
+            let from = from as usize;
+            let (xf, yf, _, _) = self.state_at(from, now);
+            for &c in self.map.lists.of(from) {
+                let c = c as usize;
+                if !self.rest.riders.is_riding(c)
+                    || !self.rest.riders.on_floor(c)
+                    || row.contains(&(c as u32))
+                    || (self.disks.motion[c].vx - v_pair).abs() >= sleep
+                {
+                    continue;
+                }
+                let (xc, yc, _, _) = self.state_at(c, now);
+                let (dxc, dyc) = self.wrap(xc - xf, yc - yf);
+                let gap = dxc.hypot(dyc) - self.disks.radius[c] - self.disks.radius[from];
+                if gap <= TOUCH * self.disks.radius[c] {
+                    row.push(c as u32);
+                    along.push(along[next] + dxc);
+                }
+            }
+            next += 1;
+        }
+        let joined = row.len() > 2;
+        if joined {
+            self.slide_on_together(&row, &along, sleep);
+        }
+        row.clear();
+        self.rest.cluster = row;
+        joined
+    }
+
+    /// The disks of `row` (riding the floor, in contact, at positions `along` the row) slide on
+    /// with their common horizontal velocity, or stop if it is below `sleep`; the kinetic
+    /// energy of their relative motion is booked as dissipated, the contact impulses in the
+    /// virial.
+    fn slide_on_together(&mut self, row: &[u32], along: &[f64], sleep: f64) {
+        let now = self.now;
+        let (mut mass, mut momentum) = (0.0, 0.0);
+        for &k in row {
+            let k = k as usize;
+            mass += self.disks.mass[k];
+            momentum += self.disks.mass[k] * self.disks.motion[k].vx;
+        }
+        let v = momentum / mass;
+        for (&k, &x) in row.iter().zip(along) {
+            let k = k as usize;
+            self.bring(k, now);
+            let (m, vk) = (self.disks.mass[k], self.disks.motion[k].vx);
+            self.tally.flow.dissipated += 0.5 * m * (vk - v).powi(2);
+            // Internal impulses sum to zero: Σ x·Δp is the contacts' virial.
+            self.tally.virial += x * m * (v - vk);
+            self.disks.motion[k].vx = v;
+            if v.abs() < sleep {
+                self.stop_sliding(k);
+            }
+        }
+        self.tally.counts.pair += 1;
+        for &k in row {
+            self.moved(k as usize);
+        }
+        // What rested on them slid with their old velocities.
+        for &k in row {
+            self.release_carried(k as usize, None);
+        }
     }
 
     /// Riding disk `i` is about to change velocity: if it rests on disks, it leaves them.
