@@ -25,6 +25,10 @@ impl<F: Flight> Simulation<F> {
     /// cure the sideways motion would collapse inelastically, in infinitely many collisions, to
     /// the row at rest on its seats: the rule goes there at once.
     pub(in crate::engine) fn seat_row(&mut self, i: usize, j: usize) -> bool {
+        // Most flat collisions are of disks with no seat: the row is not walked for them.
+        if self.seat_of(i).is_none() || self.seat_of(j).is_none() {
+            return false;
+        }
         let now = self.now;
         let (h, hd) = self.floor_now();
         let mut row = std::mem::take(&mut self.rest.cluster);
