@@ -84,6 +84,22 @@ impl<F: Flight> Simulation<F> {
         self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
     }
 
+    /// [`state_at`](Self::state_at) at the time `t` of the floor's `ride` (height, velocity):
+    /// loops over neighbours at one time compute the floor's phase once, not per rider.
+    #[inline(always)]
+    pub(super) fn state_at_with(&self, i: usize, t: f64, ride: (f64, f64)) -> (f64, f64, f64, f64) {
+        let m = &self.disks.motion[i];
+        if self.is_riding(i) {
+            return (
+                m.x + m.vx * (t - m.t),
+                ride.0 + self.rest.riders.lift(i),
+                m.vx,
+                ride.1,
+            );
+        }
+        self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    }
+
     /// [`state_at`](Self::state_at) of a riding disk. Kept out of line: inlined, the floor's
     /// phase (a sine and two remainders) is hoisted out of the pair loops and computed for every
     /// prediction, in scenes where no disk rides or without a floor at all.

@@ -56,7 +56,9 @@ impl<F: Flight> Simulation<F> {
     #[inline(never)]
     fn pair_event_with_riders(&self, i: usize, horizon: f64) -> (f64, u32, f64) {
         let now = self.now;
-        let (xi, yi, vxi, vyi) = self.state_at(i, now);
+        let floor = self.bounds.floor.as_ref().expect("riders need a floor");
+        let ride = floor.ride(now);
+        let (xi, yi, vxi, vyi) = self.state_at_with(i, now, ride);
         let speed_i = vxi.abs() + vyi.abs();
         let ai = self.disks.radius[i];
         let rider = self.is_riding(i);
@@ -70,7 +72,7 @@ impl<F: Flight> Simulation<F> {
         for chunk in self.map.lists.of(i).chunks(CHUNK) {
             let mut k = 0;
             for &j in chunk {
-                let (xj, yj, vxj, vyj) = self.state_at(j as usize, now);
+                let (xj, yj, vxj, vyj) = self.state_at_with(j as usize, now, ride);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
                 let s = ai + self.disks.radius[j as usize];
                 let mixed = self.is_riding(j as usize) != rider;
@@ -81,7 +83,7 @@ impl<F: Flight> Simulation<F> {
                 let j = j as usize;
                 let dt = if self.is_riding(j) == rider {
                     // Both fly, or both ride the floor: relative motion is straight.
-                    let (xj, yj, vxj, vyj) = self.state_at(j, now);
+                    let (xj, yj, vxj, vyj) = self.state_at_with(j, now, ride);
                     let (dx, dy) = self.wrap(xi - xj, yi - yj);
                     let speed = speed_i + vxj.abs() + vyj.abs();
                     contact_time_within(
@@ -102,7 +104,7 @@ impl<F: Flight> Simulation<F> {
                         // far along a flyer that bounces on the floor beside it).
                         limit = limit.min(self.events.time[j]);
                     }
-                    match self.rider_contact(r, f, limit) {
+                    match self.rider_contact(r, f, limit, ride) {
                         Some(RiderContact::At(t)) => Some(t - now),
                         Some(RiderContact::Recheck(t)) => {
                             recheck = recheck.min(t);
@@ -227,12 +229,14 @@ impl<F: Flight> Simulation<F> {
         (best, who)
     }
 
-    /// Contact search between riding disk `r` and flying disk `f` from now to `limit`.
-    pub(in crate::engine) fn rider_contact(
+    /// Contact search between riding disk `r` and flying disk `f` from now to `limit`; `ride`:
+    /// the floor's height and velocity now.
+    fn rider_contact(
         &self,
         r: usize,
         f: usize,
         limit: f64,
+        ride: (f64, f64),
     ) -> Option<RiderContact> {
         let now = self.now;
         let floor = self.bounds.floor.as_ref().expect("riders need a floor");
@@ -241,8 +245,8 @@ impl<F: Flight> Simulation<F> {
             Some((t_end, _)) => limit.min(t_end),
             None => limit,
         };
-        let (xr, _, vxr, _) = self.state_at(r, now);
-        let (xf, yf, vxf, vyf) = self.state_at(f, now);
+        let (xr, _, vxr, _) = self.state_at_with(r, now, ride);
+        let (xf, yf, vxf, vyf) = self.state_at_with(f, now, ride);
         let (dx, _) = self.wrap(xf - xr, 0.0);
         rider_contact(
             dx,
