@@ -11,14 +11,18 @@ built vibrobed:
   and at most one event per disk per unit time averaged over the last half (t = 30-60).
 - jam: the *exact jam*, 24 equal disks in a width of exactly 3, 4 or 5 diameters
   (scenarios/hard/bed_at_rest_tc.json), seeds 3-6, 60 time units; 12 runs.
+- beds: the shipped bed (scenarios/vibrated_bed.json, 1000 disks, five layers) with TC
+  (t_c = 1e-3) in a width of 200.3, pair restitution e = 0.5, 0.7, 0.9, side walls or periodic
+  sides, on a static floor or a sine floor at Γ = 0.5 and 0.8; 100 time units; 18 runs.
 
-Each run goes to t = 30, writes a checkpoint and is resumed to t = 60, so that the events of the
-last half are counted exactly (a resumed run is the uninterrupted run, bit for bit). Runs go two
-at a time (--jobs). Wall times are whole-process and only indicative.
+Each run goes to half its duration, writes a checkpoint and is resumed to the end, so that the
+events of the last half are counted exactly (a resumed run is the uninterrupted run, bit for
+bit). Runs go two at a time (--jobs). Wall times are whole-process and only indicative.
 
 Usage, from the project root (builds the engine without the recorder first):
-    benches/settling.py                 # both matrices (about 3.5 minutes on 2 cores)
+    benches/settling.py                 # piles and jam (about 3.5 minutes on 2 cores)
     benches/settling.py piles           # one of them
+    benches/settling.py beds --jobs 1   # the real beds (about 15 minutes on one core)
     benches/settling.py --bin PATH jam  # another build
 """
 import argparse
@@ -34,7 +38,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PILE = os.path.join(ROOT, "scenarios/hard/pile_poly_walls_cutoff.json")
 JAM = os.path.join(ROOT, "scenarios/hard/bed_at_rest_tc.json")
-HALF, DURATION = 30.0, 60.0
+BED = os.path.join(ROOT, "scenarios/vibrated_bed.json")
 
 Result = collections.namedtuple("Result", "label ending t rest events last ok wall")
 
@@ -54,7 +58,7 @@ def pile_runs():
                     s["collisions"] = {"restitution": e}
                     s["collisions"]["tc" if cure == "tc" else "speed_cutoff"] = 1e-3 if cure == "tc" else 0.01
                     s["seed"] = 1
-                    s["run"] = {"duration": HALF, "max_events": 50_000_000}
+                    s["run"] = {"duration": 30.0, "max_events": 50_000_000}
                     s["engine"] = {"check_invariants": False}
                     yield f"{radius:5} {sides:8} e={e:<4} {cure:6}", s
 
@@ -66,16 +70,36 @@ def jam_runs():
             s["name"] = f"exact jam, width {width}, seed {seed}"
             s["domain"]["width"] = float(width)
             s["seed"] = seed
-            s["run"]["duration"] = HALF
+            s["run"]["duration"] = 30.0
             s["engine"] = {"check_invariants": False}
             yield f"width {width} seed {seed}", s
+
+
+def bed_runs():
+    for e in (0.5, 0.7, 0.9):
+        for sides in ("walls", "periodic"):
+            for gamma in (0.0, 0.5, 0.8):
+                s = json.load(open(BED))
+                s["name"] = f"shipped bed, e = {e}, {sides}, Γ = {gamma}"
+                s["domain"]["width"] = 200.3
+                s["domain"]["x_boundary"] = sides
+                s["collisions"] = {"restitution": e, "tc": 1e-3}
+                s["floor"].pop("gamma")
+                if gamma > 0:
+                    s["floor"]["gamma"] = gamma
+                s["run"] = {"duration": 50.0, "warmup": 0.0, "max_events": 50_000_000}
+                s["engine"] = {"check_invariants": False}
+                yield f"e={e:<4} {sides:8} gamma={gamma:g}", s
+
+
+MATRICES = {"piles": (pile_runs, 60.0), "jam": (jam_runs, 60.0), "beds": (bed_runs, 100.0)}
 
 
 def events(summary):
     return sum(summary["events"].values())
 
 
-def run_one(binary, label, scenario, work):
+def run_one(binary, label, scenario, work, duration):
     key = "".join(c if c.isalnum() else "_" for c in label)
     path = os.path.join(work, key + ".json")
     ckpt = os.path.join(work, key + ".ckpt")
@@ -87,16 +111,17 @@ def run_one(binary, label, scenario, work):
     if not os.path.exists(first):
         return failed(label, run, 0.0, 0, t0)
     a = json.load(open(first))
+    half = a["sim_time"]
     b = a
     if a["ending"] == "completed":
-        run = subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={DURATION}",
+        run = subprocess.run([binary, "resume", ckpt, "--quiet", "--set", f"run.duration={duration}",
                               "--summary", second], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if not os.path.exists(second):
-            return failed(label, run, HALF, events(a), t0)
+            return failed(label, run, half, events(a), t0)
         b = json.load(open(second))
     wall = time.perf_counter() - t0
     n = a["particles"]
-    last = (events(b) - events(a)) / n / (DURATION - HALF) if b["ending"] == "completed" else None
+    last = (events(b) - events(a)) / n / (duration - half) if b["ending"] == "completed" else None
     rest = b.get("at_rest_since")
     ok = b["ending"] == "completed" and rest is not None and last is not None and last <= 1.0
     return Result(label, b["ending"], b["sim_time"], rest, events(b), last, ok, wall)
@@ -111,14 +136,14 @@ def failed(label, run, t, ev, t0):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("matrix", nargs="*", help="piles, jam (default: both)")
+    p.add_argument("matrix", nargs="*", help="piles, jam, beds (default: piles and jam)")
     p.add_argument("--bin", help="vibrobed binary (default: build and use target/release/vibrobed)")
     p.add_argument("--jobs", type=int, default=2)
     args = p.parse_args()
     matrices = args.matrix or ["piles", "jam"]
-    unknown = [m for m in matrices if m not in ("piles", "jam")]
+    unknown = [m for m in matrices if m not in MATRICES]
     if unknown:
-        p.error(f"unknown matrix {unknown[0]!r} (piles or jam)")
+        p.error(f"unknown matrix {unknown[0]!r} (piles, jam or beds)")
     binary = args.bin
     if binary is None:
         subprocess.run(["cargo", "build", "--release", "--no-default-features", "-q"], cwd=ROOT, check=True)
@@ -126,12 +151,13 @@ def main():
         binary = os.path.join(target, "release", "vibrobed")
     work = tempfile.mkdtemp(prefix="vibrobed-settling-")
     for name in matrices:
-        runs = list(pile_runs() if name == "piles" else jam_runs())
+        make, duration = MATRICES[name]
+        runs = list(make())
         print(f"\n{name}: at rest from (first sample time after which every disk stays at rest), "
-              f"events per disk per unit time over t = {HALF:g}-{DURATION:g}")
+              f"events per disk per unit time over t = {duration / 2:g}-{duration:g}")
         print(f"{'run':34}{'ending':>13}{'t':>7}{'at rest':>9}{'events':>12}{'last half':>11}  target")
         with cf.ThreadPoolExecutor(args.jobs) as pool:
-            futures = [pool.submit(run_one, binary, label, s, work) for label, s in runs]
+            futures = [pool.submit(run_one, binary, label, s, work, duration) for label, s in runs]
             results = [f.result() for f in futures]
         for r in results:
             rest_s = "-" if r.rest is None else f"{r.rest:g}"
