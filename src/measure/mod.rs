@@ -32,6 +32,8 @@ pub struct Observables {
     pub temperature: [f64; 2],
     /// Mean height of the disks' centres (mass-weighted).
     pub com_height: f64,
+    /// Σ ½ I ω² of rough disks (`None` for smooth ones).
+    pub rotational: Option<f64>,
 }
 
 impl Observables {
@@ -60,12 +62,21 @@ impl Observables {
             potential: g * my,
             temperature: [tx / n, ty / n],
             com_height: my / m_sum,
+            rotational: disks.spins.is_some().then(|| disks.rotational_energy()),
         }
     }
 
-    /// Kinetic plus potential energy.
+    /// Kinetic (translational and rotational) plus potential energy.
     pub fn energy(&self) -> f64 {
-        self.kinetic + self.potential
+        match self.rotational {
+            Some(r) => self.kinetic + self.potential + r,
+            None => self.kinetic + self.potential,
+        }
+    }
+
+    /// The rotational temperature `Σ I ω² / N` of rough disks (one degree of freedom each).
+    pub fn rotational_temperature(&self, n: usize) -> Option<f64> {
+        self.rotational.map(|r| 2.0 * r / n.max(1) as f64)
     }
 }
 

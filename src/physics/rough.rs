@@ -68,6 +68,18 @@ impl Friction {
     }
 }
 
+/// The tangential laws of a rough scene: of pair collisions, of the floor, of the side walls
+/// and the lid.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Roughness {
+    /// Pair collisions.
+    pub pair: Friction,
+    /// Disk–floor impacts.
+    pub floor: Friction,
+    /// Side walls and lid.
+    pub walls: Friction,
+}
+
 /// What the tangential part of one contact does: disk i's velocity changes by `j·t/m_i` and
 /// disk j's by `−j·t/m_j`; their spins by `dw_i`, `dw_j`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -94,6 +94,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
+                rotational: None,
                 com_height: 0.0,
                 samples: 0,
                 profiles,
