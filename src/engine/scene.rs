@@ -146,6 +146,7 @@ fn rough_laws(s: &Scenario) -> Option<Roughness> {
             Friction::of(f.tangential_restitution, f.friction)
         }),
         walls: Friction::of(s.domain.wall_tangential_restitution, s.domain.wall_friction),
+        inertia_factor: s.particles.inertia_factor.unwrap_or(DEFAULT_INERTIA_FACTOR),
     })
 }
 

@@ -11,6 +11,11 @@ pub trait States {
     /// Calls `f(i, [x, y, vx, vy])` for every disk `i` (the scenario's numbering), in an
     /// order of the source's choosing.
     fn each(&self, f: impl FnMut(usize, [f64; 4]));
+    /// `Σ ½ I ω²` of rough disks at the same instant (spins are constant between events);
+    /// `None` for smooth disks, or where the source does not know the spins.
+    fn rotational_energy(&self) -> Option<f64> {
+        None
+    }
 }
 
 impl States for Snapshot {
@@ -62,7 +67,7 @@ impl Observables {
             potential: g * my,
             temperature: [tx / n, ty / n],
             com_height: my / m_sum,
-            rotational: disks.spins.is_some().then(|| disks.rotational_energy()),
+            rotational: states.rotational_energy(),
         }
     }
 

@@ -78,6 +78,8 @@ pub struct Roughness {
     pub floor: Friction,
     /// Side walls and lid.
     pub walls: Friction,
+    /// `q` in `I = q m a²`.
+    pub inertia_factor: f64,
 }
 
 /// What the tangential part of one contact does: disk i's velocity changes by `j·t/m_i` and
@@ -400,32 +402,18 @@ mod tests {
     #[test]
     fn a_disk_rolling_on_a_wall_feels_no_friction_and_a_sliding_one_starts_rolling() {
         // Floor normal (0, 1); the disk rolls right: v_x = 1, ω = −v_x/a.
-        let disk = |vx: f64, w: f64| Body {
+        let disk = |w: f64| Body {
             m: 1.0,
             a: 0.5,
             q: 0.5,
             w,
         };
         let law = Friction::of(None, Some(10.0));
-        let k = kick(
-            &law,
-            (0.0, 1.0),
-            (1.0, -1.0),
-            &disk(1.0, -2.0),
-            &Body::WALL,
-            1.0,
-        );
+        let k = kick(&law, (0.0, 1.0), (1.0, -1.0), &disk(-2.0), &Body::WALL, 1.0);
         assert_eq!(k, Kick::default());
-        // Sliding without spin, β = 0, no cap reached: v_x → v_x/(1 + 1/q)·(1/q)... rolls at
-        // v_x' = v_x q/(1 + q)·(1/q) = v_x/(1 + q) = 2/3, ω' = −v_x'/a.
-        let k = kick(
-            &law,
-            (0.0, 1.0),
-            (1.0, -1.0),
-            &disk(1.0, 0.0),
-            &Body::WALL,
-            1.0,
-        );
+        // Sliding without spin, β = 0, no cap reached: J = −m_t g_t with m_t = m q/(1 + q) and
+        // g_t = −v_x, so it rolls at v_x' = v_x/(1 + q) = 2/3, ω' = −v_x'/a.
+        let k = kick(&law, (0.0, 1.0), (1.0, -1.0), &disk(0.0), &Body::WALL, 1.0);
         let (vx, w) = (1.0 + k.dv_i.0, k.dw_i);
         assert!((vx - 2.0 / 3.0).abs() < 1e-15 && (w + vx / 0.5).abs() < 1e-15);
         assert_eq!(k.dv_j, (0.0, 0.0));

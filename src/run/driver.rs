@@ -547,6 +547,9 @@ impl<E: Integrator> States for StatesAt<'_, E> {
     fn each(&self, f: impl FnMut(usize, [f64; 4])) {
         self.0.visit_states(self.1, f)
     }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.0.rotational_energy()
+    }
 }
 
 /// Frame `index` of the disks in `snap`, with the time series and live profiles it carries.

@@ -89,6 +89,11 @@ pub trait Integrator {
             self.visit_states(t, f)
         });
     }
+    /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
+    /// disks.
+    fn rotational_energy(&self) -> Option<f64> {
+        None
+    }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
     /// Energy injected and dissipated up to absolute time `t`.
@@ -151,6 +156,9 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn counts(&self) -> EventCounts {
         Simulation::counts(self)
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        Simulation::rotational_energy(self)
     }
     fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         Simulation::energy_flow_at(self, t)
