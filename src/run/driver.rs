@@ -389,13 +389,17 @@ impl<'a, E: Integrator> Driver<'a, E> {
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        let written = w.frame(&frame_view(
-            self.stops.k_trajectory - 1,
-            snap,
-            (&radius, &species),
-            &[],
-            None,
-        ));
+        let spins = self.sim.spins_at(self.now);
+        let written = w.frame_with_spins(
+            &frame_view(
+                self.stops.k_trajectory - 1,
+                snap,
+                (&radius, &species),
+                &[],
+                None,
+            ),
+            spins.as_deref(),
+        );
         if let Err(e) = written {
             self.drop_trajectory(Error::Io(e), false);
         }

@@ -94,6 +94,11 @@ pub trait Integrator {
     fn rotational_energy(&self) -> Option<f64> {
         None
     }
+    /// Each rough disk's `(angle, ω)` at absolute time `t ≥ time()`, in the scenario's
+    /// numbering; `None` for smooth disks.
+    fn spins_at(&self, _t: f64) -> Option<Vec<(f64, f64)>> {
+        None
+    }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
     /// Energy injected and dissipated up to absolute time `t`.
@@ -159,6 +164,9 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn rotational_energy(&self) -> Option<f64> {
         Simulation::rotational_energy(self)
+    }
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        Simulation::spins_at(self, t)
     }
     fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         Simulation::energy_flow_at(self, t)
