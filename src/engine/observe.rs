@@ -81,6 +81,11 @@ impl<F: Flight> Simulation<F> {
             .map(|_| self.disks.rotational_energy())
     }
 
+    /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
+    pub fn inertia_factor(&self) -> Option<f64> {
+        self.disks.spins.as_ref().map(|s| s.q)
+    }
+
     /// Each rough disk's orientation and spin at absolute time `t ≥ time()` (no event between),
     /// in the scenario's numbering: `(angle in [0, 2π), ω)`; `None` for smooth disks.
     pub fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {

@@ -16,6 +16,11 @@ pub trait States {
     fn rotational_energy(&self) -> Option<f64> {
         None
     }
+    /// Rough disks at the same instant: the inertia factor q and each disk's `(angle, ω)` in
+    /// the scenario's numbering; `None` for smooth disks or a source that does not know them.
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        None
+    }
 }
 
 impl States for Snapshot {
@@ -99,6 +104,9 @@ pub struct Profiles {
     py: Vec<f64>,
     kx: Vec<f64>,
     ky: Vec<f64>,
+    /// Σ I ω² per bin (rough disks; empty for smooth ones).
+    #[serde(default)]
+    krot: Vec<f64>,
     above: f64,
 }
 
@@ -120,6 +128,9 @@ pub struct ProfileTable {
     pub velocity_x: Vec<f64>,
     /// Mean velocity y (mass-weighted).
     pub velocity_y: Vec<f64>,
+    /// Rotational temperature `Σ I ω² / N` of the bin's rough disks (absent for smooth ones).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature_rotational: Option<Vec<f64>>,
     /// Mean number of disks above the top bin.
     pub above_top: f64,
 }
@@ -140,6 +151,7 @@ impl Profiles {
             py: z.clone(),
             kx: z.clone(),
             ky: z,
+            krot: Vec::new(),
             above: 0.0,
         }
     }
@@ -149,6 +161,10 @@ impl Profiles {
         let bins = self.count.len();
         let h = (self.top - self.bottom) / bins as f64;
         self.samples += 1;
+        let spins = states.spins();
+        if spins.is_some() && self.krot.is_empty() {
+            self.krot = vec![0.0; bins];
+        }
         states.each(|i, [_, y, vx, vy]| {
             self.add_area(y, disks.radius[i], h);
             let k = ((y - self.bottom) / h).floor();
@@ -164,6 +180,10 @@ impl Profiles {
             self.py[k] += m * vy;
             self.kx[k] += m * vx * vx;
             self.ky[k] += m * vy * vy;
+            if let Some((q, spins)) = &spins {
+                let (a, w) = (disks.radius[i], spins[i].1);
+                self.krot[k] += q * m * a * a * w * w;
+            }
         });
     }
 
@@ -232,6 +252,15 @@ impl Profiles {
                     0.0
                 }
             }),
+            temperature_rotational: (!self.krot.is_empty()).then(|| {
+                per(&|k| {
+                    if self.count[k] > 0.0 {
+                        self.krot[k] / self.count[k]
+                    } else {
+                        0.0
+                    }
+                })
+            }),
             above_top: self.above / s,
         }
     }
@@ -239,13 +268,18 @@ impl Profiles {
 
 impl ProfileTable {
     /// The profiles as CSV, one row per bin.
+    /// Rough disks add a last column, `temperature_rotational`.
     pub fn to_csv(&self) -> String {
         let mut out = String::from(
-            "height,density,packing_fraction,temperature_x,temperature_y,velocity_x,velocity_y\n",
+            "height,density,packing_fraction,temperature_x,temperature_y,velocity_x,velocity_y",
         );
+        out.push_str(match self.temperature_rotational {
+            Some(_) => ",temperature_rotational\n",
+            None => "\n",
+        });
         for k in 0..self.height.len() {
             out.push_str(&format!(
-                "{},{},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{}",
                 self.height[k],
                 self.density[k],
                 self.packing_fraction[k],
@@ -254,6 +288,10 @@ impl ProfileTable {
                 self.velocity_x[k],
                 self.velocity_y[k]
             ));
+            if let Some(t) = &self.temperature_rotational {
+                out.push_str(&format!(",{}", t[k]));
+            }
+            out.push('\n');
         }
         out
     }

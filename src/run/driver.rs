@@ -554,6 +554,9 @@ impl<E: Integrator> States for StatesAt<'_, E> {
     fn rotational_energy(&self) -> Option<f64> {
         self.0.rotational_energy()
     }
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        Some((self.0.inertia_factor()?, self.0.spins_at(self.1)?))
+    }
 }
 
 /// Frame `index` of the disks in `snap`, with the time series and live profiles it carries.

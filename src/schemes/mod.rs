@@ -99,6 +99,10 @@ pub trait Integrator {
     fn spins_at(&self, _t: f64) -> Option<Vec<(f64, f64)>> {
         None
     }
+    /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
+    fn inertia_factor(&self) -> Option<f64> {
+        None
+    }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
     /// Energy injected and dissipated up to absolute time `t`.
@@ -167,6 +171,9 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
         Simulation::spins_at(self, t)
+    }
+    fn inertia_factor(&self) -> Option<f64> {
+        Simulation::inertia_factor(self)
     }
     fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         Simulation::energy_flow_at(self, t)

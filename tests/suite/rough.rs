@@ -175,6 +175,7 @@ fn a_rough_vibrated_bed_closes_its_energy_budget_under_the_invariant_checks() {
         "run.duration=40",
         "run.warmup=10",
         "domain.x_boundary=walls",
+        "output.profile_height=40",
         "domain.wall_friction=0.3",
         "collisions.friction=0.5",
         "collisions.tangential_restitution=0.4",
@@ -192,6 +193,32 @@ fn a_rough_vibrated_bed_closes_its_energy_budget_under_the_invariant_checks() {
     assert!(summary["temperature"]["rotational"].as_f64().unwrap() > 0.0);
     assert!(summary["energy"]["final"]["rotational"].as_f64().unwrap() > 0.0);
     assert!(summary["events"]["wall"].as_u64().unwrap() > 0);
+    // The profiles' rotational temperature adds up to the summary's: Σ_bins T_rot·density·area
+    // is N ⟨T_rot⟩ when no disk flies above the profiles.
+    let p = &summary["profiles"];
+    let column = |name: &str| -> Vec<f64> {
+        p[name]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    let (height, density, t_rot) = (
+        column("height"),
+        column("density"),
+        column("temperature_rotational"),
+    );
+    assert_eq!(p["above_top"].as_f64().unwrap(), 0.0);
+    let bin_area = (height[1] - height[0]) * 200.0;
+    let total: f64 = (0..height.len())
+        .map(|k| t_rot[k] * density[k] * bin_area)
+        .sum();
+    let expected = 1000.0 * summary["temperature"]["rotational"].as_f64().unwrap();
+    assert!(
+        (total / expected - 1.0).abs() < 1e-9,
+        "{total} vs {expected}"
+    );
 }
 
 /// Trajectories carry each rough disk's orientation and spin as two more extended XYZ columns:
