@@ -4,6 +4,7 @@
 
 use super::event::code;
 use super::predict::{Next, State};
+use super::rough::Boundary;
 use super::Simulation;
 use crate::physics::flight::Flight;
 use crate::physics::floor::{FloorEvent, RideEnd};
@@ -154,7 +155,9 @@ impl<F: Flight> Simulation<F> {
         let (h, hd_ride) = floor.ride(now);
         let rests = floor.comes_to_rest(after - hd_ride, self.disks.radius[i], g, now);
         let lift_speed = floor.max_speed();
+        let before = (self.disks.motion[i].vx, vy);
         self.set_vy(i, after);
+        self.rub_boundary(i, Boundary::Floor, (0.0, hd), before);
         self.tally.counts.floor += 1;
         if rests {
             let mass = self.disks.mass[i];

@@ -39,6 +39,7 @@ pub mod placement;
 mod predict;
 pub mod remap;
 pub mod rest;
+mod rough;
 pub mod scene;
 mod setup;
 mod stall;
@@ -93,6 +94,8 @@ pub struct Simulation<F: Flight> {
     bounds: Bounds,
     /// The restitution law, with the cures' memory of each disk.
     restitution: CollisionLaw,
+    /// The tangential laws of rough disks (`None`: smooth disks, no spins).
+    friction: Option<crate::physics::rough::Roughness>,
     rest: Rest,
     tally: Tally,
     control: Control,

@@ -72,6 +72,32 @@ impl<F: Flight> Simulation<F> {
         self.map.numbering.original().unwrap_or(&self.disks)
     }
 
+    /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
+    /// disks.
+    pub fn rotational_energy(&self) -> Option<f64> {
+        self.disks
+            .spins
+            .as_ref()
+            .map(|_| self.disks.rotational_energy())
+    }
+
+    /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
+    pub fn inertia_factor(&self) -> Option<f64> {
+        self.disks.spins.as_ref().map(|s| s.q)
+    }
+
+    /// Each rough disk's orientation and spin at absolute time `t ≥ time()` (no event between),
+    /// in the scenario's numbering: `(angle in [0, 2π), ω)`; `None` for smooth disks.
+    pub fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        let spins = self.disks.spins.as_ref()?;
+        let local = self.base.local(t);
+        let mut out = vec![(0.0, 0.0); self.disks.len()];
+        for k in 0..self.disks.len() {
+            out[self.map.numbering.id(k)] = (spins.angle(k, local), spins.omega[k]);
+        }
+        Some(out)
+    }
+
     /// Current absolute time.
     pub fn time(&self) -> f64 {
         self.base.absolute(self.now)

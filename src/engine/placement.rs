@@ -546,7 +546,7 @@ impl CellSlots {
 }
 
 /// Standard normal deviate (Box–Muller).
-fn gaussian(rng: &mut Xoshiro256PlusPlus) -> f64 {
+pub(crate) fn gaussian(rng: &mut Xoshiro256PlusPlus) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
     let u2: f64 = rng.random();
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()

@@ -5,6 +5,7 @@ use crate::engine::placement::{self, Region};
 use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::floor::Floor;
+use crate::physics::rough::{Friction, Roughness, Spins};
 use crate::physics::walls::{SideBounds, Top};
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
@@ -38,6 +39,8 @@ pub struct Scene {
     pub speed_cutoff: Option<f64>,
     /// Disks landing gently on disks at rest come to rest on them.
     pub resting_contacts: bool,
+    /// The tangential laws of rough disks; `None` for smooth ones.
+    pub rough: Option<Roughness>,
     /// Neighbour mask choice.
     pub mask: MaskChoice,
     /// Grid storage choice.
@@ -101,6 +104,9 @@ impl Scene {
             disks.motion[i].vy = v[1];
         }
         debug_assert_eq!(disks.len(), n);
+        if s.is_rough() {
+            disks.spins = Some(spins(s, &disks, &mut rng));
+        }
         let scene = Scene {
             name: s.name.clone(),
             sides,
@@ -111,6 +117,7 @@ impl Scene {
             tc: s.collisions.tc,
             speed_cutoff: s.collisions.speed_cutoff,
             resting_contacts: s.collisions.resting_contacts,
+            rough: rough_laws(s),
             mask: s.engine.mask,
             grid: s.engine.grid,
             remap: s
@@ -130,6 +137,42 @@ impl Scene {
         Ok((scene, disks))
     }
 }
+
+/// The tangential laws of a rough scenario (`None` for smooth disks).
+fn rough_laws(s: &Scenario) -> Option<Roughness> {
+    s.is_rough().then(|| Roughness {
+        pair: Friction::of(s.collisions.tangential_restitution, s.collisions.friction),
+        floor: s.floor.as_ref().map_or(Friction::SMOOTH, |f| {
+            Friction::of(f.tangential_restitution, f.friction)
+        }),
+        walls: Friction::of(s.domain.wall_tangential_restitution, s.domain.wall_friction),
+        inertia_factor: s.particles.inertia_factor.unwrap_or(DEFAULT_INERTIA_FACTOR),
+    })
+}
+
+/// The initial spins of rough disks: normal with variance `T_rot / I`, scaled so that
+/// `Σ I ω² = N T_rot` exactly (drawn after everything else, so the rest of the state is the
+/// smooth scene's).
+fn spins(s: &Scenario, disks: &Disks, rng: &mut Xoshiro256PlusPlus) -> Spins {
+    let q = s.particles.inertia_factor.unwrap_or(DEFAULT_INERTIA_FACTOR);
+    let t_rot = s.particles.rotational_temperature.unwrap_or(0.0);
+    let inertia: Vec<f64> = (0..disks.len())
+        .map(|k| q * disks.mass[k] * disks.radius[k] * disks.radius[k])
+        .collect();
+    let mut omega: Vec<f64> = inertia
+        .iter()
+        .map(|i| placement::gaussian(rng) * (t_rot / i).sqrt())
+        .collect();
+    let sum: f64 = omega.iter().zip(&inertia).map(|(w, i)| i * w * w).sum();
+    if sum > 0.0 {
+        let scale = (disks.len() as f64 * t_rot / sum).sqrt();
+        omega.iter_mut().for_each(|w| *w *= scale);
+    }
+    Spins::new(q, omega)
+}
+
+/// `q` in `I = q m a²` unless the scenario says: a uniform disk.
+pub const DEFAULT_INERTIA_FACTOR: f64 = 0.5;
 
 /// The side walls (or x period) and the lid (or y period, or an open top) of scenario `s` with
 /// its domain `height` (`None`: open).

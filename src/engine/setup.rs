@@ -209,6 +209,7 @@ impl<F: Flight> Simulation<F> {
                 },
                 n,
             ),
+            friction: scene.rough,
             rest: Rest::new(scene.resting_contacts),
             tally: Tally::default(),
             control: Control::new(scene, n, pipelining),

@@ -106,6 +106,9 @@ impl<F: Flight> Simulation<F> {
         {
             return Err(mismatch("number of disks"));
         }
+        if d.spins.as_ref().map(|s| s.omega.len()) != self.disks.spins.as_ref().map(|_| n) {
+            return Err(mismatch("rough disks"));
+        }
         if state.ev_time.len() != n + 1
             || state.ev_partner.len() != n
             || state.ev_counter.len() != n

@@ -4,6 +4,7 @@
 use super::event::{code, Event};
 use super::predict::{Next, State};
 use super::rest::riders::{LEFT_WALL, RIGHT_WALL};
+use super::rough::Boundary;
 use super::Simulation;
 use crate::physics::flight::Flight;
 use crate::physics::walls::Side;
@@ -50,10 +51,16 @@ impl<F: Flight> Simulation<F> {
         }
         self.unsettle(i);
         let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+        let before = (m.vx, m.vy);
         self.tally.flow.dissipated +=
             self.bounds
                 .sides
                 .hit(side, &mut self.restitution, i, now, m, mass);
+        let boundary = match side {
+            Side::Left => Boundary::Left,
+            Side::Right => Boundary::Right,
+        };
+        self.rub_boundary(i, boundary, (0.0, 0.0), before);
         self.tally.counts.wall += 1;
         self.moved(i);
         self.release_carried(i, None);
@@ -63,10 +70,12 @@ impl<F: Flight> Simulation<F> {
     pub(super) fn hit_lid(&mut self, i: usize) {
         self.bring(i, self.now);
         let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+        let before = (m.vx, m.vy);
         self.tally.flow.dissipated +=
             self.bounds
                 .top
                 .hit(&mut self.restitution, i, self.now, m, mass);
+        self.rub_boundary(i, Boundary::Lid, (0.0, 0.0), before);
         self.tally.counts.lid += 1;
         self.moved(i);
     }

@@ -11,6 +11,16 @@ pub trait States {
     /// Calls `f(i, [x, y, vx, vy])` for every disk `i` (the scenario's numbering), in an
     /// order of the source's choosing.
     fn each(&self, f: impl FnMut(usize, [f64; 4]));
+    /// `Σ ½ I ω²` of rough disks at the same instant (spins are constant between events);
+    /// `None` for smooth disks, or where the source does not know the spins.
+    fn rotational_energy(&self) -> Option<f64> {
+        None
+    }
+    /// Rough disks at the same instant: the inertia factor q and each disk's `(angle, ω)` in
+    /// the scenario's numbering; `None` for smooth disks or a source that does not know them.
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        None
+    }
 }
 
 impl States for Snapshot {
@@ -32,6 +42,8 @@ pub struct Observables {
     pub temperature: [f64; 2],
     /// Mean height of the disks' centres (mass-weighted).
     pub com_height: f64,
+    /// Σ ½ I ω² of rough disks (`None` for smooth ones).
+    pub rotational: Option<f64>,
 }
 
 impl Observables {
@@ -60,12 +72,21 @@ impl Observables {
             potential: g * my,
             temperature: [tx / n, ty / n],
             com_height: my / m_sum,
+            rotational: states.rotational_energy(),
         }
     }
 
-    /// Kinetic plus potential energy.
+    /// Kinetic (translational and rotational) plus potential energy.
     pub fn energy(&self) -> f64 {
-        self.kinetic + self.potential
+        match self.rotational {
+            Some(r) => self.kinetic + self.potential + r,
+            None => self.kinetic + self.potential,
+        }
+    }
+
+    /// The rotational temperature `Σ I ω² / N` of rough disks (one degree of freedom each).
+    pub fn rotational_temperature(&self, n: usize) -> Option<f64> {
+        self.rotational.map(|r| 2.0 * r / n.max(1) as f64)
     }
 }
 
@@ -83,6 +104,9 @@ pub struct Profiles {
     py: Vec<f64>,
     kx: Vec<f64>,
     ky: Vec<f64>,
+    /// Σ I ω² per bin (rough disks; empty for smooth ones).
+    #[serde(default)]
+    krot: Vec<f64>,
     above: f64,
 }
 
@@ -104,6 +128,9 @@ pub struct ProfileTable {
     pub velocity_x: Vec<f64>,
     /// Mean velocity y (mass-weighted).
     pub velocity_y: Vec<f64>,
+    /// Rotational temperature `Σ I ω² / N` of the bin's rough disks (absent for smooth ones).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature_rotational: Option<Vec<f64>>,
     /// Mean number of disks above the top bin.
     pub above_top: f64,
 }
@@ -124,6 +151,7 @@ impl Profiles {
             py: z.clone(),
             kx: z.clone(),
             ky: z,
+            krot: Vec::new(),
             above: 0.0,
         }
     }
@@ -133,6 +161,10 @@ impl Profiles {
         let bins = self.count.len();
         let h = (self.top - self.bottom) / bins as f64;
         self.samples += 1;
+        let spins = states.spins();
+        if spins.is_some() && self.krot.is_empty() {
+            self.krot = vec![0.0; bins];
+        }
         states.each(|i, [_, y, vx, vy]| {
             self.add_area(y, disks.radius[i], h);
             let k = ((y - self.bottom) / h).floor();
@@ -148,6 +180,10 @@ impl Profiles {
             self.py[k] += m * vy;
             self.kx[k] += m * vx * vx;
             self.ky[k] += m * vy * vy;
+            if let Some((q, spins)) = &spins {
+                let (a, w) = (disks.radius[i], spins[i].1);
+                self.krot[k] += q * m * a * a * w * w;
+            }
         });
     }
 
@@ -216,6 +252,15 @@ impl Profiles {
                     0.0
                 }
             }),
+            temperature_rotational: (!self.krot.is_empty()).then(|| {
+                per(&|k| {
+                    if self.count[k] > 0.0 {
+                        self.krot[k] / self.count[k]
+                    } else {
+                        0.0
+                    }
+                })
+            }),
             above_top: self.above / s,
         }
     }
@@ -223,13 +268,18 @@ impl Profiles {
 
 impl ProfileTable {
     /// The profiles as CSV, one row per bin.
+    /// Rough disks add a last column, `temperature_rotational`.
     pub fn to_csv(&self) -> String {
         let mut out = String::from(
-            "height,density,packing_fraction,temperature_x,temperature_y,velocity_x,velocity_y\n",
+            "height,density,packing_fraction,temperature_x,temperature_y,velocity_x,velocity_y",
         );
+        out.push_str(match self.temperature_rotational {
+            Some(_) => ",temperature_rotational\n",
+            None => "\n",
+        });
         for k in 0..self.height.len() {
             out.push_str(&format!(
-                "{},{},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{}",
                 self.height[k],
                 self.density[k],
                 self.packing_fraction[k],
@@ -238,6 +288,10 @@ impl ProfileTable {
                 self.velocity_x[k],
                 self.velocity_y[k]
             ));
+            if let Some(t) = &self.temperature_rotational {
+                out.push_str(&format!(",{}", t[k]));
+            }
+            out.push('\n');
         }
         out
     }

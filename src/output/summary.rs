@@ -26,7 +26,10 @@ pub struct EnergyAt {
     pub kinetic: f64,
     /// Σ m g y.
     pub potential: f64,
-    /// kinetic + potential.
+    /// Σ ½ I ω² (rough disks only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotational: Option<f64>,
+    /// kinetic + potential (+ rotational).
     pub total: f64,
 }
 
@@ -35,6 +38,7 @@ impl From<&Observables> for EnergyAt {
         EnergyAt {
             kinetic: o.kinetic,
             potential: o.potential,
+            rotational: o.rotational,
             total: o.energy(),
         }
     }
@@ -77,6 +81,9 @@ pub struct Temperature {
     pub y: f64,
     /// (x + y)/2.
     pub mean: f64,
+    /// ⟨Σ I ω²⟩/N (rough disks only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotational: Option<f64>,
 }
 
 /// How the engine was set up.

@@ -23,6 +23,8 @@
 //!   1): an open bed has no cell height of its own. `pbc` says which directions are periodic.
 //! - `Time` is the simulated time, `floor_height` the floor's height at that time (absent without
 //!   a floor), `frame` the frame number.
+//! - Rough disks add two columns, `angle:R:1:omega:R:1` ([`ROUGH_PROPERTIES`]): each disk's
+//!   orientation in [0, 2π) and its angular velocity.
 //! - Numbers are written in the shortest form that reads back to the same `f64`, always as reals
 //!   (`2.0`, not `2`, so that readers type `Time` alike in every frame).
 //!
@@ -51,6 +53,9 @@ const SYMBOLS: [&str; 36] = [
 
 /// The column layout written on every comment line.
 pub const PROPERTIES: &str = "species:S:1:pos:R:3:radius:R:1:velo:R:3";
+
+/// The column layout of rough disks: the orientation and angular velocity follow.
+pub const ROUGH_PROPERTIES: &str = "species:S:1:pos:R:3:radius:R:1:velo:R:3:angle:R:1:omega:R:1";
 
 /// The chemical symbol standing for species `k` (see the [module documentation](self)); species
 /// beyond the table (36 and up) reuse its last symbol.
@@ -101,10 +106,20 @@ impl TrajectoryWriter {
     /// Appends one frame (all disks at `f.time`); `f.series` is not written. Fails when the
     /// per-disk slices differ in length or the file cannot be written.
     pub fn frame(&mut self, f: &FrameView) -> Result<(), String> {
+        self.frame_with_spins(f, None)
+    }
+
+    /// [`frame`](Self::frame), with each rough disk's `(angle, ω)` at the frame's time.
+    pub fn frame_with_spins(
+        &mut self,
+        f: &FrameView,
+        spins: Option<&[(f64, f64)]>,
+    ) -> Result<(), String> {
         let n = f.x.len();
         if [f.y.len(), f.vx.len(), f.vy.len(), f.radius.len()]
             .iter()
             .any(|&m| m != n)
+            || spins.is_some_and(|s| s.len() != n)
             || (!f.species.is_empty() && f.species.len() != n)
         {
             return Err(format!(
@@ -128,7 +143,12 @@ impl TrajectoryWriter {
         push_real(t, self.layout.width);
         t.push_str(" 0 0 0 ");
         push_real(t, height);
-        let _ = write!(t, " 0 0 0 1\" Properties={PROPERTIES} Time=");
+        let properties = if spins.is_some() {
+            ROUGH_PROPERTIES
+        } else {
+            PROPERTIES
+        };
+        let _ = write!(t, " 0 0 0 1\" Properties={properties} Time=");
         push_real(t, f.time);
         if let Some(h) = f.floor_height {
             t.push_str(" floor_height=");
@@ -154,7 +174,14 @@ impl TrajectoryWriter {
                 t.push(' ');
                 push_real(t, v);
             }
-            t.push_str(" 0\n");
+            t.push_str(" 0");
+            if let Some(&(angle, omega)) = spins.and_then(|s| s.get(i)) {
+                for v in [angle, omega] {
+                    t.push(' ');
+                    push_real(t, v);
+                }
+            }
+            t.push('\n');
         }
         let out = self.out.as_mut().ok_or("trajectory already closed")?;
         if let Err(e) = out.write_all(self.text.as_bytes()) {

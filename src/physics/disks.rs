@@ -34,6 +34,8 @@ pub struct Disks {
     pub species: PerDisk<u32>,
     /// Number of velocity changes so far (invalidates partners' predicted events).
     pub counter: Vec<u32>,
+    /// Spins and orientations of rough disks; `None` (nothing allocated) for smooth ones.
+    pub spins: Option<crate::physics::rough::Spins>,
 }
 
 impl Disks {
@@ -59,6 +61,7 @@ impl Disks {
             mass: PerDisk::new(mass),
             species: PerDisk::new(species),
             counter: vec![0; n],
+            spins: None,
         }
     }
 
@@ -94,6 +97,14 @@ impl Disks {
             + self.mass.bytes()
             + self.species.bytes()
             + 4 * self.counter.capacity()
+            + self.spins.as_ref().map_or(0, |s| s.bytes())
+    }
+
+    /// Rotational kinetic energy `Σ ½ I ω²` (0 for smooth disks).
+    pub fn rotational_energy(&self) -> f64 {
+        self.spins
+            .as_ref()
+            .map_or(0.0, |s| s.energy(self.mass.iter(), self.radius.iter()))
     }
 }
 

@@ -8,5 +8,6 @@ pub mod flight;
 pub mod floor;
 pub mod pair;
 pub mod restitution;
+pub mod rough;
 pub mod theory;
 pub mod walls;

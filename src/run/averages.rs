@@ -23,6 +23,8 @@ pub(super) struct Window {
 pub(super) struct Averages {
     pub(super) window: Option<Window>,
     pub(super) temperature: [f64; 2],
+    /// Σ of the rotational temperature over the samples (rough disks).
+    pub(super) rotational: Option<f64>,
     pub(super) com_height: f64,
     pub(super) samples: usize,
     pub(super) profiles: Option<Profiles>,
@@ -33,6 +35,9 @@ impl Averages {
     pub(super) fn add(&mut self, states: &impl States, disks: &Disks, o: &Observables) {
         self.temperature[0] += o.temperature[0];
         self.temperature[1] += o.temperature[1];
+        if let Some(t) = o.rotational_temperature(disks.len()) {
+            *self.rotational.get_or_insert(0.0) += t;
+        }
         self.com_height += o.com_height;
         self.samples += 1;
         if let Some(p) = self.profiles.as_mut() {
@@ -46,6 +51,7 @@ impl Averages {
             x: self.temperature[0] / n,
             y: self.temperature[1] / n,
             mean: 0.5 * (self.temperature[0] + self.temperature[1]) / n,
+            rotational: self.rotational.map(|t| t / n),
         }
     }
 }

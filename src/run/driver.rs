@@ -94,6 +94,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
+                rotational: None,
                 com_height: 0.0,
                 samples: 0,
                 profiles,
@@ -388,13 +389,17 @@ impl<'a, E: Integrator> Driver<'a, E> {
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        let written = w.frame(&frame_view(
-            self.stops.k_trajectory - 1,
-            snap,
-            (&radius, &species),
-            &[],
-            None,
-        ));
+        let spins = self.sim.spins_at(self.now);
+        let written = w.frame_with_spins(
+            &frame_view(
+                self.stops.k_trajectory - 1,
+                snap,
+                (&radius, &species),
+                &[],
+                None,
+            ),
+            spins.as_deref(),
+        );
         if let Err(e) = written {
             self.drop_trajectory(Error::Io(e), false);
         }
@@ -545,6 +550,12 @@ pub(super) struct StatesAt<'e, E>(pub(super) &'e E, pub(super) f64);
 impl<E: Integrator> States for StatesAt<'_, E> {
     fn each(&self, f: impl FnMut(usize, [f64; 4])) {
         self.0.visit_states(self.1, f)
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.0.rotational_energy()
+    }
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        Some((self.0.inertia_factor()?, self.0.spins_at(self.1)?))
     }
 }
 

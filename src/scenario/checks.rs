@@ -78,6 +78,72 @@ fn restitution(field: &str, e: f64) -> Result<()> {
     }
 }
 
+/// A tangential restitution, in [−1, 1].
+fn tangential_restitution(field: &str, beta: Option<f64>) -> Result<()> {
+    match beta {
+        Some(b) if !(-1.0..=1.0).contains(&b) => Err(Error::input(
+            field,
+            format!("must lie in [-1, 1] (got {b}; -1 is a smooth contact)"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// A coefficient of friction: finite and not negative.
+fn friction(field: &str, mu: Option<f64>) -> Result<()> {
+    match mu {
+        Some(m) if !(m.is_finite() && (0.0..=MAX_MAGNITUDE).contains(&m)) => Err(Error::input(
+            field,
+            format!("must be a finite number ≥ 0 (got {m})"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Rough disks: friction and tangential restitution of pairs, floor and walls in range, an
+/// inertia factor in (0, 1], a finite initial rotational temperature ≥ 0, and the exact engine
+/// (the approximate schemes do not rotate disks yet).
+fn validate_rough(s: &Scenario) -> Result<()> {
+    friction("collisions.friction", s.collisions.friction)?;
+    tangential_restitution(
+        "collisions.tangential_restitution",
+        s.collisions.tangential_restitution,
+    )?;
+    if let Some(f) = &s.floor {
+        friction("floor.friction", f.friction)?;
+        tangential_restitution("floor.tangential_restitution", f.tangential_restitution)?;
+    }
+    friction("domain.wall_friction", s.domain.wall_friction)?;
+    tangential_restitution(
+        "domain.wall_tangential_restitution",
+        s.domain.wall_tangential_restitution,
+    )?;
+    if let Some(q) = s.particles.inertia_factor {
+        if !(q > 0.0 && q <= 1.0) {
+            return Err(Error::input(
+                "particles.inertia_factor",
+                format!("must lie in (0, 1] (got {q}; ½ is a uniform disk, 1 a ring)"),
+            ));
+        }
+    }
+    if let Some(t) = s.particles.rotational_temperature {
+        if !(t.is_finite() && (0.0..=MAX_MAGNITUDE).contains(&t)) {
+            return Err(Error::input(
+                "particles.rotational_temperature",
+                format!("must be a finite number ≥ 0 (got {t})"),
+            ));
+        }
+    }
+    if s.is_rough() && s.engine.scheme != Scheme::EventDriven {
+        return Err(Error::input(
+            "engine.scheme",
+            "rough disks (friction, tangential restitution, rotation) run on the event-driven \
+             scheme only, for now",
+        ));
+    }
+    Ok(())
+}
+
 /// Checks the whole scenario, section by section in the file's order; the first rule broken
 /// is the error (so a scenario with several faults always reports the same one).
 pub fn validate(s: &Scenario) -> Result<()> {
@@ -86,6 +152,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_floor(s)?;
     validate_particles(s)?;
     validate_collisions(&s.collisions)?;
+    validate_rough(s)?;
     validate_run(&s.run)?;
     validate_output(s)?;
     validate_engine(s)?;

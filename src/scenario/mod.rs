@@ -62,6 +62,13 @@ pub struct Domain {
     /// Restitution of the side walls and the lid (1 = elastic).
     #[serde(default = "one")]
     pub wall_restitution: f64,
+    /// Coulomb friction μ of the side walls and the lid (rough disks). Absent: smooth walls,
+    /// unless `wall_tangential_restitution` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_friction: Option<f64>,
+    /// Tangential restitution β ∈ [−1, 1] of the side walls and the lid (rough disks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_tangential_restitution: Option<f64>,
 }
 
 /// What bounds the domain in x.
@@ -114,6 +121,13 @@ pub struct Floor {
     /// y = 0 for finding impacts, which use the moving floor's velocity).
     #[serde(default)]
     pub model: FloorModel,
+    /// Coulomb friction μ of disk–floor impacts (rough disks). Absent: a smooth floor, unless
+    /// `tangential_restitution` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// Tangential restitution β ∈ [−1, 1] of disk–floor impacts (rough disks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_restitution: Option<f64>,
 }
 
 /// Shape of the floor vibration.
@@ -166,6 +180,12 @@ pub struct Particles {
     /// set to zero unless there is a single disk.
     #[serde(default = "one")]
     pub temperature: f64,
+    /// `q` in the moment of inertia `I = q m a²` of rough disks (½: a uniform disk).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia_factor: Option<f64>,
+    /// Initial rotational temperature `Σ I ω² / N` of rough disks (default 0: no spin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotational_temperature: Option<f64>,
 }
 
 /// Disk radii.
@@ -269,6 +289,14 @@ pub struct Collisions {
     /// bouncing with that smallest rebound. Only matters with a floor and gravity.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub resting_contacts: bool,
+    /// Coulomb friction μ of pair collisions (rough disks): the tangential impulse is at most μ
+    /// times the normal one. Absent: no cap (with `tangential_restitution`) or smooth disks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// Tangential restitution β ∈ [−1, 1] of sticking pair contacts (rough disks; −1 is
+    /// smooth). Absent with `friction` given: 0, contacts that stick stop slipping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_restitution: Option<f64>,
 }
 
 fn yes() -> bool {
@@ -286,6 +314,8 @@ impl Default for Collisions {
             tc: None,
             speed_cutoff: None,
             resting_contacts: true,
+            friction: None,
+            tangential_restitution: None,
         }
     }
 }
@@ -607,6 +637,23 @@ impl Scenario {
     /// Checks that the scene makes physical sense; errors name the field.
     pub fn validate(&self) -> Result<()> {
         crate::scenario::checks::validate(self)
+    }
+
+    /// Whether the disks are rough (carry spins): any of the rough disks' fields is named.
+    pub fn is_rough(&self) -> bool {
+        let c = &self.collisions;
+        let d = &self.domain;
+        let p = &self.particles;
+        c.friction.is_some()
+            || c.tangential_restitution.is_some()
+            || d.wall_friction.is_some()
+            || d.wall_tangential_restitution.is_some()
+            || p.inertia_factor.is_some()
+            || p.rotational_temperature.is_some()
+            || self
+                .floor
+                .as_ref()
+                .is_some_and(|f| f.friction.is_some() || f.tangential_restitution.is_some())
     }
 
     /// Number of disks the scene holds.

@@ -89,6 +89,20 @@ pub trait Integrator {
             self.visit_states(t, f)
         });
     }
+    /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
+    /// disks.
+    fn rotational_energy(&self) -> Option<f64> {
+        None
+    }
+    /// Each rough disk's `(angle, ω)` at absolute time `t ≥ time()`, in the scenario's
+    /// numbering; `None` for smooth disks.
+    fn spins_at(&self, _t: f64) -> Option<Vec<(f64, f64)>> {
+        None
+    }
+    /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
+    fn inertia_factor(&self) -> Option<f64> {
+        None
+    }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
     /// Energy injected and dissipated up to absolute time `t`.
@@ -151,6 +165,15 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn counts(&self) -> EventCounts {
         Simulation::counts(self)
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        Simulation::rotational_energy(self)
+    }
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        Simulation::spins_at(self, t)
+    }
+    fn inertia_factor(&self) -> Option<f64> {
+        Simulation::inertia_factor(self)
     }
     fn energy_flow_at(&self, t: f64) -> EnergyFlow {
         Simulation::energy_flow_at(self, t)

@@ -631,3 +631,44 @@ fn a_periodic_box_narrower_than_three_diameters_is_refused_by_the_local_re_mappi
         &["domain.width"],
     );
 }
+
+// --- Rough disks: each field out of range is refused by name, and so is a scheme that does
+// not rotate disks. ---
+
+#[test]
+fn rough_fields_out_of_range_are_refused_by_name() {
+    for (k, (set, field)) in [
+        ("collisions.friction=-0.1", "collisions.friction"),
+        (
+            "collisions.tangential_restitution=1.5",
+            "collisions.tangential_restitution",
+        ),
+        ("floor.friction=1e300", "floor.friction"),
+        (
+            "floor.tangential_restitution=-2",
+            "floor.tangential_restitution",
+        ),
+        ("domain.wall_friction=-1", "domain.wall_friction"),
+        (
+            "domain.wall_tangential_restitution=3",
+            "domain.wall_tangential_restitution",
+        ),
+        ("particles.inertia_factor=0", "particles.inertia_factor"),
+        ("particles.inertia_factor=1.5", "particles.inertia_factor"),
+        (
+            "particles.rotational_temperature=-1",
+            "particles.rotational_temperature",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        check_refuses(&format!("rough-{k}"), "vibrated_bed.json", &[set], &[field]);
+    }
+    check_refuses(
+        "rough-scheme",
+        "vibrated_bed.json",
+        &["collisions.friction=0.5", "engine.scheme=time-step"],
+        &["engine.scheme"],
+    );
+}

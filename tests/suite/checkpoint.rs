@@ -287,6 +287,28 @@ fn a_resumed_bed_at_rest_is_the_uninterrupted_bed() {
     );
 }
 
+/// Rough disks: their spins and orientations go into the checkpoint (the summary's rotational
+/// energy and temperature compare them), renumbered and under the local re-mapping too.
+#[test]
+fn a_resumed_rough_bed_is_the_uninterrupted_bed() {
+    let rough = [
+        "run.warmup=2",
+        "collisions.friction=0.4",
+        "collisions.tangential_restitution=0.3",
+        "floor.friction=0.5",
+        "particles.rotational_temperature=0.3",
+    ];
+    resumed_equals_uninterrupted("rough", "vibrated_bed.json", &rough, 4.7, 9.0);
+    let renumbered = [&rough[..], &["engine.renumber=on", "engine.remap=local"]].concat();
+    resumed_equals_uninterrupted(
+        "rough-renumbered",
+        "vibrated_bed.json",
+        &renumbered,
+        4.7,
+        9.0,
+    );
+}
+
 /// The TC model (collisions within tc of the last one are elastic) keeps per-disk times.
 #[test]
 fn a_resumed_tc_bed_is_the_uninterrupted_bed() {

@@ -22,6 +22,7 @@ mod queues;
 mod record_e2e;
 mod recording;
 mod renumbering;
+mod rough;
 mod scenarios;
 mod schemes;
 mod solver_properties;

@@ -256,6 +256,7 @@ fn profiles_read_back() {
         temperature_y: vec![3.0, 0.0, 4.0 + k as f64],
         velocity_x: vec![0.0; 3],
         velocity_y: vec![0.0; 3],
+        temperature_rotational: None,
         above_top: 0.0,
     };
     for k in 0..FRAMES {

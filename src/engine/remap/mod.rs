@@ -30,6 +30,9 @@ impl<F: Flight> Simulation<F> {
         self.base.advance(now);
         self.now = 0.0;
         self.restitution.rebase(now);
+        if let Some(spins) = &mut self.disks.spins {
+            spins.rebase(now);
+        }
         if let Some(floor) = &mut self.bounds.floor {
             floor.rebase(now);
         }

@@ -172,6 +172,7 @@ impl<F: Flight> Simulation<F> {
                 mass: d.mass.clone(),
                 species: d.species.clone(),
                 counter: Vec::new(),
+                spins: None,
             });
         }
         self.rest.riders.permute(from);
@@ -185,6 +186,9 @@ impl<F: Flight> Simulation<F> {
         d.mass.permute(from);
         d.species.permute(from);
         permute_in_place(&mut d.counter, from);
+        if let Some(spins) = &mut d.spins {
+            spins.permute(from);
+        }
         self.restitution.permute(from);
         if !self.rest.same_instant.is_empty() {
             permute_in_place(&mut self.rest.same_instant, from);

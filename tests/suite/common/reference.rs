@@ -7,6 +7,7 @@ use vibrobed::engine::{Collision, Partner, Snapshot};
 use vibrobed::physics::flight::Flight;
 use vibrobed::physics::floor::{Floor, FloorEvent};
 use vibrobed::physics::pair::{collide, contact_time};
+use vibrobed::physics::rough::{kick, Body, Friction, Roughness};
 use vibrobed::physics::walls::{Side, SideBounds, Top};
 
 /// All-pairs event-driven engine with synchronous advance.
@@ -24,6 +25,8 @@ pub struct Reference<F: Flight> {
     top: Top,
     floor: Option<Floor>,
     restitution: f64,
+    /// Rough disks: the tangential laws and each disk's spin.
+    rough: Option<(Roughness, Vec<f64>)>,
 }
 
 impl<F: Flight> Reference<F> {
@@ -53,7 +56,53 @@ impl<F: Flight> Reference<F> {
             top,
             floor,
             restitution,
+            rough: None,
         }
+    }
+
+    /// Makes the disks rough, with the laws `laws` and spins `omega` (the scenario's numbering).
+    pub fn with_spins(mut self, laws: Roughness, omega: Vec<f64>) -> Reference<F> {
+        self.rough = Some((laws, omega));
+        self
+    }
+
+    /// Each disk's spin (rough disks).
+    pub fn spins(&self) -> Option<&[f64]> {
+        self.rough.as_ref().map(|(_, w)| w.as_slice())
+    }
+
+    /// Disk `k` as one side of a contact.
+    fn body(&self, k: usize) -> Body {
+        let (laws, omega) = self.rough.as_ref().expect("rough disks");
+        Body {
+            m: self.mass[k],
+            a: self.radius[k],
+            q: laws.inertia_factor,
+            w: omega[k],
+        }
+    }
+
+    /// The tangential part of disk `i`'s impact on a boundary with normal `n` (from it to the
+    /// disk) and law `law`, moving with `wall`, after the normal part changed the velocity from
+    /// `before`.
+    fn rub_boundary(
+        &mut self,
+        i: usize,
+        n: (f64, f64),
+        law: impl Fn(&Roughness) -> Friction,
+        wall: (f64, f64),
+        before: (f64, f64),
+    ) {
+        let Some((laws, _)) = &self.rough else {
+            return;
+        };
+        let law = law(laws);
+        let p_n = self.mass[i] * ((self.vx[i] - before.0) * n.0 + (self.vy[i] - before.1) * n.1);
+        let dv = (self.vx[i] - wall.0, self.vy[i] - wall.1);
+        let k = kick(&law, n, dv, &self.body(i), &Body::WALL, p_n);
+        self.vx[i] += k.dv_i.0;
+        self.vy[i] += k.dv_i.1;
+        self.rough.as_mut().unwrap().1[i] += k.dw_i;
     }
 
     fn wrap(&self, mut dx: f64, mut dy: f64) -> (f64, f64) {
@@ -153,17 +202,51 @@ impl<F: Flight> Reference<F> {
                         self.mass[j],
                         self.restitution,
                     );
+                    let dv = (self.vx[i] - self.vx[j], self.vy[i] - self.vy[j]);
                     self.vx[i] += imp.dvx_i;
                     self.vy[i] += imp.dvy_i;
                     self.vx[j] += imp.dvx_j;
                     self.vy[j] += imp.dvy_j;
+                    if let Some((laws, _)) = &self.rough {
+                        let n = (dx / imp.distance, dy / imp.distance);
+                        let k = kick(
+                            &laws.pair,
+                            n,
+                            dv,
+                            &self.body(i),
+                            &self.body(j),
+                            imp.momentum,
+                        );
+                        self.vx[i] += k.dv_i.0;
+                        self.vy[i] += k.dv_i.1;
+                        self.vx[j] += k.dv_j.0;
+                        self.vy[j] += k.dv_j.1;
+                        let omega = &mut self.rough.as_mut().unwrap().1;
+                        omega[i] += k.dw_i;
+                        omega[j] += k.dw_j;
+                    }
                 }
-                Partner::Left => self.vx[i] = self.sides.bounce(self.vx[i], Side::Left, false),
-                Partner::Right => self.vx[i] = self.sides.bounce(self.vx[i], Side::Right, false),
-                Partner::Lid => self.vy[i] = self.top.bounce(self.vy[i], false),
+                Partner::Left => {
+                    let before = (self.vx[i], self.vy[i]);
+                    self.vx[i] = self.sides.bounce(self.vx[i], Side::Left, false);
+                    self.rub_boundary(i, (1.0, 0.0), |r| r.walls, (0.0, 0.0), before);
+                }
+                Partner::Right => {
+                    let before = (self.vx[i], self.vy[i]);
+                    self.vx[i] = self.sides.bounce(self.vx[i], Side::Right, false);
+                    self.rub_boundary(i, (-1.0, 0.0), |r| r.walls, (0.0, 0.0), before);
+                }
+                Partner::Lid => {
+                    let before = (self.vx[i], self.vy[i]);
+                    self.vy[i] = self.top.bounce(self.vy[i], false);
+                    self.rub_boundary(i, (0.0, -1.0), |r| r.walls, (0.0, 0.0), before);
+                }
                 Partner::Floor => {
                     let floor = self.floor.as_ref().expect("floor");
+                    let before = (self.vx[i], self.vy[i]);
+                    let hd = floor.velocity(self.time);
                     self.vy[i] = floor.bounce(self.vy[i], self.time);
+                    self.rub_boundary(i, (0.0, 1.0), |r| r.floor, (0.0, hd), before);
                 }
             }
             log.push(Collision::new(self.time, i, p));

@@ -1,0 +1,433 @@
+//! Rough disks: rotation, tangential restitution and Coulomb friction (Walton's model).
+//!
+//! Each disk has an angular velocity ω and a moment of inertia `I = q m a²` (q = ½ for a
+//! uniform disk). At a contact with normal `n` (from the other body to the disk) and tangent
+//! `t = (−n_y, n_x)`, the contact points' relative tangential velocity is
+//! `g_t = Δv·t − (a_i ω_i + a_j ω_j)`. The normal impulse `p_n` is today's (restitution and its
+//! cures); the tangential impulse `J` (along `t` on disk i) makes `g_t' = −β g_t` for a sticking
+//! contact, `J = −(1 + β) m_t g_t` with `1/m_t = (1 + 1/q_i)/m_i + (1 + 1/q_j)/m_j`, and is
+//! capped at `μ p_n` (a sliding contact: `J = −sign(g_t) μ p_n`). The disks' velocities change
+//! by `±J t/m` and their spins by `Δω = −a J / I`. Energy lost to the tangential part:
+//! `−(J g_t + J²/(2 m_t))`, `½ m_t (1 − β²) g_t²` when sticking. A wall, the lid or the floor
+//! is a body of infinite mass that does not turn (`1/m_j = 0`, `a_j = 0`).
+//!
+//! One home for the rule, for pair collisions and boundary impacts alike (the approximate
+//! schemes are to use it too), and the per-disk rotational state it acts on.
+
+/// The tangential part of a contact law: tangential restitution β ∈ [−1, 1] of sticking
+/// contacts, capped by Coulomb friction μ ≥ 0 (∞: no cap). β = −1 or μ = 0 is a smooth contact.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Friction {
+    /// Tangential restitution of a sticking contact.
+    pub beta: f64,
+    /// Coulomb friction coefficient (∞ when not capped).
+    pub mu: f64,
+}
+
+impl Friction {
+    /// A smooth contact: no tangential impulse.
+    pub const SMOOTH: Friction = Friction {
+        beta: -1.0,
+        mu: 0.0,
+    };
+
+    /// The law a scenario's pair of fields names: β alone is a constant tangential
+    /// restitution; μ alone is Coulomb friction up to a contact that stops slipping (β = 0,
+    /// the disks leave rolling on each other); neither is smooth.
+    pub fn of(beta: Option<f64>, mu: Option<f64>) -> Friction {
+        match (beta, mu) {
+            (None, None) => Friction::SMOOTH,
+            (b, m) => Friction {
+                beta: b.unwrap_or(0.0),
+                mu: m.unwrap_or(f64::INFINITY),
+            },
+        }
+    }
+
+    /// `true` when the contact exchanges no tangential impulse.
+    pub fn is_smooth(&self) -> bool {
+        self.beta == -1.0 || self.mu == 0.0
+    }
+
+    /// The tangential impulse on the disk along `t`, for a tangential velocity `g_t` of the
+    /// contact points, a normal impulse `p_n ≥ 0` and the tangential effective mass `m_t`. A
+    /// contact that does not press (`p_n = 0`: a pair not approaching, by round-off) exchanges
+    /// nothing.
+    #[inline]
+    pub fn impulse(&self, g_t: f64, p_n: f64, m_t: f64) -> f64 {
+        if self.is_smooth() || g_t == 0.0 || p_n <= 0.0 {
+            return 0.0;
+        }
+        let stick = -(1.0 + self.beta) * m_t * g_t;
+        let cap = self.mu * p_n;
+        if stick.abs() <= cap {
+            stick
+        } else {
+            -cap.copysign(g_t)
+        }
+    }
+}
+
+/// The tangential laws of a rough scene: of pair collisions, of the floor, of the side walls
+/// and the lid.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Roughness {
+    /// Pair collisions.
+    pub pair: Friction,
+    /// Disk–floor impacts.
+    pub floor: Friction,
+    /// Side walls and lid.
+    pub walls: Friction,
+    /// `q` in `I = q m a²`.
+    pub inertia_factor: f64,
+}
+
+/// What the tangential part of one contact does: disk i's velocity changes by `j·t/m_i` and
+/// disk j's by `−j·t/m_j`; their spins by `dw_i`, `dw_j`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Kick {
+    /// Tangential impulse on disk i along `t = (−n_y, n_x)`.
+    pub j: f64,
+    /// Velocity change of disk i.
+    pub dv_i: (f64, f64),
+    /// Velocity change of disk j.
+    pub dv_j: (f64, f64),
+    /// Spin change of disk i.
+    pub dw_i: f64,
+    /// Spin change of disk j.
+    pub dw_j: f64,
+    /// Kinetic energy (translational and rotational) lost, ≥ 0.
+    pub energy_lost: f64,
+}
+
+/// One side of a contact: a disk's mass, radius, inertia factor q and spin; a wall is
+/// [`Body::WALL`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    /// Mass (∞ for a wall).
+    pub m: f64,
+    /// Radius (0 for a wall: its contact point is where it is hit).
+    pub a: f64,
+    /// `I = q m a²`.
+    pub q: f64,
+    /// Angular velocity.
+    pub w: f64,
+}
+
+impl Body {
+    /// A wall, the lid or the floor: infinite mass, no turning.
+    pub const WALL: Body = Body {
+        m: f64::INFINITY,
+        a: 0.0,
+        q: 1.0,
+        w: 0.0,
+    };
+
+    /// `1/m + a²/I = (1 + 1/q)/m`, this body's part of the tangential inverse mass.
+    fn inverse_mass(&self) -> f64 {
+        (1.0 + 1.0 / self.q) / self.m
+    }
+}
+
+/// The tangential part of a contact of disk `i` with `j` (a disk or [`Body::WALL`]): unit
+/// normal `n` from `j` to `i`, relative velocity `dv = v_i − v_j` (of the centres; for a wall,
+/// the disk's velocity less the wall's), and the normal impulse `p_n ≥ 0` the normal part gave.
+#[inline]
+pub fn kick(law: &Friction, n: (f64, f64), dv: (f64, f64), i: &Body, j: &Body, p_n: f64) -> Kick {
+    if law.is_smooth() {
+        return Kick::default();
+    }
+    let t = (-n.1, n.0);
+    let g_t = dv.0 * t.0 + dv.1 * t.1 - (i.a * i.w + j.a * j.w);
+    let m_t = 1.0 / (i.inverse_mass() + j.inverse_mass());
+    let jt = law.impulse(g_t, p_n, m_t);
+    if jt == 0.0 {
+        return Kick::default();
+    }
+    let (di, dj) = (jt / i.m, -jt / j.m);
+    Kick {
+        j: jt,
+        dv_i: (di * t.0, di * t.1),
+        dv_j: (dj * t.0, dj * t.1),
+        dw_i: -i.a * jt / (i.q * i.m * i.a * i.a),
+        dw_j: if j.m.is_finite() {
+            -j.a * jt / (j.q * j.m * j.a * j.a)
+        } else {
+            0.0
+        },
+        energy_lost: -(jt * g_t + 0.5 * jt * jt / m_t),
+    }
+}
+
+/// The rotational state of rough disks: each disk's angular velocity, constant in flight, and
+/// its orientation as the angle at local time 0 (`angle(t) = phase + ω t` on the engine's
+/// clock), so that the orientation advances without touching the disk. Allocated only for a
+/// rough scene.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Spins {
+    /// `q` in `I = q m a²`.
+    pub q: f64,
+    /// Angular velocity of each disk.
+    pub omega: Vec<f64>,
+    /// Orientation at local time 0.
+    pub phase: Vec<f64>,
+}
+
+impl Spins {
+    /// `n` disks at orientation 0 with spins `omega`.
+    pub fn new(q: f64, omega: Vec<f64>) -> Spins {
+        let n = omega.len();
+        Spins {
+            q,
+            omega,
+            phase: vec![0.0; n],
+        }
+    }
+
+    /// Disk `k`'s orientation at local time `t`, in [0, 2π) up to round-off.
+    pub fn angle(&self, k: usize, t: f64) -> f64 {
+        (self.phase[k] + self.omega[k] * t).rem_euclid(std::f64::consts::TAU)
+    }
+
+    /// Disk `k`'s spin changes by `dw` at local time `now`: the orientation carries on from
+    /// where it is.
+    #[inline]
+    pub fn spin(&mut self, k: usize, now: f64, dw: f64) {
+        self.phase[k] -= dw * now;
+        self.omega[k] += dw;
+    }
+
+    /// The clock's origin moved forward by `dt`: each orientation is re-based, reduced mod 2π.
+    pub fn rebase(&mut self, dt: f64) {
+        for (p, w) in self.phase.iter_mut().zip(&self.omega) {
+            *p = (*p + w * dt).rem_euclid(std::f64::consts::TAU);
+        }
+    }
+
+    /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
+    pub fn permute(&mut self, from: &[u32]) {
+        crate::physics::disks::permute_in_place(&mut self.omega, from);
+        crate::physics::disks::permute_in_place(&mut self.phase, from);
+    }
+
+    /// Rotational kinetic energy `Σ ½ q m a² ω²` of disks with masses `m` and radii `a`.
+    pub fn energy(&self, m: impl Iterator<Item = f64>, a: impl Iterator<Item = f64>) -> f64 {
+        self.omega
+            .iter()
+            .zip(m.zip(a))
+            .map(|(w, (m, a))| 0.5 * self.q * m * a * a * w * w)
+            .sum()
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        8 * (self.omega.capacity() + self.phase.capacity())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::pair::collide;
+
+    /// Two disks in contact and what a collision with the normal impulse of today and the
+    /// tangential kick does to them: positions, velocities, spins before and after.
+    struct Pair {
+        r: [(f64, f64); 2],
+        v: [(f64, f64); 2],
+        w: [f64; 2],
+        m: [f64; 2],
+        a: [f64; 2],
+        q: f64,
+    }
+
+    impl Pair {
+        fn new(angle: f64, v: [(f64, f64); 2], w: [f64; 2]) -> Pair {
+            let (m, a) = ([1.0, 2.7], [0.5, 0.8]);
+            let s = a[0] + a[1];
+            Pair {
+                r: [(0.3 + s * angle.cos(), -0.2 + s * angle.sin()), (0.3, -0.2)],
+                v,
+                w,
+                m,
+                a,
+                q: 0.5,
+            }
+        }
+
+        /// Collides the pair with restitution `e` and `law`: the new velocities and spins,
+        /// and the energy the rule says was lost.
+        fn collide(&self, e: f64, law: &Friction) -> ([(f64, f64); 2], [f64; 2], f64) {
+            let (dx, dy) = (self.r[0].0 - self.r[1].0, self.r[0].1 - self.r[1].1);
+            let dv = (self.v[0].0 - self.v[1].0, self.v[0].1 - self.v[1].1);
+            let imp = collide(dx, dy, dv.0, dv.1, self.m[0], self.m[1], e);
+            let d = (dx * dx + dy * dy).sqrt();
+            let body = |k: usize| Body {
+                m: self.m[k],
+                a: self.a[k],
+                q: self.q,
+                w: self.w[k],
+            };
+            let k = kick(law, (dx / d, dy / d), dv, &body(0), &body(1), imp.momentum);
+            let v = [
+                (
+                    self.v[0].0 + imp.dvx_i + k.dv_i.0,
+                    self.v[0].1 + imp.dvy_i + k.dv_i.1,
+                ),
+                (
+                    self.v[1].0 + imp.dvx_j + k.dv_j.0,
+                    self.v[1].1 + imp.dvy_j + k.dv_j.1,
+                ),
+            ];
+            let w = [self.w[0] + k.dw_i, self.w[1] + k.dw_j];
+            (v, w, imp.energy_lost + k.energy_lost)
+        }
+
+        fn energy(&self, v: &[(f64, f64); 2], w: &[f64; 2]) -> f64 {
+            (0..2)
+                .map(|k| {
+                    0.5 * self.m[k] * (v[k].0 * v[k].0 + v[k].1 * v[k].1)
+                        + 0.5 * self.q * self.m[k] * self.a[k] * self.a[k] * w[k] * w[k]
+                })
+                .sum()
+        }
+
+        /// Angular momentum about `p`, orbital plus spin.
+        fn angular_momentum(&self, v: &[(f64, f64); 2], w: &[f64; 2], p: (f64, f64)) -> f64 {
+            (0..2)
+                .map(|k| {
+                    let (x, y) = (self.r[k].0 - p.0, self.r[k].1 - p.1);
+                    self.m[k] * (x * v[k].1 - y * v[k].0)
+                        + self.q * self.m[k] * self.a[k] * self.a[k] * w[k]
+                })
+                .sum()
+        }
+    }
+
+    proptest::proptest! {
+        /// Every collision conserves momentum and angular momentum about any point, loses the
+        /// energy the rule states (never gains), and is smooth for β = −1 or μ = 0.
+        #[test]
+        fn a_rough_collision_conserves_momenta_and_loses_the_stated_energy(
+            angle in 0.0f64..6.3,
+            v0 in proptest::array::uniform4(-2.0f64..2.0),
+            w in proptest::array::uniform2(-4.0f64..4.0),
+            e in 0.0f64..=1.0,
+            beta in -1.0f64..=1.0,
+            mu in 0.0f64..2.0,
+            capped in proptest::bool::ANY,
+            p in proptest::array::uniform2(-50.0f64..50.0),
+        ) {
+            let pair = Pair::new(angle, [(v0[0], v0[1]), (v0[2], v0[3])], w);
+            let law = Friction { beta, mu: if capped { mu } else { f64::INFINITY } };
+            let (v, w2, lost) = pair.collide(e, &law);
+            let before = pair.energy(&pair.v, &pair.w);
+            let after = pair.energy(&v, &w2);
+            let scale = before.max(1.0);
+            proptest::prop_assert!((before - after - lost).abs() <= 1e-13 * scale,
+                "lost {} stated {}", before - after, lost);
+            proptest::prop_assert!(lost >= -1e-14 * scale);
+            for k in 0..2 {
+                let p0 = pair.m[0] * [pair.v[0].0, pair.v[0].1][k] + pair.m[1] * [pair.v[1].0, pair.v[1].1][k];
+                let p1 = pair.m[0] * [v[0].0, v[0].1][k] + pair.m[1] * [v[1].0, v[1].1][k];
+                proptest::prop_assert!((p0 - p1).abs() <= 1e-13 * scale);
+            }
+            let (l0, l1) = (pair.angular_momentum(&pair.v, &pair.w, (p[0], p[1])),
+                            pair.angular_momentum(&v, &w2, (p[0], p[1])));
+            proptest::prop_assert!((l0 - l1).abs() <= 1e-12 * scale * 100.0, "{} {}", l0, l1);
+        }
+
+        /// β = −1 or μ = 0 is exactly today's smooth collision, and the spins do not change.
+        #[test]
+        fn beta_minus_one_or_no_friction_is_the_smooth_collision_bit_for_bit(
+            angle in 0.0f64..6.3,
+            v0 in proptest::array::uniform4(-2.0f64..2.0),
+            w in proptest::array::uniform2(-4.0f64..4.0),
+            e in 0.0f64..=1.0,
+            x in -1.0f64..=1.0,
+        ) {
+            let pair = Pair::new(angle, [(v0[0], v0[1]), (v0[2], v0[3])], w);
+            let smooth = pair.collide(e, &Friction::SMOOTH);
+            for law in [Friction { beta: -1.0, mu: 1.0 + x }, Friction { beta: x, mu: 0.0 }] {
+                let rough = pair.collide(e, &law);
+                proptest::prop_assert_eq!(rough.0, smooth.0);
+                proptest::prop_assert_eq!(rough.1, pair.w);
+            }
+        }
+
+        /// e = 1 with β = ±1 (no cap) keeps the kinetic energy, rotation included.
+        #[test]
+        fn perfectly_rough_and_smooth_elastic_collisions_keep_the_energy(
+            angle in 0.0f64..6.3,
+            v0 in proptest::array::uniform4(-2.0f64..2.0),
+            w in proptest::array::uniform2(-4.0f64..4.0),
+            rough in proptest::bool::ANY,
+        ) {
+            let pair = Pair::new(angle, [(v0[0], v0[1]), (v0[2], v0[3])], w);
+            let beta = if rough { 1.0 } else { -1.0 };
+            let (v, w2, lost) = pair.collide(1.0, &Friction { beta, mu: f64::INFINITY });
+            let before = pair.energy(&pair.v, &pair.w);
+            proptest::prop_assert!((before - pair.energy(&v, &w2)).abs() <= 1e-13 * before.max(1.0));
+            proptest::prop_assert!(lost.abs() <= 1e-13 * before.max(1.0));
+        }
+    }
+
+    #[test]
+    fn a_sticking_contact_reverses_the_tangential_velocity_times_beta() {
+        // Equal disks side by side, i right of j; i moves up, j down, no spins: g_t = 2.
+        let pair = Pair {
+            r: [(1.0, 0.0), (0.0, 0.0)],
+            v: [(-0.1, 1.0), (0.1, -1.0)],
+            w: [0.0, 0.0],
+            m: [1.0, 1.0],
+            a: [0.5, 0.5],
+            q: 0.5,
+        };
+        let law = Friction {
+            beta: 0.4,
+            mu: f64::INFINITY,
+        };
+        let (v, w, lost) = pair.collide(1.0, &law);
+        let g_t = |v: &[(f64, f64); 2], w: &[f64; 2]| (v[0].1 - v[1].1) - 0.5 * (w[0] + w[1]);
+        assert!((g_t(&v, &w) + 0.4 * 2.0).abs() < 1e-15);
+        // m_t = 1/(2·3) = 1/6: lost ½·(1/6)·(1 − 0.16)·4.
+        assert!((lost - 0.5 / 6.0 * 0.84 * 4.0).abs() < 1e-15);
+        // Capped: the impulse is μ p_n = 0.1·(2·½·0.2) = 0.02, against the slip.
+        let (v, w, _) = pair.collide(1.0, &Friction { beta: 0.4, mu: 0.1 });
+        assert!((v[0].1 - (1.0 - 0.02)).abs() < 1e-15);
+        // Δω_i = −a J / I = −0.5·(−0.02)/(0.5·0.25) = 0.08.
+        assert!((w[0] - 0.08).abs() < 1e-15 && (w[1] - 0.08).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_disk_rolling_on_a_wall_feels_no_friction_and_a_sliding_one_starts_rolling() {
+        // Floor normal (0, 1); the disk rolls right: v_x = 1, ω = −v_x/a.
+        let disk = |w: f64| Body {
+            m: 1.0,
+            a: 0.5,
+            q: 0.5,
+            w,
+        };
+        let law = Friction::of(None, Some(10.0));
+        let k = kick(&law, (0.0, 1.0), (1.0, -1.0), &disk(-2.0), &Body::WALL, 1.0);
+        assert_eq!(k, Kick::default());
+        // Sliding without spin, β = 0, no cap reached: J = −m_t g_t with m_t = m q/(1 + q) and
+        // g_t = −v_x, so it rolls at v_x' = v_x/(1 + q) = 2/3, ω' = −v_x'/a.
+        let k = kick(&law, (0.0, 1.0), (1.0, -1.0), &disk(0.0), &Body::WALL, 1.0);
+        let (vx, w) = (1.0 + k.dv_i.0, k.dw_i);
+        assert!((vx - 2.0 / 3.0).abs() < 1e-15 && (w + vx / 0.5).abs() < 1e-15);
+        assert_eq!(k.dv_j, (0.0, 0.0));
+    }
+
+    #[test]
+    fn spins_advance_with_their_own_clock_and_rebase() {
+        let mut s = Spins::new(0.5, vec![2.0, -1.0]);
+        s.spin(0, 1.0, 1.0); // ω 2 → 3 at t = 1, angle 2 there.
+        assert!((s.angle(0, 2.0) - 5.0).abs() < 1e-15);
+        s.rebase(2.0);
+        assert!((s.angle(0, 0.0) - 5.0).abs() < 1e-15);
+        assert!((s.angle(1, 0.5) - (std::f64::consts::TAU - 2.5)).abs() < 1e-14);
+        s.permute(&[1, 0]);
+        assert_eq!(s.omega, [-1.0, 3.0]);
+    }
+}
