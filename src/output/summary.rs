@@ -98,6 +98,9 @@ pub struct EngineSummary {
     pub remap: Option<&'static str>,
     /// Bytes held by the engine per disk.
     pub bytes_per_disk: f64,
+    /// Threads the engine ran on: `engine.threads` for the approximate schemes, 1 for the
+    /// exact engine.
+    pub threads: usize,
     /// Measurement samples averaged.
     pub samples: usize,
 }
