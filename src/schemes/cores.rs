@@ -9,6 +9,7 @@
 //! are the same bit for bit whatever the number of threads.
 
 use crate::error::{Error, Result};
+use crate::scenario::{Scenario, Scheme};
 use std::sync::Arc;
 
 /// Work items (disks, pairs or rows of cells) below which a loop is not split: smaller pieces
@@ -52,7 +53,25 @@ impl Cores {
 }
 
 /// The cores this process may use: the machine's, or fewer where an affinity mask or a cgroup
-/// quota (a Slurm allocation, a container) says so.
+/// quota (a container, a Slurm allocation) says so, and at most `SLURM_CPUS_PER_TASK` inside a
+/// Slurm task (where the cluster binds no affinity, the machine's count would oversubscribe).
 pub fn available() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+    let here = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let slurm = std::env::var("SLURM_CPUS_PER_TASK")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0);
+    slurm.map_or(here, |n| n.min(here))
+}
+
+/// `scenario` as one of `jobs` runs at once on `cores` cores: an approximate scheme that does not
+/// set `engine.threads` gets an equal share of the cores (at least one), so that the runs
+/// together use the cores once over; the exact engine (one core) and an explicit
+/// `engine.threads` are left as they are.
+pub fn share(scenario: &Scenario, jobs: usize, cores: usize) -> Scenario {
+    let mut s = scenario.clone();
+    if s.engine.scheme != Scheme::EventDriven && s.engine.threads.is_none() {
+        s.engine.threads = Some((cores / jobs.max(1)).max(1) as u64);
+    }
+    s
 }
