@@ -236,9 +236,9 @@ impl<F: Flight> TimeStep<F> {
     /// One step of dt.
     fn one_step(&mut self) {
         let t1 = (self.step + 1) as f64 * self.dt;
-        self.fly(t1);
+        let moved_far = self.fly(t1);
         self.step += 1;
-        if self.moved_far() {
+        if moved_far {
             self.rebuild();
         }
         self.pairs_step(t1);
@@ -247,16 +247,19 @@ impl<F: Flight> TimeStep<F> {
     }
 
     /// Every disk flies over dt to `t1` (into the periodic box); its flight velocity is kept for
-    /// the test of missed collisions.
-    fn fly(&mut self, t1: f64) {
+    /// the test of missed collisions. Returns whether some disk has moved more than half the
+    /// skin since the Verlet list was built.
+    fn fly(&mut self, t1: f64) -> bool {
         let (flight, dt, sides, top) = (self.flight, self.dt, self.sides, self.top);
+        let half = 0.5 * self.skin;
         self.disks
             .motion
             .par_iter_mut()
             .zip(self.flight_vx.par_iter_mut())
             .zip(self.flight_vy.par_iter_mut())
+            .zip(self.built_x.par_iter().zip(self.built_y.par_iter()))
             .with_min_len(MIN_PIECE)
-            .for_each(|((m, fvx), fvy)| {
+            .map(|(((m, fvx), fvy), (x0, y0))| {
                 let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
                 let (x, y) = wrap(sides, top, x, y);
                 *m = Motion {
@@ -267,21 +270,10 @@ impl<F: Flight> TimeStep<F> {
                     t: t1,
                 };
                 (*fvx, *fvy) = (vx, vy);
-            });
-    }
-
-    /// Whether some disk has moved more than half the skin since the Verlet list was built.
-    fn moved_far(&self) -> bool {
-        let (sides, top, half) = (self.sides, self.top, 0.5 * self.skin);
-        self.disks
-            .motion
-            .par_iter()
-            .zip(self.built_x.par_iter().zip(self.built_y.par_iter()))
-            .with_min_len(MIN_PIECE)
-            .any(|(m, (x0, y0))| {
-                let (dx, dy) = min_image(sides, top, m.x - x0, m.y - y0);
+                let (dx, dy) = min_image(sides, top, x - x0, y - y0);
                 dx * dx + dy * dy > half * half
             })
+            .reduce(|| false, |a, b| a || b)
     }
 
     /// Finds overlapping pairs and resolves the approaching ones; counts the missed ones. The
