@@ -241,9 +241,27 @@ impl<F: Flight> TimeStep<F> {
         if moved_far {
             self.rebuild();
         }
-        self.pairs_step(t1);
-        self.boundaries_step(t1);
+        // Positions do not change until the next flight: the touching pairs and the disks past
+        // a boundary are searched for at once (one hand-over to the threads, not two).
+        let floor_now = self.floor_at(t1);
+        let (found, past) = rayon::join(
+            || self.search_pairs(),
+            || self.past_a_boundary(floor_now.map(|(h, _)| h)),
+        );
+        self.pairs_step(found, t1);
+        self.boundaries_step(past, floor_now, t1);
         self.stats.steps = self.step;
+    }
+
+    /// The floor's height (as the floor model places it) and velocity at `now`.
+    fn floor_at(&self, now: f64) -> Option<(f64, f64)> {
+        self.floor.as_ref().map(|f| {
+            let h = match f.model {
+                FloorModel::Exact => f.height(now),
+                FloorModel::FixedPosition => 0.0,
+            };
+            (h, f.velocity(now))
+        })
     }
 
     /// Every disk flies over dt to `t1` (into the periodic box); its flight velocity is kept for
@@ -276,10 +294,10 @@ impl<F: Flight> TimeStep<F> {
             .reduce(|| false, |a, b| a || b)
     }
 
-    /// Finds overlapping pairs and resolves the approaching ones; counts the missed ones. The
-    /// search is shared among the threads; the collisions are resolved in the list's order.
-    fn pairs_step(&mut self, now: f64) {
-        for found in self.search_pairs() {
+    /// Resolves the approaching pairs among those `found` overlapping, in the list's order;
+    /// counts the missed ones.
+    fn pairs_step(&mut self, found: Vec<Found>, now: f64) {
+        for found in found {
             match found {
                 Found::Missed => self.stats.missed += 1,
                 Found::Touching {
@@ -354,18 +372,10 @@ impl<F: Flight> TimeStep<F> {
         self.counts.pair += 1;
     }
 
-    /// Bounces disks that are past a wall, the lid or the floor and still moving into it. The
-    /// disks past a boundary are found by the threads; they bounce in the order of their
-    /// numbers.
-    fn boundaries_step(&mut self, now: f64) {
-        let floor_now = self.floor.as_ref().map(|f| {
-            let h = match f.model {
-                FloorModel::Exact => f.height(now),
-                FloorModel::FixedPosition => 0.0,
-            };
-            (h, f.velocity(now))
-        });
-        for i in self.past_a_boundary(floor_now.map(|(h, _)| h)) {
+    /// Bounces the disks `past` a boundary (in the order of their numbers) that are still
+    /// moving into it: a side wall, the lid, or the floor at `floor_now` (height, velocity).
+    fn boundaries_step(&mut self, past: Vec<u32>, floor_now: Option<(f64, f64)>, now: f64) {
+        for i in past {
             let i = i as usize;
             let a = self.disks.radius[i];
             let mass = self.disks.mass[i];
