@@ -42,8 +42,8 @@ pub struct Setup {
     pub remap: Option<&'static str>,
     /// Bytes held by the engine.
     pub bytes: usize,
-    /// Threads the engine runs on (the exact engine: one).
-    pub threads: usize,
+    /// Threads an approximate scheme runs on (`None`: the exact engine, on one core).
+    pub threads: Option<usize>,
 }
 
 /// What an approximate scheme did wrong, and how it stepped (the summary's `approximation`).
@@ -180,7 +180,7 @@ impl<F: Flight> Integrator for Simulation<F> {
             queue: Some(self.queue_kind()),
             remap: Some(self.remap_kind()),
             bytes: self.bytes(),
-            threads: 1,
+            threads: None,
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

@@ -620,7 +620,7 @@ impl<F: Flight> Integrator for SpaceTime<F> {
                     + self.seq.capacity())
                 + 24 * self.queue.capacity()
                 + self.restitution.bytes(),
-            threads: self.cores.count(),
+            threads: Some(self.cores.count()),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

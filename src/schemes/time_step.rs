@@ -494,7 +494,7 @@ impl<F: Flight> Integrator for TimeStep<F> {
                     + self.flight_vx.capacity()
                     + self.flight_vy.capacity())
                 + self.restitution.bytes(),
-            threads: self.cores.count(),
+            threads: Some(self.cores.count()),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

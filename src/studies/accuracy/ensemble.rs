@@ -47,7 +47,7 @@ impl Measured {
             wall_per_time: s.wall_seconds / t,
             wall: s.wall_seconds,
             sim_time: s.sim_time,
-            threads: s.engine.threads,
+            threads: s.engine.threads.unwrap_or(1),
             pair: s.events.pair as f64,
             events: s.events.popped(),
             max_overlap: s.max_overlap,
