@@ -331,5 +331,8 @@ fn threads_are_validated_with_their_field_name() {
             "run.warmup=0".into(),
         ],
     );
-    assert_eq!(s.engine.threads, Some(vibrobed::schemes::cores::available()));
+    assert_eq!(
+        s.engine.threads,
+        Some(vibrobed::schemes::cores::available())
+    );
 }
