@@ -1,6 +1,6 @@
 //! The command line: `vibrobed run SCENARIO.json [--rrd OUT.rrd] [--summary OUT.json]
 //! [--profiles OUT.csv] [--trajectory OUT.xyz] [--set KEY=VALUE]...`, `vibrobed check SCENARIO.json` and
-//! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects]`.
+//! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects] [--cores C]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
 //! failure (or a summary or profiles that could not be written), 3 an output (recording,
