@@ -1,6 +1,6 @@
 //! The command line: `vibrobed run SCENARIO.json [--rrd OUT.rrd] [--summary OUT.json]
 //! [--profiles OUT.csv] [--trajectory OUT.xyz] [--set KEY=VALUE]...`, `vibrobed check SCENARIO.json` and
-//! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects]`.
+//! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects] [--cores C]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
 //! failure (or a summary or profiles that could not be written), 3 an output (recording,
@@ -118,6 +118,10 @@ pub enum Command {
         /// effect against the same scene without it.
         #[arg(long)]
         effects: bool,
+        /// Cores K to cost on: the approximate schemes run on K threads, the exact engine also K
+        /// seeds at once (default: every core this process may use).
+        #[arg(long)]
+        cores: Option<usize>,
         /// No progress lines on stderr.
         #[arg(long, short)]
         quiet: bool,
@@ -197,6 +201,9 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
     Ok(())
 }
 
+/// Most cores an accuracy report may cost on (`engine.threads`' own bound).
+const MAX_CORES: usize = crate::scenario::checks::MAX_THREADS as usize;
+
 /// Most seeds an accuracy ensemble may ask for (each seed is a full run of every variant).
 pub const MAX_SEEDS: usize = 1000;
 
@@ -230,6 +237,7 @@ fn execute(cli: Cli) -> Result<i32> {
             quick,
             seeds,
             effects,
+            cores,
             quiet,
         } => {
             let options = crate::studies::accuracy::Options {
@@ -238,6 +246,7 @@ fn execute(cli: Cli) -> Result<i32> {
                 effects,
                 seeds,
                 verbose: !quiet,
+                cores,
             };
             accuracy(&scenario, &sets, options)
         }
@@ -317,10 +326,16 @@ fn accuracy(
             format!("must lie in [1, {MAX_SEEDS}] (got {k})"),
         ));
     }
+    if let Some(k) = options.cores.filter(|&k| !(1..=MAX_CORES).contains(&k)) {
+        return Err(Error::input(
+            "--cores",
+            format!("must lie in [1, {MAX_CORES}] (got {k})"),
+        ));
+    }
     let report = crate::studies::accuracy::report(&s, &options)?;
     print!("{}", report.table());
     eprintln!(
-        "wrote {}/accuracy.csv, accuracy.txt, accuracy.svg{}",
+        "wrote {}/accuracy.csv, answers.csv, accuracy.txt, accuracy.svg{}",
         out.display(),
         if options.effects { ", effects.csv" } else { "" }
     );

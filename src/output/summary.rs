@@ -105,6 +105,10 @@ pub struct EngineSummary {
     pub remap: Option<&'static str>,
     /// Bytes held by the engine per disk.
     pub bytes_per_disk: f64,
+    /// Threads the approximate schemes ran on (`engine.threads`); absent for the exact engine,
+    /// which runs on one core.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threads: Option<usize>,
     /// Measurement samples averaged.
     pub samples: usize,
 }

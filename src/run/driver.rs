@@ -527,6 +527,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 queue: setup.queue,
                 remap: setup.remap,
                 bytes_per_disk: setup.bytes as f64 / n as f64,
+                threads: setup.threads,
                 samples: avg.samples,
             },
             approximation: sim.approximation(),

@@ -416,6 +416,12 @@ fn validate_lengths(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
+/// The schemes that run on several threads (the exact engine runs on one core).
+const APPROXIMATE: &[Scheme] = &[Scheme::TimeStep, Scheme::SpaceTime];
+
+/// The most threads `engine.threads` may ask for.
+pub const MAX_THREADS: u64 = 4096;
+
 /// The approximate schemes' knobs: positive, and only with the scheme they belong to (a knob
 /// that the chosen scheme would ignore is refused rather than silently dropped).
 fn validate_scheme_knobs(e: &Engine) -> Result<()> {
@@ -427,13 +433,20 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
             e.sync_distance,
             &[Scheme::SpaceTime][..],
         ),
-        (
-            "engine.cell_size",
-            e.cell_size,
-            &[Scheme::TimeStep, Scheme::SpaceTime][..],
-        ),
+        ("engine.cell_size", e.cell_size, APPROXIMATE),
     ];
-    for (field, value, schemes) in knobs {
+    let threads = ("engine.threads", e.threads.map(|t| t as f64), APPROXIMATE);
+    if let Some(t) = e.threads {
+        if !(1..=MAX_THREADS).contains(&t) {
+            return Err(Error::input(
+                "engine.threads",
+                format!(
+                    "must be a whole number from 1 to {MAX_THREADS} (got {t}; absent: every core)"
+                ),
+            ));
+        }
+    }
+    for (field, value, schemes) in knobs.into_iter().chain([threads]) {
         let Some(v) = value else { continue };
         positive(field, v)?;
         if !schemes.contains(&e.scheme) {

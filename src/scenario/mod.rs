@@ -450,6 +450,10 @@ pub struct Engine {
     /// (absent: the Verlet radius for `time-step`; 2 a_max + 3 a_min for `space-time`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_size: Option<f64>,
+    /// `time-step` and `space-time`: threads their loops run on (absent: every core this
+    /// process may use). Results are the same bit for bit whatever the count.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threads: Option<u64>,
 }
 
 impl Default for Engine {
@@ -467,6 +471,7 @@ impl Default for Engine {
             verlet_skin: None,
             sync_distance: None,
             cell_size: None,
+            threads: None,
         }
     }
 }

@@ -6,7 +6,9 @@
 //! so memory stays O(N) however high a disk flies (disks folded into adjacent rows are rejected
 //! by the callers' distance tests).
 
+use super::cores::MIN_PIECE;
 use crate::physics::walls::{SideBounds, Top};
+use rayon::prelude::*;
 
 const EMPTY: u32 = u32::MAX;
 
@@ -125,43 +127,67 @@ impl CellList {
         cy * self.nx + cx
     }
 
-    /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells.
+    /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells, row of
+    /// cells by row of cells.
     pub fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
+        for cy in 0..self.ny {
+            self.for_each_pair_from_row(cy, &mut f);
+        }
+    }
+
+    /// `f(i, j)` of every pair [`for_each_pair`](Self::for_each_pair) visits, where it is
+    /// `Some`, in the order it visits them; the rows of cells are shared among the threads of
+    /// the current pool, the order is not.
+    pub fn pairs_where<T: Send>(&self, f: impl Fn(usize, usize) -> Option<T> + Sync) -> Vec<T> {
+        let disks_per_row = self.next.len() / self.ny.max(1);
+        (0..self.ny)
+            .into_par_iter()
+            .with_min_len((MIN_PIECE / disks_per_row.max(1)).max(1))
+            .flat_map_iter(|cy| {
+                let mut found = Vec::new();
+                self.for_each_pair_from_row(cy, |i, j| found.extend(f(i, j)));
+                found
+            })
+            .collect()
+    }
+
+    /// The pairs within row `cy` of cells and between it and the cells its half stencil
+    /// reaches.
+    fn for_each_pair_from_row(&self, cy: usize, mut f: impl FnMut(usize, usize)) {
         let (nx, ny) = (self.nx as isize, self.ny as isize);
-        for cy in 0..ny {
-            for cx in 0..nx {
-                let c = (cy * nx + cx) as usize;
+        let cy = cy as isize;
+        for cx in 0..nx {
+            let c = (cy * nx + cx) as usize;
+            let mut i = self.head[c];
+            while i != EMPTY {
+                let mut j = self.next[i as usize];
+                while j != EMPTY {
+                    f(i as usize, j as usize);
+                    j = self.next[j as usize];
+                }
+                i = self.next[i as usize];
+            }
+            for &(dx, dy) in &self.stencil {
+                let (mut tx, mut ty) = (cx + dx, cy + dy);
+                if self.x_wrap {
+                    tx = tx.rem_euclid(nx);
+                } else if !(0..nx).contains(&tx) {
+                    continue;
+                }
+                if self.y_wrap {
+                    ty = ty.rem_euclid(ny);
+                } else if !(0..ny).contains(&ty) {
+                    continue;
+                }
+                let t = (ty * nx + tx) as usize;
                 let mut i = self.head[c];
                 while i != EMPTY {
-                    let mut j = self.next[i as usize];
+                    let mut j = self.head[t];
                     while j != EMPTY {
                         f(i as usize, j as usize);
                         j = self.next[j as usize];
                     }
                     i = self.next[i as usize];
-                }
-                for &(dx, dy) in &self.stencil {
-                    let (mut tx, mut ty) = (cx + dx, cy + dy);
-                    if self.x_wrap {
-                        tx = tx.rem_euclid(nx);
-                    } else if !(0..nx).contains(&tx) {
-                        continue;
-                    }
-                    if self.y_wrap {
-                        ty = ty.rem_euclid(ny);
-                    } else if !(0..ny).contains(&ty) {
-                        continue;
-                    }
-                    let t = (ty * nx + tx) as usize;
-                    let mut i = self.head[c];
-                    while i != EMPTY {
-                        let mut j = self.head[t];
-                        while j != EMPTY {
-                            f(i as usize, j as usize);
-                            j = self.next[j as usize];
-                        }
-                        i = self.next[i as usize];
-                    }
                 }
             }
         }
@@ -214,6 +240,17 @@ mod tests {
                     *seen.entry((i.min(j), i.max(j))).or_insert(0) += 1;
                 });
                 assert!(seen.values().all(|&k| k == 1), "a pair visited twice");
+                let mut in_order = Vec::new();
+                cl.for_each_pair(|i, j| in_order.push((i, j)));
+                let threads = rayon::ThreadPoolBuilder::new()
+                    .num_threads(3)
+                    .build()
+                    .unwrap();
+                let shared = threads.install(|| cl.pairs_where(|i, j| Some((i, j))));
+                assert_eq!(
+                    shared, in_order,
+                    "the threads changed the order of the pairs"
+                );
                 for i in 0..n {
                     for j in i + 1..n {
                         let (dx, dy) =

@@ -13,6 +13,7 @@
 //! summarises (`run::drive`).
 
 pub mod cells;
+pub mod cores;
 pub mod space_time;
 pub mod time_step;
 
@@ -41,6 +42,8 @@ pub struct Setup {
     pub remap: Option<&'static str>,
     /// Bytes held by the engine.
     pub bytes: usize,
+    /// Threads an approximate scheme runs on (`None`: the exact engine, on one core).
+    pub threads: Option<usize>,
 }
 
 /// What an approximate scheme did wrong, and how it stepped (the summary's `approximation`).
@@ -200,6 +203,7 @@ impl<F: Flight> Integrator for Simulation<F> {
             queue: Some(self.queue_kind()),
             remap: Some(self.remap_kind()),
             bytes: self.bytes(),
+            threads: None,
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {
@@ -226,17 +230,22 @@ pub(crate) fn min_image(sides: SideBounds, top: Top, mut dx: f64, mut dy: f64) -
     (dx, dy)
 }
 
-/// Wraps positions into the periodic box.
-pub(crate) fn wrap_positions(sides: SideBounds, top: Top, disks: &mut Disks) {
+/// A position wrapped into the periodic box.
+#[inline(always)]
+pub(crate) fn wrap(sides: SideBounds, top: Top, mut x: f64, mut y: f64) -> (f64, f64) {
     if let SideBounds::Periodic { width } = sides {
-        for m in &mut disks.motion {
-            m.x = m.x.rem_euclid(width);
-        }
+        x = x.rem_euclid(width);
     }
     if let Top::Periodic { height } = top {
-        for m in &mut disks.motion {
-            m.y = m.y.rem_euclid(height);
-        }
+        y = y.rem_euclid(height);
+    }
+    (x, y)
+}
+
+/// Wraps positions into the periodic box.
+pub(crate) fn wrap_positions(sides: SideBounds, top: Top, disks: &mut Disks) {
+    for m in &mut disks.motion {
+        (m.x, m.y) = wrap(sides, top, m.x, m.y);
     }
 }
 
@@ -251,13 +260,8 @@ pub(crate) fn free_flight_visit<F: Flight>(
     mut visit: impl FnMut(usize, [f64; 4]),
 ) {
     for (i, m) in disks.motion.iter().enumerate() {
-        let (mut x, mut y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);
-        if let SideBounds::Periodic { width } = sides {
-            x = x.rem_euclid(width);
-        }
-        if let Top::Periodic { height } = top {
-            y = y.rem_euclid(height);
-        }
+        let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);
+        let (x, y) = wrap(sides, top, x, y);
         visit(i, [x, y, vx, vy]);
     }
 }

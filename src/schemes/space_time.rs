@@ -14,9 +14,16 @@
 //! The scheme has no state for a disk resting on the floor: an inelastic disk whose rebound
 //! would be negligible (it would come to rest in the exact engine) instead hops
 //! [`REST_HOP`] radii, which ends the infinite sequence of ever smaller bounces.
+//!
+//! On several threads ([`Cores`]) the synchronisation is shared among them: bringing the disks
+//! to its time, the candidate pairs and the prediction of every disk (each thread writes only
+//! its own disks' predictions; they are queued in the order of the disks). The events between
+//! two synchronisations run one after the other, in time order, on one thread: an event changes
+//! what its disks' neighbours predict next.
 
 use super::cells::CellList;
-use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use super::cores::{Cores, MIN_PIECE};
+use super::{free_flight_visit, min_image, wrap, Integrator, SchemeStats, Setup};
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
 use crate::physics::disks::{Disks, Motion};
@@ -26,6 +33,7 @@ use crate::physics::pair::{collide, contact_time};
 use crate::physics::restitution::{CollisionLaw, Restitution};
 use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::Engine;
+use rayon::prelude::*;
 use std::cmp::Ordering as CmpOrdering;
 use std::collections::{BinaryHeap, HashSet};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -108,11 +116,21 @@ pub struct SpaceTime<F: Flight> {
     stats: SchemeStats,
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
+    cores: Cores,
+}
+
+/// A disk's next event: its time, its partner (a disk's number or one of the codes beyond),
+/// and the partner's collision counter when it was predicted.
+#[derive(Debug, Clone, Copy)]
+struct Next {
+    time: f64,
+    who: u32,
+    counter: u32,
 }
 
 impl<F: Flight> SpaceTime<F> {
     /// Sets up the scheme for `scene` with its knobs from `engine` (`sync_distance`,
-    /// `cell_size`).
+    /// `cell_size`, `threads`).
     pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<SpaceTime<F>> {
         let n = disks.len();
         let (a_min, a_max) = disks.radius_range();
@@ -164,11 +182,12 @@ impl<F: Flight> SpaceTime<F> {
             stats: SchemeStats::default(),
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
+            cores: Cores::new(engine.threads)?,
         };
         for m in &mut st.disks.motion {
             m.t = 0.0;
         }
-        st.synchronise();
+        st.cores.clone().run(|| st.synchronise());
         st.stats.missed = 0; // overlaps present at the start are the placement's, not missed
         Ok(st)
     }
@@ -195,11 +214,41 @@ impl<F: Flight> SpaceTime<F> {
     /// every disk.
     fn synchronise(&mut self) {
         let now = self.now;
-        let n = self.disks.len();
-        for i in 0..n {
-            self.bring(i, now);
+        let (flight, sides, top) = (self.flight, self.sides, self.top);
+        self.disks
+            .motion
+            .par_iter_mut()
+            .with_min_len(MIN_PIECE)
+            .for_each(|m| {
+                let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, now - m.t);
+                let (x, y) = wrap(sides, top, x, y);
+                *m = Motion {
+                    x,
+                    y,
+                    vx,
+                    vy,
+                    t: now,
+                };
+            });
+        self.candidates();
+        self.sync_end = now + self.sync_step();
+        self.counts.rebuild += 1;
+        self.stats.steps += 1;
+        self.queue.clear();
+        let next: Vec<Option<Next>> = (0..self.disks.len())
+            .into_par_iter()
+            .with_min_len(MIN_PIECE)
+            .map(|i| self.next_event(i))
+            .collect();
+        for (i, next) in next.into_iter().enumerate() {
+            self.schedule(i, next);
         }
-        wrap_positions(self.sides, self.top, &mut self.disks);
+    }
+
+    /// Rebuilds the cells and, from them, every disk's candidate partners (symmetric lists in
+    /// CSR form); counts the pairs found overlapping that were not at the last synchronisation.
+    fn candidates(&mut self) {
+        let n = self.disks.len();
         let motion = &self.disks.motion;
         self.cells.build(
             n,
@@ -208,27 +257,9 @@ impl<F: Flight> SpaceTime<F> {
             self.sides,
             self.top,
         );
-        // Candidate lists (symmetric, in CSR form) from the cells.
-        let mut count = vec![0u32; n + 1];
-        self.cells.for_each_pair(|i, j| {
-            count[i] += 1;
-            count[j] += 1;
-        });
-        let mut start = vec![0u32; n + 1];
-        for i in 0..n {
-            start[i + 1] = start[i] + count[i];
-        }
-        let mut fill = start.clone();
-        let mut partners = vec![0u32; start[n] as usize];
-        let (sides, top) = (self.sides, self.top);
-        let mut overlapping = HashSet::new();
-        let radius = &self.disks.radius;
-        let mut worst = 0.0f64;
-        self.cells.for_each_pair(|i, j| {
-            partners[fill[i] as usize] = j as u32;
-            fill[i] += 1;
-            partners[fill[j] as usize] = i as u32;
-            fill[j] += 1;
+        let (sides, top, radius) = (self.sides, self.top, &self.disks.radius);
+        // Every candidate pair, with its overlap where the disks overlap.
+        let pairs: Vec<(u32, u32, Option<f64>)> = self.cells.pairs_where(|i, j| {
             let (dx, dy) = min_image(
                 sides,
                 top,
@@ -237,46 +268,71 @@ impl<F: Flight> SpaceTime<F> {
             );
             let s = radius[i] + radius[j];
             let d2 = dx * dx + dy * dy;
-            if d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s {
-                worst = worst.max(s - d2.sqrt());
-                overlapping.insert((i.min(j) as u32, i.max(j) as u32));
-            }
+            let overlap =
+                (d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s).then(|| s - d2.sqrt());
+            Some((i as u32, j as u32, overlap))
         });
+        let mut start = vec![0u32; n + 1];
+        for &(i, j, _) in &pairs {
+            start[i as usize + 1] += 1;
+            start[j as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut partners = vec![0u32; start[n] as usize];
+        let mut overlapping = HashSet::new();
+        let mut worst = 0.0f64;
+        for &(i, j, overlap) in &pairs {
+            partners[fill[i as usize] as usize] = j;
+            fill[i as usize] += 1;
+            partners[fill[j as usize] as usize] = i;
+            fill[j as usize] += 1;
+            if let Some(overlap) = overlap {
+                worst = worst.max(overlap);
+                overlapping.insert((i.min(j), i.max(j)));
+            }
+        }
         self.max_overlap = self.max_overlap.max(worst);
         self.stats.missed += overlapping.difference(&self.overlapping).count() as u64;
         self.overlapping = overlapping;
         self.start = start;
         self.partners = partners;
-        // The next synchronisation: D over the largest speed (at least the floor's and that of
-        // a fall through one radius).
+    }
+
+    /// The synchronisation step: D over the largest speed (at least the floor's and that of a
+    /// fall through one radius).
+    fn sync_step(&self) -> f64 {
         let (a_min, _) = self.disks.radius_range();
         let v_disks = self
             .disks
             .motion
-            .iter()
+            .par_iter()
+            .with_min_len(MIN_PIECE)
             .map(|m| m.vx * m.vx + m.vy * m.vy)
-            .fold(0.0f64, f64::max)
+            .reduce(|| 0.0f64, f64::max)
             .sqrt();
         let v = v_disks
             .max(self.floor.as_ref().map_or(0.0, |f| f.max_speed()))
             .max((self.flight.g() * a_min).sqrt());
-        let dt = if v > 0.0 {
+        if v > 0.0 {
             self.sync_distance / v
         } else {
             f64::INFINITY
-        };
-        self.sync_end = now + dt;
-        self.counts.rebuild += 1;
-        self.stats.steps += 1;
-        self.queue.clear();
-        for i in 0..n {
-            self.predict(i);
         }
     }
 
-    /// Finds disk `i`'s earliest event from now (disk `i` is at now) before the synchronisation
-    /// and queues it.
+    /// Finds disk `i`'s earliest event from now (disk `i` is at now) and queues it if it comes
+    /// before the synchronisation.
     fn predict(&mut self, i: usize) {
+        let next = self.next_event(i);
+        self.schedule(i, next);
+    }
+
+    /// Disk `i`'s earliest event from now (disk `i` is at now), if it comes before the
+    /// synchronisation.
+    fn next_event(&self, i: usize) -> Option<Next> {
         let now = self.now;
         let limit = self.sync_end;
         let (xi, yi, vxi, vyi) = self.state_at(i, now);
@@ -332,19 +388,58 @@ impl<F: Flight> SpaceTime<F> {
         if who >= RECHECK {
             counter = 0;
         }
+        (t <= limit).then_some(Next {
+            time: t,
+            who,
+            counter,
+        })
+    }
+
+    /// Makes `next` disk `i`'s event (superseding its earlier one), and queues it.
+    fn schedule(&mut self, i: usize, next: Option<Next>) {
         self.seq[i] = self.seq[i].wrapping_add(1);
-        if t <= limit {
-            self.ev_time[i] = t;
-            self.ev_partner[i] = who;
-            self.ev_counter[i] = counter;
-            self.queue.push(Queued {
-                time: t,
-                disk: i as u32,
-                seq: self.seq[i],
-            });
-        } else {
-            self.ev_time[i] = f64::INFINITY;
-            self.ev_partner[i] = NONE;
+        match next {
+            Some(Next { time, who, counter }) => {
+                self.ev_time[i] = time;
+                self.ev_partner[i] = who;
+                self.ev_counter[i] = counter;
+                self.queue.push(Queued {
+                    time,
+                    disk: i as u32,
+                    seq: self.seq[i],
+                });
+            }
+            None => {
+                self.ev_time[i] = f64::INFINITY;
+                self.ev_partner[i] = NONE;
+            }
+        }
+    }
+
+    /// Runs events and synchronisations up to absolute time `target`.
+    fn run_to(&mut self, target: f64) -> Result<Progress> {
+        loop {
+            // A synchronisation costs O(N): the flag is looked at before each.
+            if self
+                .interrupt
+                .is_some_and(|flag| flag.load(Ordering::Relaxed))
+            {
+                return Ok(Progress::Interrupted);
+            }
+            if self.sync_end <= target {
+                if let Some(p) = self.run_events(self.sync_end)? {
+                    return Ok(p);
+                }
+                self.now = self.sync_end;
+                self.synchronise();
+                self.stats.step = self.now / self.stats.steps.saturating_sub(1).max(1) as f64;
+            } else {
+                if let Some(p) = self.run_events(target)? {
+                    return Ok(p);
+                }
+                self.now = self.now.max(target);
+                return Ok(Progress::Reached);
+            }
         }
     }
 
@@ -485,29 +580,7 @@ impl<F: Flight> Integrator for SpaceTime<F> {
         self.now
     }
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
-        loop {
-            // A synchronisation costs O(N): the flag is looked at before each.
-            if self
-                .interrupt
-                .is_some_and(|flag| flag.load(Ordering::Relaxed))
-            {
-                return Ok(Progress::Interrupted);
-            }
-            if self.sync_end <= target {
-                if let Some(p) = self.run_events(self.sync_end)? {
-                    return Ok(p);
-                }
-                self.now = self.sync_end;
-                self.synchronise();
-                self.stats.step = self.now / self.stats.steps.saturating_sub(1).max(1) as f64;
-            } else {
-                if let Some(p) = self.run_events(target)? {
-                    return Ok(p);
-                }
-                self.now = self.now.max(target);
-                return Ok(Progress::Reached);
-            }
-        }
+        self.cores.clone().run(|| self.run_to(target))
     }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
@@ -547,6 +620,7 @@ impl<F: Flight> Integrator for SpaceTime<F> {
                     + self.seq.capacity())
                 + 24 * self.queue.capacity()
                 + self.restitution.bytes(),
+            threads: Some(self.cores.count()),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

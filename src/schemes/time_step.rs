@@ -10,18 +10,26 @@
 //! (its position as in the exact model, or y = 0 in the fixed-position model) that moves down
 //! relative to it bounces with the floor's velocity at that time. Energy changes only at the
 //! bounces, where they are booked, so the energy budget closes to round-off.
+//!
+//! On several threads ([`Cores`]) the flight, the Verlet list and the search for touching pairs
+//! and for disks past a boundary are shared among them; the collisions and bounces found are
+//! then resolved one after the other in the list's order, as on one thread (a disk in two
+//! contacts feels the first before the second is tested), so the results do not depend on the
+//! number of threads.
 
 use super::cells::CellList;
-use super::{free_flight_visit, min_image, wrap_positions, Integrator, SchemeStats, Setup};
+use super::cores::{Cores, MIN_PIECE};
+use super::{free_flight_visit, min_image, wrap, wrap_positions, Integrator, SchemeStats, Setup};
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
-use crate::physics::disks::Disks;
+use crate::physics::disks::{Disks, Motion};
 use crate::physics::flight::Flight;
 use crate::physics::floor::Floor;
 use crate::physics::pair::{collide, contact_time};
 use crate::physics::restitution::{CollisionLaw, Restitution};
 use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Default Verlet skin in units of the smallest radius.
@@ -76,11 +84,26 @@ pub struct TimeStep<F: Flight> {
     stats: SchemeStats,
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
+    cores: Cores,
+}
+
+/// What the search of the Verlet list found in a pair after a step.
+enum Found {
+    /// The pair overlaps: `(dx, dy)` = r_i − r_j (nearest image), and by how much.
+    Touching {
+        i: u32,
+        j: u32,
+        dx: f64,
+        dy: f64,
+        overlap: f64,
+    },
+    /// The pair does not overlap, but the paths touched during the step.
+    Missed,
 }
 
 impl<F: Flight> TimeStep<F> {
     /// Sets up the scheme for `scene` with its knobs from `engine` (`dt`, `verlet_skin`,
-    /// `cell_size`).
+    /// `cell_size`, `threads`).
     pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<TimeStep<F>> {
         let n = disks.len();
         let (a_min, a_max) = disks.radius_range();
@@ -143,12 +166,13 @@ impl<F: Flight> TimeStep<F> {
             },
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
+            cores: Cores::new(engine.threads)?,
         };
         for m in &mut ts.disks.motion {
             m.t = 0.0;
         }
         wrap_positions(ts.sides, ts.top, &mut ts.disks);
-        ts.rebuild();
+        ts.cores.clone().run(|| ts.rebuild());
         Ok(ts)
     }
 
@@ -172,10 +196,8 @@ impl<F: Flight> TimeStep<F> {
             self.sides,
             self.top,
         );
-        self.pairs.clear();
-        let (sides, top, skin) = (self.sides, self.top, self.skin);
-        let (radius, pairs) = (&self.disks.radius, &mut self.pairs);
-        self.cells.for_each_pair(|i, j| {
+        let (sides, top, skin, radius) = (self.sides, self.top, self.skin, &self.disks.radius);
+        self.pairs = self.cells.pairs_where(|i, j| {
             let (dx, dy) = min_image(
                 sides,
                 top,
@@ -183,9 +205,7 @@ impl<F: Flight> TimeStep<F> {
                 motion[i].y - motion[j].y,
             );
             let reach = radius[i] + radius[j] + skin;
-            if dx * dx + dy * dy <= reach * reach {
-                pairs.push((i as u32, j as u32));
-            }
+            (dx * dx + dy * dy <= reach * reach).then_some((i as u32, j as u32))
         });
         for (i, m) in motion.iter().enumerate() {
             self.built_x[i] = m.x;
@@ -194,102 +214,169 @@ impl<F: Flight> TimeStep<F> {
         self.counts.rebuild += 1;
     }
 
+    /// Whole steps up to absolute time `target`: the state between steps is free flight (see
+    /// `visit_states`).
+    fn steps_to(&mut self, target: f64) -> Result<Progress> {
+        while (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt {
+            if self.counts.popped() >= self.event_limit {
+                return Ok(Progress::EventLimit);
+            }
+            // A step costs O(N): the flag is looked at before each.
+            if self
+                .interrupt
+                .is_some_and(|flag| flag.load(Ordering::Relaxed))
+            {
+                return Ok(Progress::Interrupted);
+            }
+            self.one_step();
+        }
+        Ok(Progress::Reached)
+    }
+
     /// One step of dt.
     fn one_step(&mut self) {
-        let dt = self.dt;
         let t1 = (self.step + 1) as f64 * self.dt;
-        let flight = self.flight;
-        for (i, m) in self.disks.motion.iter_mut().enumerate() {
-            let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
-            *m = crate::physics::disks::Motion {
-                x,
-                y,
-                vx,
-                vy,
-                t: t1,
-            };
-            self.flight_vx[i] = vx;
-            self.flight_vy[i] = vy;
-        }
+        let moved_far = self.fly(t1);
         self.step += 1;
-        wrap_positions(self.sides, self.top, &mut self.disks);
-        let half = 0.5 * self.skin;
-        let moved_far = self.disks.motion.iter().enumerate().any(|(i, m)| {
-            let (dx, dy) = min_image(
-                self.sides,
-                self.top,
-                m.x - self.built_x[i],
-                m.y - self.built_y[i],
-            );
-            dx * dx + dy * dy > half * half
-        });
         if moved_far {
             self.rebuild();
         }
-        self.pairs_step(t1);
-        self.boundaries_step(t1);
+        // Positions do not change until the next flight: the touching pairs and the disks past
+        // a boundary are searched for at once (one hand-over to the threads, not two).
+        let floor_now = self.floor_at(t1);
+        let (found, past) = rayon::join(
+            || self.search_pairs(),
+            || self.past_a_boundary(floor_now.map(|(h, _)| h)),
+        );
+        self.pairs_step(found, t1);
+        self.boundaries_step(past, floor_now, t1);
         self.stats.steps = self.step;
     }
 
-    /// Finds overlapping pairs and resolves the approaching ones; counts the missed ones.
-    fn pairs_step(&mut self, now: f64) {
-        let dt = self.dt;
-        let (sides, top) = (self.sides, self.top);
-        for k in 0..self.pairs.len() {
-            let (i, j) = (self.pairs[k].0 as usize, self.pairs[k].1 as usize);
-            let d = &self.disks;
-            let (mi, mj) = (d.motion[i], d.motion[j]);
-            let (dx, dy) = min_image(sides, top, mi.x - mj.x, mi.y - mj.y);
-            let s = d.radius[i] + d.radius[j];
-            let d2 = dx * dx + dy * dy;
-            if d2 >= s * s {
-                // Did their paths touch during the step? Relative motion is straight.
-                let (fvx, fvy) = (
-                    self.flight_vx[i] - self.flight_vx[j],
-                    self.flight_vy[i] - self.flight_vy[j],
-                );
-                if let Some(tc) = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s, 0.0) {
-                    if tc < dt {
-                        self.stats.missed += 1;
-                    }
-                }
-                continue;
-            }
-            let overlap = s - d2.sqrt();
-            self.max_overlap = self.max_overlap.max(overlap);
-            let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
-            if dx * dvx + dy * dvy >= 0.0 {
-                continue; // receding: left alone
-            }
-            if overlap > OVERLAP_TOLERANCE * s {
-                self.stats.overlapped_collisions += 1;
-            }
-            if overlap > DEEP_OVERLAP * s {
-                self.stats.deep_overlaps += 1;
-            }
-            let e = self.restitution.collision(i, j, now, dx, dy, dvx, dvy);
-            let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
-            let m = &mut self.disks.motion;
-            m[i].vx += imp.dvx_i;
-            m[i].vy += imp.dvy_i;
-            m[j].vx += imp.dvx_j;
-            m[j].vy += imp.dvy_j;
-            self.flow.dissipated += imp.energy_lost;
-            self.virial += imp.distance * imp.momentum;
-            self.counts.pair += 1;
-        }
-    }
-
-    /// Bounces disks that are past a wall, the lid or the floor and still moving into it.
-    fn boundaries_step(&mut self, now: f64) {
-        let floor_now = self.floor.as_ref().map(|f| {
+    /// The floor's height (as the floor model places it) and velocity at `now`.
+    fn floor_at(&self, now: f64) -> Option<(f64, f64)> {
+        self.floor.as_ref().map(|f| {
             let h = match f.model {
                 FloorModel::Exact => f.height(now),
                 FloorModel::FixedPosition => 0.0,
             };
             (h, f.velocity(now))
-        });
-        for i in 0..self.disks.len() {
+        })
+    }
+
+    /// Every disk flies over dt to `t1` (into the periodic box); its flight velocity is kept for
+    /// the test of missed collisions. Returns whether some disk has moved more than half the
+    /// skin since the Verlet list was built.
+    fn fly(&mut self, t1: f64) -> bool {
+        let (flight, dt, sides, top) = (self.flight, self.dt, self.sides, self.top);
+        let half = 0.5 * self.skin;
+        self.disks
+            .motion
+            .par_iter_mut()
+            .zip(self.flight_vx.par_iter_mut())
+            .zip(self.flight_vy.par_iter_mut())
+            .zip(self.built_x.par_iter().zip(self.built_y.par_iter()))
+            .with_min_len(MIN_PIECE)
+            .map(|(((m, fvx), fvy), (x0, y0))| {
+                let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
+                let (x, y) = wrap(sides, top, x, y);
+                *m = Motion {
+                    x,
+                    y,
+                    vx,
+                    vy,
+                    t: t1,
+                };
+                (*fvx, *fvy) = (vx, vy);
+                let (dx, dy) = min_image(sides, top, x - x0, y - y0);
+                dx * dx + dy * dy > half * half
+            })
+            .reduce(|| false, |a, b| a || b)
+    }
+
+    /// Resolves the approaching pairs among those `found` overlapping, in the list's order;
+    /// counts the missed ones.
+    fn pairs_step(&mut self, found: Vec<Found>, now: f64) {
+        for found in found {
+            match found {
+                Found::Missed => self.stats.missed += 1,
+                Found::Touching {
+                    i,
+                    j,
+                    dx,
+                    dy,
+                    overlap,
+                } => self.touching(i as usize, j as usize, dx, dy, overlap, now),
+            }
+        }
+    }
+
+    /// The Verlet list's pairs that overlap after the step, or whose paths touched during it,
+    /// in the list's order.
+    fn search_pairs(&self) -> Vec<Found> {
+        let (dt, sides, top, d) = (self.dt, self.sides, self.top, &self.disks);
+        let (flight_vx, flight_vy) = (&self.flight_vx, &self.flight_vy);
+        self.pairs
+            .par_iter()
+            .with_min_len(MIN_PIECE)
+            .filter_map(|&(i, j)| {
+                let (iu, ju) = (i as usize, j as usize);
+                let (mi, mj) = (d.motion[iu], d.motion[ju]);
+                let (dx, dy) = min_image(sides, top, mi.x - mj.x, mi.y - mj.y);
+                let s = d.radius[iu] + d.radius[ju];
+                let d2 = dx * dx + dy * dy;
+                if d2 < s * s {
+                    let overlap = s - d2.sqrt();
+                    return Some(Found::Touching {
+                        i,
+                        j,
+                        dx,
+                        dy,
+                        overlap,
+                    });
+                }
+                // Did their paths touch during the step? Relative motion is straight.
+                let (fvx, fvy) = (flight_vx[iu] - flight_vx[ju], flight_vy[iu] - flight_vy[ju]);
+                let tc = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s, 0.0)?;
+                (tc < dt).then_some(Found::Missed)
+            })
+            .collect()
+    }
+
+    /// A pair found overlapping by `overlap` at separation `(dx, dy)`: collides if it
+    /// approaches (with the velocities it has now), is left alone if it recedes.
+    fn touching(&mut self, i: usize, j: usize, dx: f64, dy: f64, overlap: f64, now: f64) {
+        self.max_overlap = self.max_overlap.max(overlap);
+        let d = &self.disks;
+        let (mi, mj) = (d.motion[i], d.motion[j]);
+        let s = d.radius[i] + d.radius[j];
+        let (dvx, dvy) = (mi.vx - mj.vx, mi.vy - mj.vy);
+        if dx * dvx + dy * dvy >= 0.0 {
+            return; // receding: left alone
+        }
+        if overlap > OVERLAP_TOLERANCE * s {
+            self.stats.overlapped_collisions += 1;
+        }
+        if overlap > DEEP_OVERLAP * s {
+            self.stats.deep_overlaps += 1;
+        }
+        let e = self.restitution.collision(i, j, now, dx, dy, dvx, dvy);
+        let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
+        let m = &mut self.disks.motion;
+        m[i].vx += imp.dvx_i;
+        m[i].vy += imp.dvy_i;
+        m[j].vx += imp.dvx_j;
+        m[j].vy += imp.dvy_j;
+        self.flow.dissipated += imp.energy_lost;
+        self.virial += imp.distance * imp.momentum;
+        self.counts.pair += 1;
+    }
+
+    /// Bounces the disks `past` a boundary (in the order of their numbers) that are still
+    /// moving into it: a side wall, the lid, or the floor at `floor_now` (height, velocity).
+    fn boundaries_step(&mut self, past: Vec<u32>, floor_now: Option<(f64, f64)>, now: f64) {
+        for i in past {
+            let i = i as usize;
             let a = self.disks.radius[i];
             let mass = self.disks.mass[i];
             let m = &mut self.disks.motion[i];
@@ -331,6 +418,30 @@ impl<F: Flight> TimeStep<F> {
             }
         }
     }
+
+    /// The disks that reach past a side wall, the lid or the floor (at height `floor`), in
+    /// the order of their numbers, whichever way they move.
+    fn past_a_boundary(&self, floor: Option<f64>) -> Vec<u32> {
+        let width = match self.sides {
+            SideBounds::Walls { width, .. } => Some(width),
+            SideBounds::Periodic { .. } => None,
+        };
+        let lid = match self.top {
+            Top::Lid { height, .. } => Some(height),
+            _ => None,
+        };
+        let d = &self.disks;
+        (0..d.len() as u32)
+            .into_par_iter()
+            .with_min_len(MIN_PIECE)
+            .filter(|&i| {
+                let (a, m) = (d.radius[i as usize], &d.motion[i as usize]);
+                width.is_some_and(|w| m.x - a < 0.0 || m.x + a > w)
+                    || lid.is_some_and(|h| m.y + a > h)
+                    || floor.is_some_and(|h| m.y - a < h)
+            })
+            .collect()
+    }
 }
 
 impl<F: Flight> Integrator for TimeStep<F> {
@@ -344,21 +455,7 @@ impl<F: Flight> Integrator for TimeStep<F> {
         self.now()
     }
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
-        // Whole steps only: the state between steps is free flight (see `visit_states`).
-        while (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt {
-            if self.counts.popped() >= self.event_limit {
-                return Ok(Progress::EventLimit);
-            }
-            // A step costs O(N): the flag is looked at before each.
-            if self
-                .interrupt
-                .is_some_and(|flag| flag.load(Ordering::Relaxed))
-            {
-                return Ok(Progress::Interrupted);
-            }
-            self.one_step();
-        }
-        Ok(Progress::Reached)
+        self.cores.clone().run(|| self.steps_to(target))
     }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
@@ -397,6 +494,7 @@ impl<F: Flight> Integrator for TimeStep<F> {
                     + self.flight_vx.capacity()
                     + self.flight_vy.capacity())
                 + self.restitution.bytes(),
+            threads: Some(self.cores.count()),
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {

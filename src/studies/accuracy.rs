@@ -9,6 +9,12 @@
 //! height, the granular temperature, the energy input rate and the pair collision rate; plus
 //! overlaps and missed collisions for the approximate schemes.
 //!
+//! Cost is what a user pays on the machine the report runs on, with K cores (`--cores`, default
+//! all): the approximate schemes run on K threads; the exact engine runs on one core, alone and
+//! K seeds at once (the ensemble's throughput). Each row gives wall seconds and core seconds
+//! (wall × cores) per unit of simulated time, and the report answers, per observable and error
+//! level, which is the cheapest way there ([`cheapest`]).
+//!
 //! Errors compare seed-averaged observables (the same seeds for every variant). The reference's
 //! own seed-to-seed spread is reported as the error one would expect between two independent
 //! ensembles of the same size (`√(2/K)·σ` of K seeds): errors below it are noise. The exact engine
@@ -20,9 +26,10 @@
 //! simulated time.
 //!
 //! The parts: `ensemble` (seed-averaged observables and their errors), `variants` (what is run
-//! against the reference), `effects` (`--effects`), `table` (the text table and the CSV files)
-//! and [`plot`] (`accuracy.svg`).
+//! against the reference), [`cheapest`] (the answers), `effects` (`--effects`), `table` (the
+//! text table and the CSV files) and [`plot`] (`accuracy.svg`).
 
+pub mod cheapest;
 mod effects;
 mod ensemble;
 pub mod plot;
@@ -55,6 +62,8 @@ pub struct Options {
     pub seeds: Option<usize>,
     /// Print one line per run on stderr.
     pub verbose: bool,
+    /// Cores K the report may use (default: every core this process may use).
+    pub cores: Option<usize>,
 }
 
 /// Relative errors of the observables against the reference (absent where the scene has no such
@@ -109,10 +118,15 @@ pub struct Row {
     pub settings: String,
     /// Seeds run.
     pub seeds: usize,
-    /// Wall-clock seconds per unit of simulated time (mean over seeds).
+    /// Wall-clock seconds per unit of simulated time (mean over seeds; for runs all at once,
+    /// of the ensemble).
     pub wall_per_time: f64,
     /// `wall_per_time` relative to the reference's.
     pub relative_cost: f64,
+    /// Cores the variant held: its threads, or the runs it ran at once.
+    pub cores: usize,
+    /// Core seconds (wall × cores) per unit of simulated time.
+    pub core_per_time: f64,
     /// Errors against the reference.
     pub errors: Errors,
     /// Largest pair overlap seen, in units of the smallest diameter.
@@ -159,6 +173,12 @@ pub struct Report {
     pub duration: f64,
     /// Seeds of the ensemble.
     pub seeds: Vec<u64>,
+    /// Cores K the report used: the approximate schemes' threads, the exact runs at once.
+    pub cores: usize,
+    /// The machine's processor (`model name` of /proc/cpuinfo, where there is one).
+    pub machine: String,
+    /// The cheapest way to each observable within each error level.
+    pub answers: Vec<cheapest::Answer>,
     /// The accuracy–cost rows (the first ones: the reference, its re-run and its seed spread).
     pub rows: Vec<Row>,
     /// The effects table (with `--effects`).
@@ -187,6 +207,10 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
             runner.seeds
         ),
     );
+    let cores = opts
+        .cores
+        .unwrap_or_else(crate::schemes::cores::available)
+        .max(1);
     let exact = runner.ensemble(&Variant::new("reference", "exact event-driven", &[]))?;
     runner.cap_events(&exact);
     let (a_min, _) = disks.radius_range();
@@ -195,12 +219,26 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
         diameter: 2.0 * a_min,
     };
     let mut rows = scale.reference_rows(&exact);
+    if cores > 1 {
+        let v = Variant::new("reference", format!("exact, {cores} runs at once"), &[]);
+        let at_once = runner.at_once(&v, cores)?;
+        let note = "the throughput of seeds run side by side".to_string();
+        let cost = at_once.wall_per_time_at_once();
+        rows.push(scale.row_costing(
+            &v,
+            &at_once,
+            (cost, cores),
+            exact.errors_against(&exact),
+            note,
+        ));
+    }
     let basis = variants::Basis {
         reference: &reference,
         scene: &scene,
         disks: &disks,
         exact: &exact,
         quick: opts.quick,
+        cores,
     };
     for v in &variants::all(&basis) {
         rows.push(variant_row(&runner, &scale, &exact, v));
@@ -210,11 +248,15 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
     } else {
         Vec::new()
     };
+    let answers = cheapest::answers(&rows);
     let report = Report {
         scenario: reference.name.clone(),
         particles: reference.disk_count(),
         duration: reference.run.duration,
         seeds: runner.seeds,
+        cores,
+        machine: machine(),
+        answers,
         rows,
         effects,
         wall_seconds: clock.elapsed().as_secs_f64(),
@@ -234,6 +276,7 @@ fn reference_scenario(scenario: &Scenario, quick: bool) -> Scenario {
         verlet_skin: None,
         sync_distance: None,
         cell_size: None,
+        threads: None,
         ..scenario.engine.clone()
     };
     reference.output.rrd = None;
@@ -290,6 +333,29 @@ impl<'a> Runner<'a> {
             ens.runs.push(self.measure(v, seed)?);
         }
         Ok(ens)
+    }
+
+    /// The variant on `k` seeds (the scenario's and the next ones) run all at once, each on a
+    /// thread of its own.
+    fn at_once(&self, v: &Variant, k: usize) -> Result<Ensemble> {
+        let runs: Vec<Result<Measured>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..k as u64)
+                .map(|i| {
+                    let seed = self.seeds[0].wrapping_add(i);
+                    std::thread::Builder::new()
+                        .stack_size(16 << 20)
+                        .spawn_scoped(scope, move || self.measure(v, seed))
+                        .expect("a thread starts")
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("a run does not panic"))
+                .collect()
+        });
+        Ok(Ensemble {
+            runs: runs.into_iter().collect::<Result<_>>()?,
+        })
     }
 
     /// One run of the variant: its overrides, the seed and the event cap applied to the base;
@@ -372,15 +438,30 @@ impl Scale {
         ]
     }
 
-    /// The row of a variant's ensemble with the given errors.
+    /// The row of a variant's ensemble with the given errors, run one seed after the other.
     fn row(&self, v: &Variant, ens: &Ensemble, errors: Errors, note: String) -> Row {
+        let cost = (ens.wall_per_time(), ens.cores());
+        self.row_costing(v, ens, cost, errors, note)
+    }
+
+    /// The row of a variant's ensemble that cost `wall_per_time` on `cores` cores.
+    fn row_costing(
+        &self,
+        v: &Variant,
+        ens: &Ensemble,
+        (wall_per_time, cores): (f64, usize),
+        errors: Errors,
+        note: String,
+    ) -> Row {
         Row {
             family: v.family.into(),
             variant: v.label.clone(),
             settings: v.sets.join(" "),
             seeds: ens.runs.len(),
-            wall_per_time: ens.wall_per_time(),
-            relative_cost: ens.wall_per_time() / self.ref_cost,
+            wall_per_time,
+            relative_cost: wall_per_time / self.ref_cost,
+            cores,
+            core_per_time: wall_per_time * cores as f64,
             errors,
             max_overlap: ens.runs.iter().map(|m| m.max_overlap).fold(0.0, f64::max) / self.diameter,
             overlapped_fraction: per_pair(ens, |s| s.overlapped_collisions as f64),
@@ -424,6 +505,8 @@ impl Row {
             seeds: 0,
             wall_per_time: f64::NAN,
             relative_cost: f64::NAN,
+            cores: 0,
+            core_per_time: f64::NAN,
             errors: Errors::default(),
             max_overlap: f64::NAN,
             overlapped_fraction: None,
@@ -434,9 +517,24 @@ impl Row {
     }
 }
 
-/// Writes `accuracy.csv`, `accuracy.txt`, `effects.csv` (with effects) and `accuracy.svg`.
+/// The processor's name (`model name` in /proc/cpuinfo), or `unknown processor`.
+fn machine() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, name)| name.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown processor".into())
+}
+
+/// Writes `accuracy.csv`, `answers.csv`, `accuracy.txt`, `effects.csv` (with effects) and
+/// `accuracy.svg`.
 fn write_outputs(report: &Report, out: &Path) -> Result<()> {
     write_file(&out.join("accuracy.csv"), &report.csv())?;
+    write_file(&out.join("answers.csv"), &report.answers_csv())?;
     write_file(&out.join("accuracy.txt"), &report.table())?;
     if !report.effects.is_empty() {
         write_file(&out.join("effects.csv"), &report.effects_csv())?;

@@ -2,6 +2,7 @@
 //! (the error falls over three step sizes), they keep the energy budget, and they report their
 //! overlaps and missed collisions.
 
+use crate::common::same_run;
 use vibrobed::output::summary::Summary;
 use vibrobed::run::{run, RunOptions};
 use vibrobed::Scenario;
@@ -257,4 +258,81 @@ fn space_time_runs_a_vibrated_bed_and_closes_the_energy_budget() {
         assert!(s.events.wall > 0 && s.events.lid > 0 && s.events.floor > 0);
         assert!(s.energy.balance_error < 1e-10, "{scheme}");
     }
+}
+
+/// The approximate schemes give the same summary, bit for bit, on 1, 2 and 3 threads: a bed of
+/// 4000 disks (large enough that every parallel loop is split) between periodic sides and
+/// between walls, and an elastic gas; the summary's engine section names the threads.
+#[test]
+fn schemes_give_the_same_results_on_any_number_of_threads() {
+    let big_bed = |sides: &str| {
+        vec![
+            "particles.count=4000".to_string(),
+            "domain.width=800".into(),
+            format!("domain.x_boundary={sides}"),
+            "run.duration=4".into(),
+            "run.warmup=1".into(),
+        ]
+    };
+    let big_gas = vec![
+        "particles.count=4000".to_string(),
+        "domain.width=80".into(),
+        "run.duration=1".into(),
+        "run.warmup=0.25".into(),
+    ];
+    let scenes = [
+        ("bed", BED, big_bed("periodic")),
+        ("bed between walls", BED, big_bed("walls")),
+        ("gas", GAS, big_gas),
+    ];
+    for scheme in ["time-step", "space-time"] {
+        for (name, json, sets) in &scenes {
+            let on = |threads: u64| {
+                let mut sets = sets.clone();
+                sets.push(format!("engine.scheme={scheme}"));
+                sets.push(format!("engine.threads={threads}"));
+                let (summary, dropped) = same_run::summary(&with(json, &sets), &["threads"]);
+                assert_eq!(dropped, [serde_json::json!(threads)]);
+                summary
+            };
+            let one = on(1);
+            assert!(
+                one["events"]["pair"].as_u64().unwrap() > 1000,
+                "{scheme} {name}"
+            );
+            for threads in [2, 3] {
+                assert_eq!(one, on(threads), "{scheme} {name}: 1 and {threads} threads");
+            }
+        }
+    }
+}
+
+/// `engine.threads`: a whole number from 1, for the approximate schemes only; absent, every
+/// core (the summary says how many).
+#[test]
+fn threads_are_validated_with_their_field_name() {
+    for sets in [
+        &["engine.scheme=time-step", "engine.threads=0"][..],
+        &["engine.scheme=space-time", "engine.threads=-2"],
+        &["engine.scheme=space-time", "engine.threads=1.5"],
+        &["engine.scheme=time-step", "engine.threads=100000"],
+        &["engine.threads=2"],
+    ] {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let e = Scenario::from_json_with_overrides(GAS, &sets).unwrap_err();
+        assert!(e.to_string().contains("engine.threads"), "{sets:?}: {e}");
+        assert_eq!(e.exit_code(), 2, "{sets:?}");
+    }
+    let s = summary(
+        GAS,
+        &[
+            "engine.scheme=time-step".into(),
+            "run.duration=1".into(),
+            "run.warmup=0".into(),
+        ],
+    );
+    assert_eq!(
+        s.engine.threads,
+        Some(vibrobed::schemes::cores::available())
+    );
 }

@@ -282,6 +282,7 @@ fn local_sweep_is_resumable_and_the_same_on_one_or_two_workers() {
     let script = std::fs::read_to_string(two.join("sweep.sbatch")).unwrap();
     assert!(script.contains("#SBATCH --array=1\n"), "{script}");
     assert!(script.contains("#SBATCH --signal=B:INT@60\n"), "{script}");
+    assert!(script.contains("#SBATCH --cpus-per-task=1\n"), "{script}");
     assert!(
         script.contains("--index \"$SLURM_ARRAY_TASK_ID\""),
         "{script}"
@@ -303,6 +304,51 @@ fn local_sweep_is_resumable_and_the_same_on_one_or_two_workers() {
     assert!(svg.starts_with("<svg") && svg.contains("temperature.mean"));
     svg::check(&svg, 2);
     assert!(two.join("fit.json").exists());
+}
+
+/// A sweep of a threaded scheme shares the cores: on K jobs each run gets cores / K threads
+/// (the summaries say how many), with the same results as one job on all cores; a Slurm array
+/// asks for the cores `engine.threads` gives each task.
+#[test]
+fn threaded_runs_share_the_cores() {
+    let dir = scratch("threads");
+    let threaded = SWEEP.replace(
+        r#""set": ["run.duration=3"]"#,
+        r#""set": ["run.duration=3", "engine.scheme=time-step"]"#,
+    );
+    std::fs::write(dir.join("threaded.json"), &threaded).unwrap();
+    let cores = vibrobed::schemes::cores::available();
+    let mut results = Vec::new();
+    for jobs in [1, 2] {
+        let out_dir = format!("jobs{jobs}");
+        let args = ["sweep", "run", "threaded.json", "--out", &out_dir, "--jobs"];
+        let out = vibrobed(&dir, &[&args[..], &[&jobs.to_string(), "--quiet"]].concat());
+        assert_ok(&out);
+        let mut runs = Vec::new();
+        for i in 0..4 {
+            let mut s = read_json(&dir.join(&out_dir).join(format!("{i}/summary.json")));
+            let threads = s["engine"].as_object_mut().unwrap().remove("threads");
+            assert_eq!(threads, Some(Value::from((cores / jobs).max(1))), "run {i}");
+            for field in TIMING {
+                s.as_object_mut().unwrap().remove(field);
+            }
+            runs.push(s);
+        }
+        results.push(runs);
+    }
+    assert_eq!(
+        results[0], results[1],
+        "one job on all cores and two sharing them"
+    );
+    let with_threads = threaded.replace(
+        r#""engine.scheme=time-step"]"#,
+        r#""engine.scheme=time-step", "engine.threads=3"]"#,
+    );
+    std::fs::write(dir.join("threaded.json"), with_threads).unwrap();
+    let out = vibrobed(&dir, &["sweep", "slurm", "threaded.json", "--out", "array"]);
+    assert_ok(&out);
+    let script = std::fs::read_to_string(dir.join("array/sweep.sbatch")).unwrap();
+    assert!(script.contains("#SBATCH --cpus-per-task=3\n"), "{script}");
 }
 
 /// SLURM_CONF for the client commands: the environment's, else the test cluster's default

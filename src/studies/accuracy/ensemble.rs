@@ -16,6 +16,11 @@ pub(super) struct Measured {
     energy_input: Option<f64>,
     pub(super) collision_rate: f64,
     wall_per_time: f64,
+    /// Wall-clock seconds of the run's event loop, and the simulated time it covered.
+    pub(super) wall: f64,
+    pub(super) sim_time: f64,
+    /// Threads the run used.
+    pub(super) threads: usize,
     pub(super) pair: f64,
     pub(super) events: u64,
     pub(super) max_overlap: f64,
@@ -40,6 +45,9 @@ impl Measured {
             energy_input: has_floor.then(|| s.energy.injected / t),
             collision_rate: s.events.pair as f64 / t,
             wall_per_time: s.wall_seconds / t,
+            wall: s.wall_seconds,
+            sim_time: s.sim_time,
+            threads: s.engine.threads.unwrap_or(1),
             pair: s.events.pair as f64,
             events: s.events.popped(),
             max_overlap: s.max_overlap,
@@ -109,6 +117,18 @@ impl Ensemble {
                 .map(|m| m.wall_per_time)
                 .collect::<Vec<_>>(),
         )
+    }
+
+    /// Cores each run used (the most any run used).
+    pub(super) fn cores(&self) -> usize {
+        self.runs.iter().map(|m| m.threads).max().unwrap_or(1)
+    }
+
+    /// Wall-clock seconds per unit of simulated time of runs that ran all at once: the longest
+    /// run's wall time over the simulated time of all of them (the ensemble's throughput).
+    pub(super) fn wall_per_time_at_once(&self) -> f64 {
+        let wall = self.runs.iter().map(|m| m.wall).fold(0.0, f64::max);
+        wall / self.runs.iter().map(|m| m.sim_time).sum::<f64>()
     }
 
     /// Errors of this ensemble's means against `reference`'s.

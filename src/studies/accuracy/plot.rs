@@ -1,8 +1,11 @@
 //! The accuracy report's figure (`accuracy.svg`): error against cost on log–log axes, one panel
 //! per observable, all panels on the same cost axis; the reference's seed spread as a dashed line
-//! (errors below it are noise) and its cost as a vertical line. One legend for all panels, in a
-//! column of its own on the right, so that it never covers a point.
+//! (errors below it are noise) and its cost as a vertical line, with the cost of K exact runs
+//! at once as a second one. One legend for all panels, in a column of its own on the right, so
+//! that it never covers a point; under it, in words, the cheapest way to each observable within
+//! [`FIGURE_LEVEL`].
 
+use super::cheapest::{percent, FIGURE_LEVEL};
 use super::{Errors, Report, Row};
 use crate::error::{Error, Result};
 use crate::studies::figure::{
@@ -88,6 +91,8 @@ const CAPTIONS: [&str; 6] = [
 /// Colour of the seed-spread line and of the reference's cost.
 const SPREAD: RGBColor = RGBColor(80, 80, 80);
 const REFERENCE_COST: RGBColor = RGBColor(150, 150, 150);
+/// Colour of the cost of K exact runs at once.
+const AT_ONCE_COST: RGBColor = RGBColor(230, 160, 60);
 
 /// What every panel shares.
 struct Frame<'a> {
@@ -97,6 +102,10 @@ struct Frame<'a> {
     spread: Errors,
     /// The reference's cost (wall s per unit simulated time).
     ref_cost: f64,
+    /// The cost of K exact runs at once, and K (none on one core).
+    at_once: Option<(f64, usize)>,
+    /// The answers at [`FIGURE_LEVEL`], in words.
+    answers: Vec<String>,
     /// The cost axis.
     x: Axis,
 }
@@ -107,10 +116,11 @@ pub fn draw(report: &Report, path: &Path) -> Result<()> {
     let root = SVGBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
     let title = format!(
-        "{}: error against the exact engine vs cost ({} disks, {} seeds)",
+        "{}: error against the exact engine vs cost ({} disks, {} seeds, {} cores)",
         report.scenario,
         report.particles,
-        report.seeds.len()
+        report.seeds.len(),
+        report.cores
     );
     let root = root
         .titled(&title, ("sans-serif", 26))
@@ -143,6 +153,23 @@ fn frame(report: &Report, panel_width: u32) -> Frame<'_> {
     Frame {
         spread: report.rows.get(1).map(|r| r.errors).unwrap_or_default(),
         ref_cost: report.rows.first().map_or(f64::NAN, |r| r.wall_per_time),
+        at_once: report
+            .rows
+            .iter()
+            .find(|r| r.family == "reference" && r.cores > 1)
+            .map(|r| (r.wall_per_time, r.cores)),
+        answers: report
+            .answers
+            .iter()
+            .filter(|a| a.level == FIGURE_LEVEL)
+            .flat_map(|a| {
+                [
+                    format!("{}:", a.observable),
+                    format!("  seeds: {}", short(&a.over_seeds.what)),
+                    format!("  one run: {}", short(&a.one_trajectory.what)),
+                ]
+            })
+            .collect(),
         x: Axis::new(x0 / 1.5, x1 * 1.5, true, pixels, X_LABEL_GAP),
         measured,
     }
@@ -190,7 +217,7 @@ fn panel(
     let y = Axis::new(lo, hi, true, f64::from(height), Y_LABEL_GAP);
     let x = &f.x;
     let descriptions = (
-        "cost (wall-clock s per unit of simulated time)",
+        "cost (wall-clock s per unit of simulated time, on its cores)",
         "relative error (dimensionless)",
     );
     let mut chart = chart(area, name, (x, &y), descriptions, ROOM)?;
@@ -201,6 +228,10 @@ fn panel(
     }
     if let Some(c) = x.to(f.ref_cost) {
         let line = LineSeries::new(vec![(c, y0), (c, y1)], REFERENCE_COST.stroke_width(2));
+        chart.draw_series(line).map_err(|e| e.to_string())?;
+    }
+    if let Some(c) = f.at_once.and_then(|(cost, _)| x.to(cost)) {
+        let line = LineSeries::new(vec![(c, y0), (c, y1)], AT_ONCE_COST.stroke_width(2));
         chart.draw_series(line).map_err(|e| e.to_string())?;
     }
     for (family, shape, color, joined, _) in FAMILIES {
@@ -242,6 +273,12 @@ fn draw_legend(
         Key::Vertical(REFERENCE_COST),
         "cost of the exact engine".into(),
     ));
+    if let Some((_, k)) = f.at_once {
+        entries.push((
+            Key::Vertical(AT_ONCE_COST),
+            format!("{k} exact runs at once"),
+        ));
+    }
     let (_, y, _, h) = legend(area, Some("variants"), &entries, 1)?;
     // Variants with no error to draw (a log axis has no 0): named under the legend.
     let mut note = vec![
@@ -258,6 +295,11 @@ fn draw_legend(
         note.clear();
     }
     note.extend(hidden);
+    if !f.answers.is_empty() {
+        note.push(String::new());
+        note.push(format!("Cheapest within {}:", percent(FIGURE_LEVEL)));
+        note.extend(f.answers.iter().cloned());
+    }
     let style = ("sans-serif", FONT).into_font().color(&BLACK.mix(0.75));
     for (i, line) in note.iter().enumerate() {
         let at = (14, y + h + 24 + 22 * i as i32);
@@ -265,4 +307,11 @@ fn draw_legend(
             .map_err(|e| e.to_string())?;
     }
     Ok(())
+}
+
+/// A way in the few words the legend column has room for.
+fn short(way: &str) -> String {
+    way.replace(" on ", ", ")
+        .replace("time-step dt = ", "time-step dt ")
+        .replace("space-time D = ", "space-time D ")
 }

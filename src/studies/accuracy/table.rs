@@ -1,6 +1,7 @@
 //! The report as text: the table printed on stdout and written to `accuracy.txt`, and the CSV
 //! files `accuracy.csv` and `effects.csv`.
 
+use super::cheapest::{percent, Way};
 use super::Report;
 use std::fmt::Write as _;
 
@@ -42,15 +43,22 @@ impl Report {
         );
         let _ = writeln!(
             out,
-            "errors are relative to the exact engine's seed mean; cost = wall s per unit time\n"
+            "on {} cores of {}; errors are relative to the exact engine's seed mean",
+            self.cores, self.machine
         );
         let _ = writeln!(
             out,
-            "{:<11} {:<34} {:>9} {:>6} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} note",
+            "cost: s/t = wall s per unit of simulated time, core·s/t = that × the cores held\n"
+        );
+        let _ = writeln!(
+            out,
+            "{:<11} {:<34} {:>9} {:>6} {:>5} {:>9} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} note",
             "family",
             "variant",
             "s/t",
             "×ref",
+            "cores",
+            "core·s/t",
             "ρ(z)",
             "T(z)",
             "z_cm",
@@ -65,11 +73,13 @@ impl Report {
             let e = r.errors;
             let _ = writeln!(
                 out,
-                "{:<11} {:<34} {:>9} {:>6} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {}",
+                "{:<11} {:<34} {:>9} {:>6} {:>5} {:>9} | {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {}",
                 r.family,
                 r.variant,
                 cost(r.wall_per_time, 4),
                 cost(r.relative_cost, 2),
+                if r.cores > 0 { r.cores.to_string() } else { "-".into() },
+                cost(r.core_per_time, 4),
                 cell(e.density_profile),
                 cell(e.temperature_profile),
                 cell(e.com_height),
@@ -86,6 +96,40 @@ impl Report {
             out,
             "\nρ(z), T(z): L2 profile errors; ovl/d: largest pair overlap / smallest diameter; deep: overlaps > 10 % of contact per pair collision; missed: missed collisions per pair collision"
         );
+        self.answers_section(out);
+    }
+
+    /// The answers in words: per observable and error level, the cheapest way there, for
+    /// averages over seeds and for one trajectory.
+    fn answers_section(&self, out: &mut String) {
+        if self.answers.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            "\nthe cheapest way on this machine ({} cores), wall s per unit of simulated time in brackets:\n",
+            self.cores
+        );
+        let _ = writeln!(
+            out,
+            "{:<20} {:>6}  {:<46} {:<46} note",
+            "observable", "within", "averages over seeds", "one trajectory"
+        );
+        let way = |w: &Way| format!("{} ({:.2e})", w.what, w.wall_per_time);
+        for a in &self.answers {
+            let note = match a.noise {
+                Some(n) if n > a.level => format!("seed spread {}: not resolved", percent(n)),
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "{:<20} {:>6}  {:<46} {:<46} {note}",
+                a.observable,
+                percent(a.level),
+                way(&a.over_seeds),
+                way(&a.one_trajectory),
+            );
+        }
     }
 
     /// The effects table (with `--effects`): a title and one line per effect.
@@ -122,7 +166,7 @@ impl Report {
     /// The rows as CSV.
     pub fn csv(&self) -> String {
         let mut out = String::from(
-            "family,variant,settings,seeds,wall_per_time,relative_cost,err_density_profile,err_temperature_profile,err_com_height,err_temperature,err_energy_input,err_collision_rate,max_overlap_per_diameter,overlapped_fraction,deep_fraction,missed_fraction,note\n",
+            "family,variant,settings,seeds,wall_per_time,relative_cost,cores,core_per_time,err_density_profile,err_temperature_profile,err_com_height,err_temperature,err_energy_input,err_collision_rate,max_overlap_per_diameter,overlapped_fraction,deep_fraction,missed_fraction,note\n",
         );
         let f = |v: Option<f64>| {
             v.filter(|v| v.is_finite())
@@ -132,13 +176,15 @@ impl Report {
             let e = r.errors;
             let _ = writeln!(
                 out,
-                "{},\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"",
+                "{},\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"",
                 r.family,
                 r.variant,
                 r.settings,
                 r.seeds,
                 f(Some(r.wall_per_time)),
                 f(Some(r.relative_cost)),
+                r.cores,
+                f(Some(r.core_per_time)),
                 f(e.density_profile),
                 f(e.temperature_profile),
                 f(e.com_height),
@@ -150,6 +196,30 @@ impl Report {
                 f(r.deep_fraction),
                 f(r.missed_fraction),
                 r.note.replace('"', "'")
+            );
+        }
+        out
+    }
+
+    /// The answers as CSV: per observable and level, the cheapest way over seeds and for one
+    /// trajectory, with their wall and core seconds per unit of simulated time.
+    pub fn answers_csv(&self) -> String {
+        let mut out = String::from(
+            "observable,level,seed_spread,over_seeds,over_seeds_wall_per_time,over_seeds_core_per_time,one_trajectory,one_trajectory_wall_per_time,one_trajectory_core_per_time\n",
+        );
+        for a in &self.answers {
+            let _ = writeln!(
+                out,
+                "\"{}\",{},{},\"{}\",{:e},{:e},\"{}\",{:e},{:e}",
+                a.observable,
+                a.level,
+                a.noise.map_or(String::new(), |v| format!("{v:e}")),
+                a.over_seeds.what,
+                a.over_seeds.wall_per_time,
+                a.over_seeds.core_per_time,
+                a.one_trajectory.what,
+                a.one_trajectory.wall_per_time,
+                a.one_trajectory.core_per_time,
             );
         }
         out

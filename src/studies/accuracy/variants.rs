@@ -46,6 +46,8 @@ pub(super) struct Basis<'a> {
     pub(super) exact: &'a Ensemble,
     /// Fewer sweep points.
     pub(super) quick: bool,
+    /// Threads the approximate schemes run on.
+    pub(super) cores: usize,
 }
 
 /// Every variant, in table order.
@@ -86,7 +88,8 @@ fn sweep(quick: bool) -> Vec<(f64, &'static str)> {
     }
 }
 
-/// The time-step scheme around its default step (none where the scene has no default step).
+/// The time-step scheme around its default step (none where the scene has no default step), on
+/// the report's cores.
 fn time_step_sweep(b: &Basis) -> Vec<Variant> {
     let Some(dt0) = time_step::default_dt(b.scene, b.disks) else {
         return Vec::new();
@@ -101,13 +104,15 @@ fn time_step_sweep(b: &Basis) -> Vec<Variant> {
                 &[
                     "engine.scheme=time-step".into(),
                     format!("engine.dt={dt:e}"),
+                    format!("engine.threads={}", b.cores),
                 ],
             )
         })
         .collect()
 }
 
-/// The space-time scheme around its default synchronisation distance (labelled in diameters).
+/// The space-time scheme around its default synchronisation distance (labelled in diameters),
+/// on the report's cores.
 fn space_time_sweep(b: &Basis) -> Vec<Variant> {
     let (a_min, _) = b.disks.radius_range();
     let diameter = 2.0 * a_min;
@@ -121,6 +126,7 @@ fn space_time_sweep(b: &Basis) -> Vec<Variant> {
                 &[
                     "engine.scheme=space-time".into(),
                     format!("engine.sync_distance={d:e}"),
+                    format!("engine.threads={}", b.cores),
                 ],
             )
         })

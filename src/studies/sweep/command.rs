@@ -2,12 +2,13 @@
 
 use crate::error::{Error, Result};
 use crate::output::summary::Ending;
+use crate::scenario::Scheme;
 use crate::studies::sweep::collect::collect;
 use crate::studies::sweep::fit::{power_law, PowerFit};
 use crate::studies::sweep::local::{
     check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan, PoolReport,
 };
-use crate::studies::sweep::plan::{expand, point_label, Plan};
+use crate::studies::sweep::plan::{expand, point_label, Expanded, Plan};
 use crate::studies::sweep::plot::{draw, Panel};
 use crate::studies::sweep::slurm::{script, submit, SlurmOptions};
 use clap::{Subcommand, ValueEnum};
@@ -293,7 +294,14 @@ fn slurm(sweep: &Path, out: &Path, opts: &SlurmOptions, submit_it: bool) -> Resu
         );
         return Ok(0);
     }
-    let text = script(&exp.plan, &pending, &exe, &out, opts)?;
+    let text = script(
+        &exp.plan,
+        &pending,
+        task_cpus(&exp, &pending),
+        &exe,
+        &out,
+        opts,
+    )?;
     write_plan(&exp.plan, &out)?;
     let logs = out.join("slurm");
     std::fs::create_dir_all(&logs).map_err(io(&logs, "create"))?;
@@ -314,6 +322,23 @@ fn slurm(sweep: &Path, out: &Path, opts: &SlurmOptions, submit_it: bool) -> Resu
         println!("{id}");
     }
     Ok(0)
+}
+
+/// The cores an array task asks for: the most threads any of the runs `pending` uses
+/// (`engine.threads` of an approximate scheme; one for the exact engine, and for an
+/// approximate scheme that does not set it, which then runs on the one core it is given).
+fn task_cpus(exp: &Expanded, pending: &[usize]) -> usize {
+    pending
+        .iter()
+        .map(|&i| {
+            let s = &exp.scenarios[i];
+            match s.engine.threads {
+                Some(t) if s.engine.scheme != Scheme::EventDriven => t as usize,
+                _ => 1,
+            }
+        })
+        .max()
+        .unwrap_or(1)
 }
 
 /// `sweep collect`: gathers the runs into `DIR/runs.csv` and `DIR/points.csv`; with `--x` and

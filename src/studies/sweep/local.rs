@@ -13,6 +13,7 @@ use crate::output::summary::Ending;
 pub use crate::output::write_atomic;
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
+use crate::schemes::cores::share;
 use crate::studies::sweep::plan::{Expanded, Plan, RunSpec};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -155,7 +156,9 @@ pub struct PoolReport {
 }
 
 /// Runs every run of the plan that is not done yet on `jobs` worker threads, with a progress bar
-/// over runs on stderr when `progress` (hidden when stderr is not a terminal).
+/// over runs on stderr when `progress` (hidden when stderr is not a terminal). The runs of an
+/// approximate scheme that leave `engine.threads` unset share the cores: each gets
+/// cores / jobs threads (at least one), so that the pool does not oversubscribe the machine.
 pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Result<PoolReport> {
     write_plan(&exp.plan, out)?;
     let runs = &exp.plan.runs;
@@ -182,6 +185,7 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
     let next = AtomicUsize::new(0);
     let outcomes: Mutex<Vec<(usize, Result<Ending>)>> = Mutex::new(Vec::new());
     let jobs = jobs.clamp(1, pending.len().max(1));
+    let cores = crate::schemes::cores::available();
     std::thread::scope(|scope| {
         for _ in 0..jobs {
             let worker = || loop {
@@ -190,7 +194,8 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
                 }
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&i) = pending.get(k) else { break };
-                let outcome = run_one(&exp.plan, &runs[i], &exp.scenarios[i], out);
+                let scenario = share(&exp.scenarios[i], jobs, cores);
+                let outcome = run_one(&exp.plan, &runs[i], &scenario, out);
                 bar.inc(1);
                 let line = match &outcome {
                     Err(e) => Some(format!("vibrobed: run {i} failed: {e}")),

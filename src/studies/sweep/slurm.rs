@@ -73,13 +73,14 @@ pub fn array_list(indices: &[usize]) -> String {
 }
 
 /// The job-array script for the runs `indices` of `plan` (all runs, or those not completed
-/// yet), whose tasks run `exe sweep task SWEEP --index $SLURM_ARRAY_TASK_ID --out DIR` (all
+/// yet), each task on `cpus` cores (the threads its run uses), whose tasks run `exe sweep task SWEEP --index $SLURM_ARRAY_TASK_ID --out DIR` (all
 /// paths absolute). Task logs go to `DIR/slurm/`. Slurm sends the task SIGINT a minute before
 /// its time limit: the run stops and writes its summary so far, marked
 /// `"ending": "interrupted"`, and a later `sweep run` or `sweep slurm` runs it again.
 pub fn script(
     plan: &Plan,
     indices: &[usize],
+    cpus: usize,
     exe: &Path,
     out: &Path,
     opts: &SlurmOptions,
@@ -133,7 +134,9 @@ pub fn script(
     ));
     s.push_str(&format!("#SBATCH --job-name=vibrobed-{job_name}\n"));
     s.push_str(&format!("#SBATCH --array={array}\n"));
-    s.push_str("#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n");
+    s.push_str(&format!(
+        "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task={cpus}\n"
+    ));
     s.push_str(&format!("#SBATCH --output={}/%A_%a.out\n", logs.display()));
     if let Some(p) = &opts.partition {
         s.push_str(&format!("#SBATCH --partition={p}\n"));
