@@ -431,8 +431,9 @@ impl<F: Flight> Simulation<F> {
     /// off their supports, they stay at rest and slide on together with their common horizontal
     /// velocity (momentum kept, the relative kinetic energy booked as dissipated), or stop if
     /// that is below the sleep speed too. On the floor, the whole row touching them that slides
-    /// within the sleep speed of that velocity joins them (see [`slide_row_together`](Self::slide_row_together)).
-    /// Returns `false` (nothing done) for a faster approach.
+    /// within the sleep speed of that velocity joins them
+    /// ([`slide_row_together`](Self::slide_row_together)). Returns `false` (nothing done) for a
+    /// faster approach.
     pub(in crate::engine) fn rest_together(
         &mut self,
         i: usize,
