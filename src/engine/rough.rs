@@ -82,16 +82,21 @@ impl<F: Flight> Simulation<F> {
         if k.j == 0.0 {
             return;
         }
+        self.take_kick(i, k.dv_i, k.dw_i);
+        self.take_kick(j, k.dv_j, k.dw_j);
+        self.tally.flow.dissipated += k.energy_lost;
+    }
+
+    /// Disk `i` takes its side of a tangential kick: velocity change `dv`, spin change `dw`.
+    fn take_kick(&mut self, i: usize, dv: (f64, f64), dw: f64) {
         let now = self.now;
         let d = &mut self.disks;
-        d.motion[i].vx += k.dv_i.0;
-        d.motion[i].vy += k.dv_i.1;
-        d.motion[j].vx += k.dv_j.0;
-        d.motion[j].vy += k.dv_j.1;
-        let spins = d.spins.as_mut().expect("rough disks have spins");
-        spins.spin(i, now, k.dw_i);
-        spins.spin(j, now, k.dw_j);
-        self.tally.flow.dissipated += k.energy_lost;
+        d.motion[i].vx += dv.0;
+        d.motion[i].vy += dv.1;
+        d.spins
+            .as_mut()
+            .expect("rough disks have spins")
+            .spin(i, now, dw);
     }
 
     /// The tangential part of disk `i`'s impact on `boundary` moving with velocity `wall`
@@ -131,14 +136,7 @@ impl<F: Flight> Simulation<F> {
         if k.j == 0.0 {
             return;
         }
-        let now = self.now;
-        let d = &mut self.disks;
-        d.motion[i].vx += k.dv_i.0;
-        d.motion[i].vy += k.dv_i.1;
-        d.spins
-            .as_mut()
-            .expect("rough disks have spins")
-            .spin(i, now, k.dw_i);
+        self.take_kick(i, k.dv_i, k.dw_i);
         self.tally.flow.dissipated += k.energy_lost;
     }
 }

@@ -121,6 +121,18 @@ pub struct Impulse {
     pub distance: f64,
 }
 
+impl Impulse {
+    /// Changes the velocities of disks `i` and `j` in `motion` by this impulse (one home for
+    /// every scheme's pair collision).
+    #[inline]
+    pub fn apply(&self, motion: &mut [crate::physics::disks::Motion], i: usize, j: usize) {
+        motion[i].vx += self.dvx_i;
+        motion[i].vy += self.dvy_i;
+        motion[j].vx += self.dvx_j;
+        motion[j].vy += self.dvy_j;
+    }
+}
+
 /// Collides smooth disks i and j with normal restitution `e`, and a normal rebound speed of at
 /// least `min_rebound` (0 for a plain collision). The floor of the rebound is used for a disk
 /// landing on a disk that rides the floor: they are pressed together, and without it a contact

@@ -555,11 +555,7 @@ impl<F: Flight> SpaceTime<F> {
                 self.stats.deep_overlaps += 1;
             }
         }
-        let m = &mut self.disks.motion;
-        m[i].vx += imp.dvx_i;
-        m[i].vy += imp.dvy_i;
-        m[j].vx += imp.dvx_j;
-        m[j].vy += imp.dvy_j;
+        imp.apply(&mut self.disks.motion, i, j);
         self.flow.dissipated += imp.energy_lost;
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;

@@ -362,11 +362,7 @@ impl<F: Flight> TimeStep<F> {
         }
         let e = self.restitution.collision(i, j, now, dx, dy, dvx, dvy);
         let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
-        let m = &mut self.disks.motion;
-        m[i].vx += imp.dvx_i;
-        m[i].vy += imp.dvy_i;
-        m[j].vx += imp.dvx_j;
-        m[j].vy += imp.dvy_j;
+        imp.apply(&mut self.disks.motion, i, j);
         self.flow.dissipated += imp.energy_lost;
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;

@@ -132,11 +132,7 @@ impl<F: Flight> Simulation<F> {
         );
         let imp = collide_rebounding(dx, dy, dv.0, dv.1, d.mass[i], d.mass[j], e, min_rebound);
         self.check_contact(i, j, imp.distance)?;
-        let d = &mut self.disks;
-        d.motion[i].vx += imp.dvx_i;
-        d.motion[i].vy += imp.dvy_i;
-        d.motion[j].vx += imp.dvx_j;
-        d.motion[j].vy += imp.dvy_j;
+        imp.apply(&mut self.disks.motion, i, j);
         self.rub_pair(i, j, (dx, dy, imp.distance), dv, imp.momentum);
         self.tally.flow.dissipated += imp.energy_lost;
         self.tally.virial += imp.distance * imp.momentum;
