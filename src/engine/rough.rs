@@ -190,10 +190,11 @@ impl<F: Flight> Simulation<F> {
 
     /// Disk `i`, held by a rest rule (at rest on the floor or on disks at rest, or stopped in
     /// a slot), stops turning against what holds it: on a rough floor it rolls, `ω = −v_x/a`;
-    /// on rough disks it turns no more, `ω = 0` (static friction: the slip a spin would make
-    /// at a contact at rest is undone at once, as the sliding speeds are by the rest rules).
-    /// The rotational energy given up is booked as dissipated. A smooth contact cannot hold a
-    /// spin: nothing changes there, nor for smooth disks.
+    /// elsewhere, among rough disks, it turns no more, `ω = 0` (static friction: the slip a
+    /// spin would make at a contact at rest is undone at once, as the sliding speeds are by
+    /// the rest rules; a disk held with a spin would drive what touches it like a belt). The
+    /// rotational energy given up is booked as dissipated. Where neither the floor under it
+    /// nor the pair contacts are rough, nothing holds the spin: it keeps it.
     #[inline(always)]
     pub(in crate::engine) fn hold_spin(&mut self, i: usize) {
         if self.friction.is_some() {
@@ -208,14 +209,13 @@ impl<F: Flight> Simulation<F> {
             return;
         };
         let on_floor = self.is_riding(i) && self.rest.riders.on_floor(i);
-        if (if on_floor { laws.floor } else { laws.pair }).is_smooth() {
-            return;
-        }
         let a = self.disks.radius[i];
-        let w = if on_floor {
+        let w = if on_floor && !laws.floor.is_smooth() {
             -self.disks.motion[i].vx / a
-        } else {
+        } else if !laws.pair.is_smooth() {
             0.0
+        } else {
+            return;
         };
         let (now, mass) = (self.now, self.disks.mass[i]);
         let spins = self.disks.spins.as_mut().expect("rough disks have spins");
