@@ -288,6 +288,7 @@ fn open_recording(
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
+        ColorChoice::Spin => ColorBy::Spin,
     };
     let rec = RerunRecorder::create_with_id(path, layout, color, recording_id)
         .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;

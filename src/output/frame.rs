@@ -34,6 +34,9 @@ pub enum ColorBy {
     Speed,
     /// By species index.
     Species,
+    /// By spin, rough disks only: the rim speed ω a on a diverging scale, blue clockwise → grey
+    /// not turning → red anticlockwise, full colour at ±[`SceneLayout::speed_scale`].
+    Spin,
 }
 
 /// One frame: every disk advanced to `time` (not the time of its last event).
@@ -61,4 +64,7 @@ pub struct FrameView<'a> {
     pub series: &'a [(&'static str, f64)],
     /// Height profiles of this frame alone (gravity scenes; the bins of the run's profiles).
     pub profile: Option<&'a ProfileTable>,
+    /// Each rough disk's `(angle, ω)` at `time`: its orientation in [0, 2π) and angular
+    /// velocity, anticlockwise positive; `None` for smooth disks.
+    pub spins: Option<&'a [(f64, f64)]>,
 }

@@ -353,7 +353,7 @@ pub struct Output {
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
-    /// Colour disks in the recording by `speed` or `species`.
+    /// Colour disks in the recording by `speed`, `species` or `spin` (rough disks).
     #[serde(default)]
     pub color_by: ColorChoice,
     /// Speed drawn full red when the recording colours disks by speed (default: three times the
@@ -393,6 +393,8 @@ pub enum ColorChoice {
     Speed,
     /// By species.
     Species,
+    /// By spin (rough disks): the rim speed ω a on a diverging scale.
+    Spin,
 }
 
 /// Integration scheme and its knobs.
