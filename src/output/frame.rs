@@ -24,6 +24,9 @@ pub struct SceneLayout {
     /// Speed drawn full red when colouring by speed: one fixed colour scale for the whole run
     /// (blue at rest, grey at half this speed, red at this speed and above).
     pub speed_scale: f64,
+    /// Rim speed ω a drawn full colour when colouring rough disks by spin (blue clockwise, red
+    /// anticlockwise).
+    pub spin_scale: f64,
 }
 
 /// How disks are coloured in a recording.
@@ -35,7 +38,7 @@ pub enum ColorBy {
     /// By species index.
     Species,
     /// By spin, rough disks only: the rim speed ω a on a diverging scale, blue clockwise → grey
-    /// not turning → red anticlockwise, full colour at ±[`SceneLayout::speed_scale`].
+    /// not turning → red anticlockwise, full colour at ±[`SceneLayout::spin_scale`].
     Spin,
 }
 

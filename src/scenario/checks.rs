@@ -306,6 +306,9 @@ fn validate_output(s: &Scenario) -> Result<()> {
     if let Some(v) = o.speed_scale {
         positive("output.speed_scale", v)?;
     }
+    if let Some(v) = o.spin_scale {
+        positive("output.spin_scale", v)?;
+    }
     if o.color_by == ColorChoice::Spin && !s.is_rough() {
         return Err(Error::input(
             "output.color_by",

@@ -526,6 +526,7 @@ fn run_failing_mid_way_leaves_a_complete_file() {
         floor: true,
         species: 1,
         speed_scale: 2.0,
+        spin_scale: 2.0,
     };
     let rec = RerunRecorder::create(&path, &layout, ColorBy::Speed).unwrap();
     let summary = run(

@@ -29,6 +29,7 @@ fn layout(top: Option<f64>) -> SceneLayout {
         floor: true,
         species: 2,
         speed_scale: 2.0,
+        spin_scale: 2.0,
     }
 }
 
@@ -436,13 +437,18 @@ fn recording_throughput() {
 
 /// Rough disks: a radius line per disk, from its centre to the point of its rim at its angle
 /// (anticlockwise from +x, radii of two sizes, angles turning through the quadrants), in every frame; colours
-/// by spin diverge about zero on the speed scale (rim speed ω a = ±2 full blue or red).
+/// by spin diverge about zero on the spin scale (rim speed ω a = ±1 full blue or red).
 #[test]
 fn rough_disks_show_their_orientation_and_spin() {
     let path = tmp("rough");
-    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Spin).unwrap();
-    // ω such that ω a = −2 (clockwise, full blue), 0, and 1 (anticlockwise, half way to red).
-    let omega = [-4.0, 0.0, 4.0];
+    // Spins on a scale of their own, half the speeds'.
+    let layout = SceneLayout {
+        spin_scale: 1.0,
+        ..layout(None)
+    };
+    let mut rec = RerunRecorder::create(&path, &layout, ColorBy::Spin).unwrap();
+    // ω such that ω a = −1 (clockwise, full blue), 0, and 0.5 (anticlockwise, half way to red).
+    let omega = [-2.0, 0.0, 2.0];
     let spins_at = |t: f64| -> Vec<(f64, f64)> {
         let angle0 = [0.3, 2.0, 4.0];
         (0..N)
@@ -495,12 +501,12 @@ fn rough_disks_show_their_orientation_and_spin() {
             );
         }
         let colors = &c.disks[k].colors;
-        assert_eq!(colors[0], 0x3b4cc0ff, "ω a = −2: full blue");
+        assert_eq!(colors[0], 0x3b4cc0ff, "ω a = −1: full blue");
         assert_eq!(colors[1], 0xddddddff, "not turning: grey");
         assert_eq!(
             colors[2],
             spin_color(0.5).to_u32(),
-            "ω a = 1: half way to red"
+            "ω a = 0.5: half way to red"
         );
     }
     // A line of the helper: radius 2 at a quarter turn points straight up.

@@ -102,7 +102,11 @@ impl Writer {
         let length = (0.2 * w).min(1.5 * span);
         let (x0, y) = (w - length - 0.01 * w, view_top - 0.1 * span);
         let thickness = 0.025 * span;
-        let scale = self.layout.speed_scale;
+        let scale = if self.color_by == ColorBy::Spin {
+            self.layout.spin_scale
+        } else {
+            self.layout.speed_scale
+        };
         let segments = 20;
         let strips: Vec<[[f32; 2]; 2]> = (0..segments)
             .map(|k| {
@@ -185,8 +189,8 @@ impl Writer {
             ColorBy::Spin => text.push_str(&format!(
                 "**Disks coloured by spin**: the rim speed ω a on one scale for the whole run, \
                  blue turning clockwise at {s} and faster → grey not turning → red turning \
-                 anticlockwise at {s} and faster (bar at the top right; `output.speed_scale`).\n\n",
-                s = tick_label(self.layout.speed_scale)
+                 anticlockwise at {s} and faster (bar at the top right; `output.spin_scale`).\n\n",
+                s = tick_label(self.layout.spin_scale)
             )),
         }
         if self.rough {

@@ -349,18 +349,18 @@ impl Writer {
         b.disks.push(index, t, n);
         b.positions
             .extend(f.x.iter().zip(&f.y).map(|(&x, &y)| [x as f32, y as f32]));
-        let scale = self.layout.speed_scale;
+        let (speeds, spins) = (self.layout.speed_scale, self.layout.spin_scale);
         match self.color_by {
             ColorBy::Speed => b.colors.extend(
                 f.vx.iter()
                     .zip(&f.vy)
-                    .map(|(vx, vy)| speed_color(vx.hypot(*vy) / scale)),
+                    .map(|(vx, vy)| speed_color(vx.hypot(*vy) / speeds)),
             ),
             ColorBy::Spin => b.colors.extend(
                 f.spins
                     .iter()
                     .zip(&f.radius)
-                    .map(|(&(_, w), a)| spin_color(w * a / scale)),
+                    .map(|(&(_, w), a)| spin_color(w * a / spins)),
             ),
             ColorBy::Species => {}
         }
