@@ -7,7 +7,7 @@
 //! |---------------------------------|----------|--------------------------------------------------|
 //! | `disks`                         | temporal | `Points2D`: centres, radii, colours (by speed, species or spin), class ids = species; instance i is disk i in every frame |
 //! | `disks/orientation`             | temporal | `LineStrips2D`, rough disks only: one radius per disk, centre to rim at its angle (line i is disk i) |
-//! | `disks/orientation`             | static   | its colour and line width (rough disks only)     |
+//! | `disks/orientation`             | static   | its colour, line width and draw order (over the disks; rough disks only) |
 //! | `disks`                         | static   | `AnnotationContext` (species names and colours), y-up `Transform3D` |
 //! | `scene`                         | static   | y-up `Transform3D` for everything under it       |
 //! | `scene/walls`                   | static   | `LineStrips2D`: hard walls at x = 0 and x = width |
@@ -82,7 +82,8 @@ use rerun::blueprint::{
     Spatial2DView, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::components::{
-    ClassId, Color, LineStrip2D, MediaType, Position2D, Radius, Scalar, Text, TextLogLevel,
+    ClassId, Color, DrawOrder, LineStrip2D, MediaType, Position2D, Radius, Scalar, Text,
+    TextLogLevel,
 };
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
 use rerun::external::re_log_encoding::DecoderApp;

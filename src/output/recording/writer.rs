@@ -266,7 +266,8 @@ impl Writer {
     }
 
     /// The radius lines' look, static: dark, a fixed fraction of the smallest disk's radius
-    /// wide (in scene units, so that they scale with the disks).
+    /// wide (in scene units, so that they scale with the disks), drawn over the disks (Rerun
+    /// draws 2D lines under points by default).
     fn log_orientation_style(&self, f: &FrameBuf) -> Result<(), String> {
         let smallest = f.radius.iter().copied().fold(f64::INFINITY, f64::min);
         let half_width = if smallest.is_finite() {
@@ -279,7 +280,8 @@ impl Writer {
                 ORIENTATION_ENTITY,
                 &LineStrips2D::update_fields()
                     .with_colors([rgb(ORIENTATION_COLOR)])
-                    .with_radii([Radius::new_scene_units(half_width as f32)]),
+                    .with_radii([Radius::new_scene_units(half_width as f32)])
+                    .with_draw_order(DrawOrder::DEFAULT_POINTS2D.0 .0 + 1.0),
             )
             .map_err(|e| err("orientation", e))
     }
