@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use serde_json::Value;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
 use vibrobed::output::recording::{
-    clock_label, orientation_line, read_back, RecordingContents, RerunRecorder,
+    clock_label, orientation_line, read_back, spin_color, RecordingContents, RerunRecorder,
 };
 use vibrobed::output::summary::{Ending, Summary};
 use vibrobed::run::{run, FrameSink, RunOptions};
@@ -393,8 +393,15 @@ fn a_rough_bed_records_orientations_spins_and_rotational_energy() {
                 turn.min(std::f64::consts::TAU - turn) < 1e-4,
                 "frame {k}, disk {i}"
             );
-            // Red turning anticlockwise, blue clockwise (clear spins only).
+            // Red turning anticlockwise, blue clockwise (clear spins only), full colour at a rim
+            // speed of the floor's peak speed Aω = Γ g / ω (the default spin scale).
             let rgba = c.disks[k].colors[i];
+            let floor_speed = 3.0 / (std::f64::consts::TAU * 0.5);
+            let expected = spin_color(omega * 0.5 / floor_speed).to_u32();
+            assert!(
+                channels_within_one(rgba, expected),
+                "frame {k}, disk {i}: {rgba:08x} vs {expected:08x}"
+            );
             let (red, blue) = (rgba >> 24, (rgba >> 8) & 0xff);
             if omega * 0.5 > 0.1 {
                 assert!(red > blue, "frame {k}, disk {i}: ω = {omega}");
@@ -436,6 +443,12 @@ fn spin_colours_need_rough_disks() {
     }
     s.collisions.friction = Some(0.5);
     s.validate().expect("rough disks may be coloured by spin");
+}
+
+/// Whether two `0xRRGGBBAA` colours differ by at most one in each channel (the scale's last bit
+/// may round either way).
+fn channels_within_one(a: u32, b: u32) -> bool {
+    (0..4).all(|k| ((a >> (8 * k)) & 0xff).abs_diff((b >> (8 * k)) & 0xff) <= 1)
 }
 
 /// `output.rrd` in the scenario records without `--rrd`; `output.color_by = "species"` logs
