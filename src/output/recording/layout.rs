@@ -96,7 +96,7 @@ impl Writer {
     /// Logs the colour scale in the sky of the bed view, near its top right corner below
     /// `view_top`: a bar of 20 coloured segments, and labels under it: from 0 to the scale for
     /// speeds, from minus to plus the scale for spins (the same colours, centred on zero).
-    pub(super) fn log_speed_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
+    pub(super) fn log_colour_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
         let w = self.layout.width;
         let span = view_top - bottom;
         let length = (0.2 * w).min(1.5 * span);
@@ -299,7 +299,7 @@ impl Writer {
         let bed_bottom = range.map_or(0.0, |(b, _)| b.min(0.0));
         let span = top - bed_bottom;
         if self.color_by != ColorBy::Species {
-            self.log_speed_scale(top, bed_bottom)?;
+            self.log_colour_scale(top, bed_bottom)?;
         }
         self.log_clock(top, bed_bottom)?;
         let (view, path) = view_with_path(view);
