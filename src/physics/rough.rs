@@ -11,8 +11,10 @@
 //! `−(J g_t + J²/(2 m_t))`, `½ m_t (1 − β²) g_t²` when sticking. A wall, the lid or the floor
 //! is a body of infinite mass that does not turn (`1/m_j = 0`, `a_j = 0`).
 //!
-//! One home for the rule, for pair collisions and boundary impacts alike (the approximate
-//! schemes are to use it too), and the per-disk rotational state it acts on.
+//! One home for the rule, for pair collisions and boundary impacts alike, in the exact engine
+//! and the approximate schemes, and the per-disk rotational state it acts on.
+
+use crate::physics::disks::Disks;
 
 /// The tangential part of a contact law: tangential restitution β ∈ [−1, 1] of sticking
 /// contacts, capped by Coulomb friction μ ≥ 0 (∞: no cap). β = −1 or μ = 0 is a smooth contact.
@@ -82,6 +84,90 @@ pub struct Roughness {
     pub inertia_factor: f64,
 }
 
+impl Roughness {
+    /// The tangential part of the collision of disks `i` and `j` of `disks`: unit normal `n`
+    /// from `j` to `i`, the centres' relative velocity `dv` before the normal impulse `p_n`.
+    #[inline]
+    pub fn pair_kick(
+        &self,
+        disks: &Disks,
+        (i, j): (usize, usize),
+        n: (f64, f64),
+        dv: (f64, f64),
+        p_n: f64,
+    ) -> Kick {
+        kick(
+            &self.pair,
+            n,
+            dv,
+            &Body::disk(disks, i),
+            &Body::disk(disks, j),
+            p_n,
+        )
+    }
+
+    /// The tangential part of disk `i`'s impact on `boundary` moving with velocity `wall` (the
+    /// floor's; 0 for the others), after the normal part changed the disk's velocity from
+    /// `before` to what it is now: the normal impulse is the change along the normal.
+    #[inline]
+    pub fn boundary_kick(
+        &self,
+        disks: &Disks,
+        i: usize,
+        boundary: Boundary,
+        wall: (f64, f64),
+        before: (f64, f64),
+    ) -> Kick {
+        let n = boundary.normal();
+        let m = &disks.motion[i];
+        let p_n = disks.mass[i] * ((m.vx - before.0) * n.0 + (m.vy - before.1) * n.1);
+        let dv = (m.vx - wall.0, m.vy - wall.1);
+        let law = boundary.law(self);
+        kick(&law, n, dv, &Body::disk(disks, i), &Body::WALL, p_n)
+    }
+}
+
+/// The boundary a disk hits, by the normal from it to the disk.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Boundary {
+    /// The left side wall.
+    Left,
+    /// The right side wall.
+    Right,
+    /// The lid.
+    Lid,
+    /// The floor.
+    Floor,
+}
+
+impl Boundary {
+    /// The unit normal from the boundary to a disk that hits it.
+    pub fn normal(self) -> (f64, f64) {
+        match self {
+            Boundary::Left => (1.0, 0.0),
+            Boundary::Right => (-1.0, 0.0),
+            Boundary::Lid => (0.0, -1.0),
+            Boundary::Floor => (0.0, 1.0),
+        }
+    }
+
+    /// Its tangential law: the floor's, or the side walls' and lid's.
+    pub fn law(self, r: &Roughness) -> Friction {
+        match self {
+            Boundary::Floor => r.floor,
+            _ => r.walls,
+        }
+    }
+
+    /// The side wall `side`.
+    pub fn side(side: crate::physics::walls::Side) -> Boundary {
+        match side {
+            crate::physics::walls::Side::Left => Boundary::Left,
+            crate::physics::walls::Side::Right => Boundary::Right,
+        }
+    }
+}
+
 /// What the tangential part of one contact does: disk i's velocity changes by `j·t/m_i` and
 /// disk j's by `−j·t/m_j`; their spins by `dw_i`, `dw_j`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -114,7 +200,40 @@ pub struct Body {
     pub w: f64,
 }
 
+impl Kick {
+    /// Disk `i` of `disks` takes its side of the kick at time `now` (on the clock the spins'
+    /// orientations refer to), and disk `j`, if the other body is a disk, takes the other.
+    #[inline]
+    pub fn apply(&self, disks: &mut Disks, i: usize, j: Option<usize>, now: f64) {
+        take(disks, i, self.dv_i, self.dw_i, now);
+        if let Some(j) = j {
+            take(disks, j, self.dv_j, self.dw_j, now);
+        }
+    }
+}
+
+/// Disk `i` takes its side of a tangential kick: velocity change `dv`, spin change `dw`.
+fn take(disks: &mut Disks, i: usize, dv: (f64, f64), dw: f64, now: f64) {
+    disks.motion[i].vx += dv.0;
+    disks.motion[i].vy += dv.1;
+    disks
+        .spins
+        .as_mut()
+        .expect("rough disks have spins")
+        .spin(i, now, dw);
+}
+
 impl Body {
+    /// Disk `i` of `disks` (with its spin; a disk without spins does not turn).
+    pub fn disk(disks: &Disks, i: usize) -> Body {
+        Body {
+            m: disks.mass[i],
+            a: disks.radius[i],
+            q: disks.spins.as_ref().map_or(1.0, |s| s.q),
+            w: disks.spins.as_ref().map_or(0.0, |s| s.omega[i]),
+        }
+    }
+
     /// A wall, the lid or the floor: infinite mass, no turning.
     pub const WALL: Body = Body {
         m: f64::INFINITY,
@@ -187,6 +306,13 @@ impl Spins {
     /// Disk `k`'s orientation at local time `t`, in [0, 2π) up to round-off.
     pub fn angle(&self, k: usize, t: f64) -> f64 {
         (self.phase[k] + self.omega[k] * t).rem_euclid(std::f64::consts::TAU)
+    }
+
+    /// Every disk's `(orientation, ω)` at local time `t`, in their own order.
+    pub fn at(&self, t: f64) -> Vec<(f64, f64)> {
+        (0..self.omega.len())
+            .map(|k| (self.angle(k, t), self.omega[k]))
+            .collect()
     }
 
     /// Disk `k`'s spin changes by `dw` at local time `now`: the orientation carries on from
