@@ -15,6 +15,7 @@
 //! and the approximate schemes, and the per-disk rotational state it acts on.
 
 use crate::physics::disks::Disks;
+use crate::physics::walls::Side;
 
 /// The tangential part of a contact law: tangential restitution β ∈ [−1, 1] of sticking
 /// contacts, capped by Coulomb friction μ ≥ 0 (∞: no cap). β = −1 or μ = 0 is a smooth contact.
@@ -160,10 +161,10 @@ impl Boundary {
     }
 
     /// The side wall `side`.
-    pub fn side(side: crate::physics::walls::Side) -> Boundary {
+    pub fn side(side: Side) -> Boundary {
         match side {
-            crate::physics::walls::Side::Left => Boundary::Left,
-            crate::physics::walls::Side::Right => Boundary::Right,
+            Side::Left => Boundary::Left,
+            Side::Right => Boundary::Right,
         }
     }
 }
@@ -184,20 +185,6 @@ pub struct Kick {
     pub dw_j: f64,
     /// Kinetic energy (translational and rotational) lost, ≥ 0.
     pub energy_lost: f64,
-}
-
-/// One side of a contact: a disk's mass, radius, inertia factor q and spin; a wall is
-/// [`Body::WALL`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Body {
-    /// Mass (∞ for a wall).
-    pub m: f64,
-    /// Radius (0 for a wall: its contact point is where it is hit).
-    pub a: f64,
-    /// `I = q m a²`.
-    pub q: f64,
-    /// Angular velocity.
-    pub w: f64,
 }
 
 impl Kick {
@@ -221,6 +208,20 @@ fn take(disks: &mut Disks, i: usize, dv: (f64, f64), dw: f64, now: f64) {
         .as_mut()
         .expect("rough disks have spins")
         .spin(i, now, dw);
+}
+
+/// One side of a contact: a disk's mass, radius, inertia factor q and spin; a wall is
+/// [`Body::WALL`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    /// Mass (∞ for a wall).
+    pub m: f64,
+    /// Radius (0 for a wall: its contact point is where it is hit).
+    pub a: f64,
+    /// `I = q m a²`.
+    pub q: f64,
+    /// Angular velocity.
+    pub w: f64,
 }
 
 impl Body {
@@ -543,6 +544,48 @@ mod tests {
         let (vx, w) = (1.0 + k.dv_i.0, k.dw_i);
         assert!((vx - 2.0 / 3.0).abs() < 1e-15 && (w + vx / 0.5).abs() < 1e-15);
         assert_eq!(k.dv_j, (0.0, 0.0));
+    }
+
+    #[test]
+    fn a_disk_rubbing_a_wall_takes_the_kick_of_the_normal_impulse_it_got() {
+        // A disk (m = 2, a = 0.25) hits the left wall at v = (−1, 0.5) with ω = 1 and leaves
+        // at v_x = 0.9: p_n = 2·1.9. The wall's tangent is (0, 1): g_t = 0.5 − 0.25·1 = 0.25;
+        // β = 0 without a cap: J = −m_t g_t, m_t = m q/(1 + q).
+        let mut disks = Disks::new(&[[0.25, 3.0]], vec![0.25], vec![2.0], vec![0]);
+        disks.spins = Some(Spins::new(0.5, vec![1.0]));
+        (disks.motion[0].vx, disks.motion[0].vy) = (0.9, 0.5);
+        let laws = Roughness {
+            pair: Friction::SMOOTH,
+            floor: Friction::SMOOTH,
+            walls: Friction::of(Some(0.0), None),
+            inertia_factor: 0.5,
+        };
+        let k = laws.boundary_kick(
+            &disks,
+            0,
+            Boundary::side(Side::Left),
+            (0.0, 0.0),
+            (-1.0, 0.5),
+        );
+        let m_t = 2.0 * 0.5 / 1.5;
+        assert!((k.j + m_t * 0.25).abs() < 1e-15, "{}", k.j);
+        k.apply(&mut disks, 0, None, 2.0);
+        // It leaves rolling on the wall (g_t = 0), its orientation carrying on from time 2.
+        let (vy, w) = (disks.motion[0].vy, disks.spins.as_ref().unwrap().omega[0]);
+        assert!((vy - 0.25 * w).abs() < 1e-15, "{vy} {w}");
+        assert_eq!(disks.motion[0].vx, 0.9);
+        assert!((disks.spins.as_ref().unwrap().angle(0, 2.0) - 2.0).abs() < 1e-15);
+        // Capped at μ = 0.02: |J| = μ p_n, from the velocity change along the normal.
+        let capped = Roughness {
+            walls: Friction::of(Some(0.0), Some(0.02)),
+            ..laws
+        };
+        (disks.motion[0].vy, disks.spins.as_mut().unwrap().omega[0]) = (0.5, 1.0);
+        let k = capped.boundary_kick(&disks, 0, Boundary::Left, (0.0, 0.0), (-1.0, 0.5));
+        assert!((k.j + 0.02 * 2.0 * 1.9).abs() < 1e-15, "{}", k.j);
+        // The lid and the floor have the other law: smooth here.
+        let k = laws.boundary_kick(&disks, 0, Boundary::Floor, (0.0, 0.0), (0.9, -1.0));
+        assert_eq!(k, Kick::default());
     }
 
     #[test]

@@ -15,6 +15,9 @@
 //! would be negligible (it would come to rest in the exact engine) instead hops
 //! [`REST_HOP`] radii, which ends the infinite sequence of ever smaller bounces.
 //!
+//! Rough disks get the exact engine's tangential kick after the normal part of every collision
+//! and bounce (a hop included).
+//!
 //! On several threads ([`Cores`]) the synchronisation is shared among them: bringing the disks
 //! to its time, the candidate pairs and the prediction of every disk (each thread writes only
 //! its own disks' predictions; they are queued in the order of the disks). The events between

@@ -5,11 +5,12 @@
 //! pairs from a Verlet list of radius `2 a_max + skin`, built from a cell list (head-of-chain +
 //! linked list, cells at least the Verlet radius) and rebuilt when any disk has moved more than
 //! half the skin since the last build. An overlapping pair that approaches gets the pair
-//! collision rule with the scene's restitution law (TC, speed cutoff included); an overlapping
-//! pair that recedes is left alone. Walls, the lid and the floor likewise: a disk below the floor
-//! (its position as in the exact model, or y = 0 in the fixed-position model) that moves down
-//! relative to it bounces with the floor's velocity at that time. Energy changes only at the
-//! bounces, where they are booked, so the energy budget closes to round-off.
+//! collision rule with the scene's restitution law (TC, speed cutoff included), and rough disks
+//! the exact engine's tangential kick after it; an overlapping pair that recedes is left alone.
+//! Walls, the lid and the floor likewise: a disk below the floor (its position as in the exact
+//! model, or y = 0 in the fixed-position model) that moves down relative to it bounces with the
+//! floor's velocity at that time. Energy changes only at the bounces, where they are booked, so
+//! the energy budget closes to round-off.
 //!
 //! On several threads ([`Cores`]) the flight, the Verlet list and the search for touching pairs
 //! and for disks past a boundary are shared among them; the collisions and bounces found are
