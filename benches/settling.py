@@ -15,6 +15,10 @@ built vibrobed:
   (t_c = 1e-3) in a width of 200.3, pair restitution e = 0.5, 0.7, 0.9, side walls or periodic
   sides, on a static floor or a sine floor at Γ = 0.5 and 0.8; 100 time units; 18 runs.
 
+With --friction MU every run has rough disks: Coulomb friction MU on pairs, floor and side walls
+(issue 44's settling target: every pile with a cure at rest, at most one event per disk per unit
+time after it).
+
 Each run goes to half its duration, writes a checkpoint and is resumed to the end, so that the
 events of the last half are counted exactly (a resumed run is the uninterrupted run, bit for
 bit). Runs go two at a time (--jobs). Wall times are whole-process and only indicative.
@@ -24,6 +28,7 @@ Usage, from the project root (builds the engine without the recorder first):
     benches/settling.py piles           # one of them
     benches/settling.py beds --jobs 1   # the real beds (about 15 minutes on one core)
     benches/settling.py --bin PATH jam  # another build
+    benches/settling.py --friction 0.5 piles
 """
 import argparse
 import collections
@@ -99,6 +104,15 @@ def events(summary):
     return sum(summary["events"].values())
 
 
+def roughen(scenario, mu):
+    """Coulomb friction `mu` on pairs, floor and side walls (rough disks)."""
+    scenario["collisions"]["friction"] = mu
+    scenario["floor"]["friction"] = mu
+    if scenario["domain"].get("x_boundary") == "walls":
+        scenario["domain"]["wall_friction"] = mu
+    return scenario
+
+
 def run_one(binary, label, scenario, work, duration):
     key = "".join(c if c.isalnum() else "_" for c in label)
     path = os.path.join(work, key + ".json")
@@ -139,6 +153,7 @@ def main():
     p.add_argument("matrix", nargs="*", help="piles, jam, beds (default: piles and jam)")
     p.add_argument("--bin", help="vibrobed binary (default: build and use target/release/vibrobed)")
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--friction", type=float, help="Coulomb friction on pairs, floor and walls")
     args = p.parse_args()
     matrices = args.matrix or ["piles", "jam"]
     unknown = [m for m in matrices if m not in MATRICES]
@@ -153,7 +168,10 @@ def main():
     for name in matrices:
         make, duration = MATRICES[name]
         runs = list(make())
-        print(f"\n{name}: at rest from (first sample time after which every disk stays at rest), "
+        if args.friction is not None:
+            runs = [(label, roughen(s, args.friction)) for label, s in runs]
+        rough = "" if args.friction is None else f" (mu = {args.friction:g} on pairs, floor, walls)"
+        print(f"\n{name}{rough}: at rest from (first sample time after which every disk stays at rest), "
               f"events per disk per unit time over t = {duration / 2:g}-{duration:g}")
         print(f"{'run':34}{'ending':>13}{'t':>7}{'at rest':>9}{'events':>12}{'last half':>11}  target")
         with cf.ThreadPoolExecutor(args.jobs) as pool:

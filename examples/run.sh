@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python example end to end: a virtual environment with examples/requirements.txt (pip's
 # cache and the environment live outside the clone, so later runs are fast), a short vibrated-bed
-# run writing every output, examples/analyse.py on them, and the trajectory test with ASE.
+# run writing every output, examples/analyse.py on them, examples/convection.py on a short run of
+# the convection scene, and the trajectory test with ASE.
 #
 #   bash examples/run.sh [OUT_DIR]        (default: a temporary folder, removed afterwards)
 #
@@ -32,6 +33,15 @@ cargo run --release --quiet -- run scenarios/vibrated_bed.json --quiet \
   --summary "$out/summary.json" --profiles "$out/profiles.csv"
 "$venv/bin/python" examples/analyse.py "$out"
 test -s "$out/analyse.png"
+
+# The convection rolls' measure (examples/convection.py) on a short run of the convection scene.
+cargo run --release --quiet -- run scenarios/convection.json --quiet \
+  --set run.duration=40 --set run.warmup=10 \
+  --trajectory "$out/convection.xyz" --summary "$out/convection.json"
+"$venv/bin/python" examples/convection.py "$out/convection.xyz" --warmup 10 \
+  --figure "$out/convection.png" > "$out/convection.txt"
+grep -q "circulation (centre - walls)" "$out/convection.txt"
+test -s "$out/convection.png"
 
 # The trajectory test, ignored by a plain `cargo test`: it needs a Python with ASE.
 VIBROBED_PYTHON="$venv/bin/python" cargo test --release --quiet --test suite -- \

@@ -202,7 +202,8 @@ fn run_with<F: Flight>(
 
 /// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
 /// scale of speeds: `output.speed_scale`, else three times the floor's peak speed, else three
-/// times the initial root-mean-square speed (else 1).
+/// times the initial root-mean-square speed (else 1); and of spins: `output.spin_scale`, else a
+/// third of the speed scale (a rim speed of the floor's peak speed, or the rms speed).
 fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::physics::disks::Disks) -> SceneLayout {
     let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
     let n = disks.len().max(1) as f64;
@@ -232,6 +233,7 @@ fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::physics::disks::Disk
         floor: s.floor.is_some(),
         species: disks.species.iter().max().map_or(1, |m| m as usize + 1),
         speed_scale,
+        spin_scale: s.output.spin_scale.unwrap_or(speed_scale / 3.0),
     }
 }
 
@@ -288,6 +290,7 @@ fn open_recording(
     let color = match s.output.color_by {
         ColorChoice::Speed => ColorBy::Speed,
         ColorChoice::Species => ColorBy::Species,
+        ColorChoice::Spin => ColorBy::Spin,
     };
     let rec = RerunRecorder::create_with_id(path, layout, color, recording_id)
         .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;

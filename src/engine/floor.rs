@@ -178,6 +178,7 @@ impl<F: Flight> Simulation<F> {
             m.vy = hd_ride;
             self.rest.riders.mount_on_floor(i, above);
             self.tally.counts.rest += 1;
+            self.roll_on_floor(i);
             if self.rest.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {
                 self.stop_sliding(i);
             }

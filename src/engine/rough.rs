@@ -1,11 +1,15 @@
 //! Rough disks in the engine: the tangential part of each collision (Walton's rule,
 //! [`physics::rough`](crate::physics::rough)), applied after the normal part at pair
-//! collisions, floor impacts, the side walls and the lid, its energy booked as dissipated. A
-//! smooth scene has no laws here and no spins: every call returns at once.
+//! collisions, floor impacts, the side walls and the lid, its energy booked as dissipated; and
+//! rough disks at rest, which do not turn against what holds them (see
+//! [`hold_spin`](Simulation::hold_spin)). A smooth scene has no laws here and no spins: every
+//! call returns at once.
 
 use super::Simulation;
+use crate::engine::rest::riders::RIGHT_WALL;
 use crate::physics::flight::Flight;
 pub(super) use crate::physics::rough::Boundary;
+use crate::physics::rough::{fixed_kick, friction_holds, Body, Friction};
 
 impl<F: Flight> Simulation<F> {
     /// The tangential part of the collision of disks `i` and `j` (separation `(dx, dy)` from
@@ -76,11 +80,147 @@ impl<F: Flight> Simulation<F> {
         let Some(laws) = &self.friction else {
             return;
         };
-        let k = laws.boundary_kick(&self.disks, i, boundary, wall, before);
+        let law = boundary.law(laws);
+        self.rub_fixed(i, &law, boundary.normal(), wall, before, &Body::WALL);
+    }
+
+    /// The tangential part of flying disk `k`'s bounce off disk `s` held at rest (it does not
+    /// give: see [`meet_held`](Self::meet_held)), with unit normal `n` from `s` to `k`, `s`
+    /// moving with velocity `held` (the floor's), `k`'s velocity `before` the normal part. `s`
+    /// turns as its rest allows (see [`hold_spin`](Self::hold_spin)); nothing for smooth disks.
+    pub(in crate::engine) fn rub_held(
+        &mut self,
+        k: usize,
+        s: usize,
+        n: (f64, f64),
+        held: (f64, f64),
+        before: (f64, f64),
+    ) {
+        let Some(laws) = &self.friction else {
+            return;
+        };
+        let law = laws.pair;
+        let s = Body {
+            m: f64::INFINITY,
+            ..Body::disk(&self.disks, s)
+        };
+        self.rub_fixed(k, &law, n, held, before, &s);
+    }
+
+    /// The tangential part of disk `i`'s impact on a body `other` that does not give (a wall, or
+    /// a disk held at rest), with unit normal `n` from it to the disk, moving with velocity
+    /// `wall`, after the normal part changed the disk's velocity from `before` (its normal
+    /// impulse). The loss is booked as dissipated, and the work of the moving body (the
+    /// floor's, which carries it) as injected.
+    fn rub_fixed(
+        &mut self,
+        i: usize,
+        law: &Friction,
+        n: (f64, f64),
+        wall: (f64, f64),
+        before: (f64, f64),
+        other: &Body,
+    ) {
+        let mass = self.disks.mass[i];
+        let k = fixed_kick(law, &self.disks, i, (n, wall, before), other);
         if k.j == 0.0 {
             return;
         }
         k.apply(&mut self.disks, i, None, self.now);
         self.tally.flow.dissipated += k.energy_lost;
+        let work = mass * (wall.0 * k.dv_i.0 + wall.1 * k.dv_i.1);
+        if work != 0.0 {
+            self.tally.flow.injected += work;
+            self.tally.flow.floor_impulse += mass * k.dv_i.1;
+        }
+    }
+
+    /// Disk `i`, held by a rest rule (at rest on the floor or on disks at rest, or stopped in
+    /// a slot), stops turning against what holds it: on a rough floor it rolls, `ω = −v_x/a`;
+    /// elsewhere, among rough disks, it turns no more, `ω = 0` (static friction: the slip a
+    /// spin would make at a contact at rest is undone at once, as the sliding speeds are by
+    /// the rest rules; a disk held with a spin would drive what touches it like a belt). The
+    /// rotational energy given up is booked as dissipated. Where neither the floor under it
+    /// nor the pair contacts are rough, nothing holds the spin: it keeps it.
+    #[inline(always)]
+    pub(in crate::engine) fn hold_spin(&mut self, i: usize) {
+        if self.friction.is_some() {
+            self.hold_rough_spin(i);
+        }
+    }
+
+    /// [`hold_spin`](Self::hold_spin) for rough disks.
+    #[inline(never)]
+    fn hold_rough_spin(&mut self, i: usize) {
+        let Some(laws) = &self.friction else {
+            return;
+        };
+        let on_floor = self.is_riding(i) && self.rest.riders.on_floor(i);
+        let a = self.disks.radius[i];
+        let w = if on_floor && !laws.floor.is_smooth() {
+            -self.disks.motion[i].vx / a
+        } else if !laws.pair.is_smooth() {
+            0.0
+        } else {
+            return;
+        };
+        let (now, mass) = (self.now, self.disks.mass[i]);
+        let spins = self.disks.spins.as_mut().expect("rough disks have spins");
+        let w0 = spins.omega[i];
+        if w != w0 {
+            self.tally.flow.dissipated += 0.5 * spins.q * mass * a * a * (w0 * w0 - w * w);
+            spins.spin(i, now, w - w0);
+        }
+    }
+
+    /// Disk `i` has just come to rest on a rough floor (or, riding it, bounced off a wall),
+    /// sliding (its contact point moving at
+    /// `s = v_x + a ω`): Coulomb friction, `μ` times the floor's push `m (g + h'')`, which is
+    /// positive while it rides, slows the slip until the disk rolls. Whatever the push's
+    /// history, the friction impulse that ends the slip is `m s q/(1 + q)` (angular momentum
+    /// about the contact point is kept), so the disk rolls on at `v_x − s q/(1 + q)`; that end
+    /// is taken at once (the slide's duration, `|s|/(μ g (1 + 1/q))` on a still floor, is not
+    /// followed). The energy lost is booked as dissipated.
+    pub(in crate::engine) fn roll_on_floor(&mut self, i: usize) {
+        let rough_floor = self.friction.as_ref().is_some_and(|l| !l.floor.is_smooth());
+        if !rough_floor {
+            return;
+        }
+        let spins = self.disks.spins.as_ref().expect("rough disks have spins");
+        let (a, q) = (self.disks.radius[i], spins.q);
+        let m = &mut self.disks.motion[i];
+        let slip = m.vx + a * spins.omega[i];
+        let vx = m.vx - slip * q / (1.0 + q);
+        self.tally.flow.dissipated += 0.5 * self.disks.mass[i] * (m.vx * m.vx - vx * vx);
+        m.vx = vx;
+        self.hold_spin(i);
+    }
+
+    /// Two of the contacts of a disk at rest (`normals`: support code, unit normal from the
+    /// support to the disk) on which static friction holds it under its weight, though their
+    /// normals do not bracket the vertical: a disk on a slope of rough disks, or against a
+    /// rough wall ([`friction_holds`]). `None` for smooth disks, or where no pair holds.
+    pub(in crate::engine) fn held_by_friction(
+        &self,
+        normals: &[(u32, f64, f64)],
+    ) -> Option<[u32; 2]> {
+        let laws = self.friction.as_ref()?;
+        let mu = |code: u32| {
+            let law = if code < RIGHT_WALL {
+                laws.pair
+            } else {
+                laws.walls
+            };
+            if law.is_smooth() {
+                0.0
+            } else {
+                law.mu
+            }
+        };
+        normals.iter().enumerate().find_map(|(k, &(c1, x1, y1))| {
+            normals[k + 1..].iter().find_map(|&(c2, x2, y2)| {
+                friction_holds((x1, y1), (x2, y2), mu(c1), mu(c2)).then_some([c1, c2])
+            })
+        })
     }
 }

@@ -61,6 +61,10 @@ impl<F: Flight> Simulation<F> {
             Side::Right => Boundary::Right,
         };
         self.rub_boundary(i, boundary, (0.0, 0.0), before);
+        if self.is_riding(i) && self.rest.riders.on_floor(i) {
+            // Sent back along a rough floor, it slides until it rolls again.
+            self.roll_on_floor(i);
+        }
         self.tally.counts.wall += 1;
         self.moved(i);
         self.release_carried(i, None);

@@ -24,6 +24,9 @@ pub struct SceneLayout {
     /// Speed drawn full red when colouring by speed: one fixed colour scale for the whole run
     /// (blue at rest, grey at half this speed, red at this speed and above).
     pub speed_scale: f64,
+    /// Rim speed ω a drawn full colour when colouring rough disks by spin (blue clockwise, red
+    /// anticlockwise).
+    pub spin_scale: f64,
 }
 
 /// How disks are coloured in a recording.
@@ -34,6 +37,9 @@ pub enum ColorBy {
     Speed,
     /// By species index.
     Species,
+    /// By spin, rough disks only: the rim speed ω a on a diverging scale, blue clockwise → grey
+    /// not turning → red anticlockwise, full colour at ±[`SceneLayout::spin_scale`].
+    Spin,
 }
 
 /// One frame: every disk advanced to `time` (not the time of its last event).
@@ -61,4 +67,7 @@ pub struct FrameView<'a> {
     pub series: &'a [(&'static str, f64)],
     /// Height profiles of this frame alone (gravity scenes; the bins of the run's profiles).
     pub profile: Option<&'a ProfileTable>,
+    /// Each rough disk's `(angle, ω)` at `time`: its orientation in [0, 2π) and angular
+    /// velocity, anticlockwise positive; `None` for smooth disks.
+    pub spins: Option<&'a [(f64, f64)]>,
 }

@@ -103,19 +103,10 @@ impl TrajectoryWriter {
         self.frames
     }
 
-    /// Appends one frame (all disks at `f.time`); `f.series` is not written. Fails when the
-    /// per-disk slices differ in length or the file cannot be written.
+    /// Appends one frame (all disks at `f.time`, with rough disks' `f.spins`); `f.series` is not
+    /// written. Fails when the per-disk slices differ in length or the file cannot be written.
     pub fn frame(&mut self, f: &FrameView) -> Result<(), String> {
-        self.frame_with_spins(f, None)
-    }
-
-    /// [`frame`](Self::frame), with each rough disk's `(angle, ω)` at the frame's time.
-    pub fn frame_with_spins(
-        &mut self,
-        f: &FrameView,
-        spins: Option<&[(f64, f64)]>,
-    ) -> Result<(), String> {
-        let n = f.x.len();
+        let (n, spins) = (f.x.len(), f.spins);
         if [f.y.len(), f.vx.len(), f.vy.len(), f.radius.len()]
             .iter()
             .any(|&m| m != n)

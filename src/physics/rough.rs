@@ -119,13 +119,33 @@ impl Roughness {
         wall: (f64, f64),
         before: (f64, f64),
     ) -> Kick {
-        let n = boundary.normal();
-        let m = &disks.motion[i];
-        let p_n = disks.mass[i] * ((m.vx - before.0) * n.0 + (m.vy - before.1) * n.1);
-        let dv = (m.vx - wall.0, m.vy - wall.1);
         let law = boundary.law(self);
-        kick(&law, n, dv, &Body::disk(disks, i), &Body::WALL, p_n)
+        fixed_kick(
+            &law,
+            disks,
+            i,
+            (boundary.normal(), wall, before),
+            &Body::WALL,
+        )
     }
+}
+
+/// The tangential part of disk `i`'s impact on a body `other` that does not give (a wall, the
+/// lid, the floor, or a disk held at rest), with unit normal `n` from it to the disk, moving
+/// with velocity `wall`, after the normal part changed the disk's velocity from `before` to
+/// what it is now: the normal impulse is that change along the normal.
+#[inline]
+pub fn fixed_kick(
+    law: &Friction,
+    disks: &Disks,
+    i: usize,
+    (n, wall, before): ((f64, f64), (f64, f64), (f64, f64)),
+    other: &Body,
+) -> Kick {
+    let m = &disks.motion[i];
+    let p_n = disks.mass[i] * ((m.vx - before.0) * n.0 + (m.vy - before.1) * n.1);
+    let dv = (m.vx - wall.0, m.vy - wall.1);
+    kick(law, n, dv, &Body::disk(disks, i), other, p_n)
 }
 
 /// The boundary a disk hits, by the normal from it to the disk.
@@ -350,6 +370,50 @@ impl Spins {
     pub fn bytes(&self) -> usize {
         8 * (self.omega.capacity() + self.phase.capacity())
     }
+}
+
+/// Whether static friction lets two contacts hold a disk still under its weight: unit normals
+/// `n1`, `n2` from the supports to the disk (both contacts on its rim), Coulomb coefficients
+/// `mu1`, `mu2` (∞: no cap). The contact forces `N_i n_i + f_i t_i` (with `t = (−n_y, n_x)`)
+/// must sum to the weight's opposite, their torques about the centre cancel (`f_1 + f_2 = 0`),
+/// and each stays in its friction cone (`N_i ≥ 0`, `|f_i| ≤ μ_i N_i`). For a given `f = f_1`
+/// the forces balance with `N_i` linear in `f`; the constraints cut an interval of `f`, which
+/// must not be empty. Frictionless (`μ = 0`) this is the normals bracketing the vertical.
+pub fn friction_holds(n1: (f64, f64), n2: (f64, f64), mu1: f64, mu2: f64) -> bool {
+    let det = n1.0 * n2.1 - n1.1 * n2.0;
+    if det.abs() < 1e-12 {
+        return false;
+    }
+    // N(f) = N(0) + f N': weight (0, 1) less f (t1 − t2), solved by Cramer's rule.
+    let (t1, t2) = ((-n1.1, n1.0), (-n2.1, n2.0));
+    let d = (t1.0 - t2.0, t1.1 - t2.1);
+    let cramer = |b: (f64, f64)| {
+        (
+            (b.0 * n2.1 - b.1 * n2.0) / det,
+            (n1.0 * b.1 - n1.1 * b.0) / det,
+        )
+    };
+    let (n1_0, n2_0) = cramer((0.0, 1.0));
+    let (n1_d, n2_d) = cramer((-d.0, -d.1));
+    // Each constraint c + a f ≥ 0 narrows [lo, hi].
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    let mut keep = |c: f64, a: f64| {
+        if a > 0.0 {
+            lo = lo.max(-c / a);
+        } else if a < 0.0 {
+            hi = hi.min(-c / a);
+        } else if c < 0.0 {
+            hi = f64::NEG_INFINITY;
+        }
+    };
+    for (c, a, mu) in [(n1_0, n1_d, mu1), (n2_0, n2_d, mu2)] {
+        keep(c, a); // N ≥ 0
+        if mu.is_finite() {
+            keep(mu * c, mu * a - 1.0); // μN − f ≥ 0
+            keep(mu * c, mu * a + 1.0); // μN + f ≥ 0
+        }
+    }
+    lo <= hi
 }
 
 #[cfg(test)]
@@ -598,5 +662,56 @@ mod tests {
         assert!((s.angle(1, 0.5) - (std::f64::consts::TAU - 2.5)).abs() < 1e-14);
         s.permute(&[1, 0]);
         assert_eq!(s.omega, [-1.0, 3.0]);
+    }
+
+    /// A disk on two supports: held without friction only when the normals bracket the
+    /// vertical; with friction the interval of `f` found agrees with a scan of `f` over a fine
+    /// grid, for random normals and coefficients.
+    #[test]
+    fn friction_holds_as_a_scan_of_the_tangential_force_finds() {
+        use rand::{Rng, SeedableRng};
+        let at = |deg: f64| {
+            let r = deg.to_radians();
+            (r.sin(), r.cos())
+        };
+        assert!(friction_holds(at(-30.0), at(30.0), 0.0, 0.0));
+        assert!(!friction_holds(at(10.0), at(70.0), 0.0, 0.0));
+        assert!(friction_holds(
+            at(20.0),
+            at(80.0),
+            f64::INFINITY,
+            f64::INFINITY
+        ));
+        let scan = |n1: (f64, f64), n2: (f64, f64), mu1: f64, mu2: f64| {
+            let det = n1.0 * n2.1 - n1.1 * n2.0;
+            let (t1, t2) = ((-n1.1, n1.0), (-n2.1, n2.0));
+            (-40_000..=40_000).any(|k| {
+                let f = k as f64 * 1e-4;
+                let b = (-f * (t1.0 - t2.0), 1.0 - f * (t1.1 - t2.1));
+                let big1 = (b.0 * n2.1 - b.1 * n2.0) / det;
+                let big2 = (n1.0 * b.1 - n1.1 * b.0) / det;
+                big1 >= 0.0 && big2 >= 0.0 && f.abs() <= mu1 * big1 && f.abs() <= mu2 * big2
+            })
+        };
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        let (mut held, mut agree) = (0, 0);
+        for _ in 0..400 {
+            let (a1, a2) = (rng.random_range(-89.0..89.0), rng.random_range(-89.0..89.0));
+            let (m1, m2) = (rng.random_range(0.0..1.5), rng.random_range(0.0..1.5));
+            let (n1, n2) = (at(a1), at(a2));
+            let exact = friction_holds(n1, n2, m1, m2);
+            // The grid misses only holds within its step of the cone's edge: skip those.
+            let near = friction_holds(n1, n2, 0.99 * m1, 0.99 * m2) != exact
+                || friction_holds(n1, n2, 1.01 * m1, 1.01 * m2) != exact;
+            if !near {
+                assert_eq!(exact, scan(n1, n2, m1, m2), "{a1} {a2} {m1} {m2}");
+                agree += 1;
+                held += exact as usize;
+            }
+        }
+        assert!(
+            agree > 300 && held > 50 && held < agree - 50,
+            "{agree} {held}"
+        );
     }
 }

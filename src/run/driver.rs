@@ -284,6 +284,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let collisions = sim.counts().collisions();
         let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
         self.last_frame_collisions = collisions;
+        let rotational = sim.rotational_energy();
         let series = [
             ("temperature/x", o.temperature[0]),
             ("temperature/y", o.temperature[1]),
@@ -296,7 +297,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 "collisions_per_time",
                 if self.stops.k_frame > 1 { rate } else { 0.0 },
             ),
+            ("energy/rotational", rotational.unwrap_or(0.0)),
         ];
+        // Smooth disks have no rotational energy: their series stop before it.
+        let series = &series[..series.len() - usize::from(rotational.is_none())];
+        let spins = sim.spins_at(self.now);
         let d = sim.disks();
         let profile = self
             .averages
@@ -308,8 +313,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             self.stops.k_frame - 1,
             snap,
             (&radius, &species),
-            &series,
-            profile.as_ref(),
+            (series, profile.as_ref()),
+            spins.as_deref(),
         ));
         if let Err(e) = sent {
             self.drop_recording(e, false);
@@ -390,16 +395,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         let spins = self.sim.spins_at(self.now);
-        let written = w.frame_with_spins(
-            &frame_view(
-                self.stops.k_trajectory - 1,
-                snap,
-                (&radius, &species),
-                &[],
-                None,
-            ),
+        let written = w.frame(&frame_view(
+            self.stops.k_trajectory - 1,
+            snap,
+            (&radius, &species),
+            (&[], None),
             spins.as_deref(),
-        );
+        ));
         if let Err(e) = written {
             self.drop_trajectory(Error::Io(e), false);
         }
@@ -560,13 +562,14 @@ impl<E: Integrator> States for StatesAt<'_, E> {
     }
 }
 
-/// Frame `index` of the disks in `snap`, with the time series and live profiles it carries.
+/// Frame `index` of the disks in `snap`, with the time series and live profiles it carries, and
+/// rough disks' `(angle, ω)`.
 fn frame_view<'a>(
     index: u64,
     snap: &'a Snapshot,
     (radius, species): (&'a [f64], &'a [u32]),
-    series: &'a [(&'static str, f64)],
-    profile: Option<&'a ProfileTable>,
+    (series, profile): (&'a [(&'static str, f64)], Option<&'a ProfileTable>),
+    spins: Option<&'a [(f64, f64)]>,
 ) -> FrameView<'a> {
     FrameView {
         index,
@@ -580,6 +583,7 @@ fn frame_view<'a>(
         floor_height: snap.floor_height,
         series,
         profile,
+        spins,
     }
 }
 

@@ -299,6 +299,16 @@ fn validate_output(s: &Scenario) -> Result<()> {
     if let Some(v) = o.speed_scale {
         positive("output.speed_scale", v)?;
     }
+    if let Some(v) = o.spin_scale {
+        positive("output.spin_scale", v)?;
+    }
+    if o.color_by == ColorChoice::Spin && !s.is_rough() {
+        return Err(Error::input(
+            "output.color_by",
+            "`spin` colours rough disks by their spin: this scene's disks are smooth (name \
+             one of the rough disks' fields, e.g. collisions.friction)",
+        ));
+    }
     if let Some(h) = o.profile_height {
         positive("output.profile_height", h)?;
         if s.gravity.is_none() {

@@ -353,13 +353,17 @@ pub struct Output {
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
-    /// Colour disks in the recording by `speed` or `species`.
+    /// Colour disks in the recording by `speed`, `species` or `spin` (rough disks).
     #[serde(default)]
     pub color_by: ColorChoice,
     /// Speed drawn full red when the recording colours disks by speed (default: three times the
     /// floor's peak speed, else three times the initial root-mean-square speed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_scale: Option<f64>,
+    /// Rim speed ω a drawn full colour when the recording colours rough disks by spin
+    /// (default: a third of the speed scale, the floor's peak speed Aω when that is the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spin_scale: Option<f64>,
     /// Write a trajectory (extended XYZ) to this file. Absent: no trajectory.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<String>,
@@ -378,6 +382,7 @@ impl Default for Output {
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,
+            spin_scale: None,
             trajectory: None,
             trajectory_interval: None,
         }
@@ -393,6 +398,8 @@ pub enum ColorChoice {
     Speed,
     /// By species.
     Species,
+    /// By spin (rough disks): the rim speed ω a on a diverging scale.
+    Spin,
 }
 
 /// Integration scheme and its knobs.

@@ -12,7 +12,9 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
-use vibrobed::output::recording::{clock_label, read_back, RecordingContents, RerunRecorder};
+use vibrobed::output::recording::{
+    clock_label, orientation_line, read_back, spin_color, RecordingContents, RerunRecorder,
+};
 use vibrobed::output::summary::{Ending, Summary};
 use vibrobed::run::{run, FrameSink, RunOptions};
 use vibrobed::{Error, Scenario};
@@ -64,6 +66,7 @@ struct Copied {
     y: Vec<f64>,
     floor_height: Option<f64>,
     series: Vec<(String, f64)>,
+    spins: Option<Vec<(f64, f64)>>,
 }
 
 /// A `FrameSink` that keeps copies of every frame and log line.
@@ -83,6 +86,7 @@ impl FrameSink for Collector {
             y: f.y.to_vec(),
             floor_height: f.floor_height,
             series: f.series.iter().map(|(n, v)| (n.to_string(), *v)).collect(),
+            spins: f.spins.map(<[_]>::to_vec),
         });
         Ok(())
     }
@@ -209,6 +213,10 @@ fn recorded_run_reads_back_as_simulated() {
         !c.static_entities.contains("scene/lid"),
         "no lid in an open bed"
     );
+    assert!(
+        !c.static_entities.contains("disks/orientation") && c.orientation.is_empty(),
+        "smooth disks have no orientation"
+    );
 
     // Frames: count, indices, times.
     for e in temporal.iter().filter(|e| *e != "log") {
@@ -251,6 +259,7 @@ fn recorded_run_reads_back_as_simulated() {
         }
     }
     assert_eq!(c.series.len(), SERIES.len());
+    assert!(frames.iter().all(|f| f.spins.is_none()));
 
     // The layout: the bed view spans the domain's width (30) and the profiles' heights (up to
     // 10, y flipped), the two profile views share those heights.
@@ -323,6 +332,123 @@ fn recorded_run_reads_back_as_simulated() {
     let frames: Vec<Option<i64>> = c.log.iter().map(|l| l.frame).collect();
     assert_eq!(frames, [Some(0), Some(10), Some(FRAMES as i64 - 1)]);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Rough disks (the bed with friction on pairs, floor and walls, spinning at the start, coloured
+/// by spin): each frame holds a radius line per disk from its centre to its rim at its angle,
+/// the disks' colours say which way they turn, and the rotational energy is plotted with the
+/// others. The run itself is the one without a recording.
+#[test]
+fn a_rough_bed_records_orientations_spins_and_rotational_energy() {
+    let dir = scratch("rough");
+    let path = dir.join("rough.rrd");
+    let mut s = common::scenario(BED);
+    s.collisions.friction = Some(0.5);
+    s.floor.as_mut().unwrap().friction = Some(0.5);
+    s.domain.wall_friction = Some(0.5);
+    s.particles.rotational_temperature = Some(0.5);
+    s.output.color_by = vibrobed::scenario::ColorChoice::Spin;
+    let recorded = record(&s, &path);
+    let collector = Collector::default();
+    let sunk = run(
+        &s,
+        RunOptions {
+            sink: Some(Box::new(collector.clone())),
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(dynamics_of(&recorded), dynamics_of(&sunk));
+    let c = read_back(&path).unwrap();
+    assert!(c.has_footer);
+    for e in ["disks/orientation", "series/energy/rotational"] {
+        assert_eq!(c.entity(e).map(|s| s.frames), Some(FRAMES), "{e}");
+    }
+    assert!(c.static_entities.contains("disks/orientation"));
+    assert!(
+        c.static_entities.contains("scene/speed_scale"),
+        "spin scale"
+    );
+    let frames = collector.frames.lock().unwrap();
+    assert_eq!(c.orientation.len(), FRAMES);
+    let (mut clockwise, mut anticlockwise) = (0, 0);
+    for (k, f) in frames.iter().enumerate() {
+        let spins = f.spins.as_ref().expect("rough frames carry spins");
+        let (frame, lines) = &c.orientation[k];
+        assert_eq!((*frame, lines.len()), (k as i64, 200));
+        for (i, (line, &(angle, omega))) in lines.iter().zip(spins).enumerate() {
+            let (x, y) = (f.x[i], f.y[i]);
+            assert_eq!(line[0], [x as f32, y as f32], "frame {k}, disk {i}: centre");
+            assert_eq!(*line, orientation_line(x, y, 0.5, angle));
+            let (dx, dy) = (
+                f64::from(line[1][0]) - x as f32 as f64,
+                f64::from(line[1][1]) - y as f32 as f64,
+            );
+            assert!(
+                (dx.hypot(dy) - 0.5).abs() < 1e-5,
+                "frame {k}, disk {i}: length"
+            );
+            let turn = (dy.atan2(dx) - angle).rem_euclid(std::f64::consts::TAU);
+            assert!(
+                turn.min(std::f64::consts::TAU - turn) < 1e-4,
+                "frame {k}, disk {i}"
+            );
+            // Red turning anticlockwise, blue clockwise (clear spins only), full colour at a rim
+            // speed of the floor's peak speed Aω = Γ g / ω (the default spin scale).
+            let rgba = c.disks[k].colors[i];
+            let floor_speed = 3.0 / (std::f64::consts::TAU * 0.5);
+            let expected = spin_color(omega * 0.5 / floor_speed).to_u32();
+            assert!(
+                channels_within_one(rgba, expected),
+                "frame {k}, disk {i}: {rgba:08x} vs {expected:08x}"
+            );
+            let (red, blue) = (rgba >> 24, (rgba >> 8) & 0xff);
+            if omega * 0.5 > 0.1 {
+                assert!(red > blue, "frame {k}, disk {i}: ω = {omega}");
+                anticlockwise += 1;
+            } else if omega * 0.5 < -0.1 {
+                assert!(blue > red, "frame {k}, disk {i}: ω = {omega}");
+                clockwise += 1;
+            }
+        }
+        // Σ ½ I ω², I = ½ m a² (m = 1, a = 0.5).
+        let rotational: f64 = spins.iter().map(|&(_, w)| 0.5 * 0.125 * w * w).sum();
+        let (_, plotted) = c.series["energy/rotational"][k];
+        assert!(
+            (plotted - rotational).abs() <= 1e-12 * rotational,
+            "frame {k}: {plotted} vs {rotational}"
+        );
+    }
+    assert!(
+        clockwise > 100 && anticlockwise > 100,
+        "{clockwise} {anticlockwise}"
+    );
+    let last = c.series["energy/rotational"][FRAMES - 1].1;
+    let summary = recorded.energy.final_.rotational.unwrap();
+    assert!(
+        (last - summary).abs() <= 1e-12 * summary,
+        "{last} vs {summary}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Colouring by spin needs spins: a smooth scene asking for it is refused, naming the field.
+#[test]
+fn spin_colours_need_rough_disks() {
+    let mut s = common::scenario(BED);
+    s.output.color_by = vibrobed::scenario::ColorChoice::Spin;
+    match s.validate() {
+        Err(Error::Input { field, .. }) => assert_eq!(field, "output.color_by"),
+        other => panic!("smooth disks coloured by spin: {other:?}"),
+    }
+    s.collisions.friction = Some(0.5);
+    s.validate().expect("rough disks may be coloured by spin");
+}
+
+/// Whether two `0xRRGGBBAA` colours differ by at most one in each channel (the scale's last bit
+/// may round either way).
+fn channels_within_one(a: u32, b: u32) -> bool {
+    (0..4).all(|k| ((a >> (8 * k)) & 0xff).abs_diff((b >> (8 * k)) & 0xff) <= 1)
 }
 
 /// `output.rrd` in the scenario records without `--rrd`; `output.color_by = "species"` logs
@@ -413,6 +539,7 @@ fn run_failing_mid_way_leaves_a_complete_file() {
         floor: true,
         species: 1,
         speed_scale: 2.0,
+        spin_scale: 2.0,
     };
     let rec = RerunRecorder::create(&path, &layout, ColorBy::Speed).unwrap();
     let summary = run(

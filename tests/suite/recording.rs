@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use vibrobed::measure::ProfileTable;
 use vibrobed::output::frame::{ColorBy, FrameView, SceneLayout};
-use vibrobed::output::recording::{clock_label, read_back, RerunRecorder};
+use vibrobed::output::recording::{
+    clock_label, orientation_line, read_back, spin_color, RerunRecorder,
+};
 
 const N: usize = 3;
 const FRAMES: u64 = 10;
@@ -27,6 +29,7 @@ fn layout(top: Option<f64>) -> SceneLayout {
         floor: true,
         species: 2,
         speed_scale: 2.0,
+        spin_scale: 2.0,
     }
 }
 
@@ -79,6 +82,7 @@ fn view(k: u64, s: &State) -> FrameView<'_> {
         floor_height: Some(s.floor),
         series: &s.series,
         profile: None,
+        spins: None,
     }
 }
 
@@ -210,6 +214,9 @@ fn frames_read_back_equal_what_was_logged() {
     );
     assert!(!c.static_entities.contains("scene/lid"));
     assert!(c.static_entities.contains("disks"));
+    // Smooth disks: no orientation, static or per frame.
+    assert!(!c.static_entities.contains("disks/orientation"));
+    assert!(c.entity("disks/orientation").is_none() && c.orientation.is_empty());
     assert!(c.has_blueprint);
     assert!(c.has_footer, "footer (manifest) missing");
     assert!(c.manifest_chunks > 0);
@@ -408,6 +415,7 @@ fn recording_throughput() {
             floor_height: Some(0.0),
             series: &series,
             profile: None,
+            spins: None,
         })
         .unwrap();
     }
@@ -424,5 +432,102 @@ fn recording_throughput() {
     let c = read_back(&path).unwrap();
     eprintln!("read back in {:.3} s", read.elapsed().as_secs_f64());
     assert_eq!(c.disks.len(), frames as usize);
+    std::fs::remove_file(&path).ok();
+}
+
+/// Rough disks: a radius line per disk, from its centre to the point of its rim at its angle
+/// (anticlockwise from +x, radii of two sizes, angles turning through the quadrants), in every frame; colours
+/// by spin diverge about zero on the spin scale (rim speed ω a = ±1 full blue or red).
+#[test]
+fn rough_disks_show_their_orientation_and_spin() {
+    let path = tmp("rough");
+    // Spins on a scale of their own, half the speeds'.
+    let layout = SceneLayout {
+        spin_scale: 1.0,
+        ..layout(None)
+    };
+    let mut rec = RerunRecorder::create(&path, &layout, ColorBy::Spin).unwrap();
+    // ω such that ω a = −1 (clockwise, full blue), 0, and 0.5 (anticlockwise, half way to red).
+    let omega = [-2.0, 0.0, 2.0];
+    let spins_at = |t: f64| -> Vec<(f64, f64)> {
+        let angle0 = [0.3, 2.0, 4.0];
+        (0..N)
+            .map(|i| {
+                (
+                    (angle0[i] + omega[i] * t).rem_euclid(std::f64::consts::TAU),
+                    omega[i],
+                )
+            })
+            .collect()
+    };
+    for k in 0..FRAMES {
+        let s = state(k);
+        let spins = spins_at(s.time);
+        let mut f = view(k, &s);
+        f.spins = Some(&spins);
+        rec.frame(&f).unwrap();
+    }
+    rec.finish().unwrap();
+    let c = read_back(&path).unwrap();
+    assert_eq!(
+        c.entity("disks/orientation").unwrap().frames,
+        FRAMES as usize
+    );
+    assert!(c.static_entities.contains("disks/orientation"), "its look");
+    assert_eq!(c.orientation.len(), FRAMES as usize);
+    for (k, (frame, lines)) in c.orientation.iter().enumerate() {
+        let s = state(k as u64);
+        let spins = spins_at(s.time);
+        assert_eq!(*frame, k as i64);
+        assert_eq!(lines.len(), N);
+        for i in 0..N {
+            let [centre, rim] = lines[i];
+            assert_eq!(
+                centre,
+                [s.x[i] as f32, s.y[i] as f32],
+                "frame {k}, disk {i}"
+            );
+            let (dx, dy) = (f64::from(rim[0] - centre[0]), f64::from(rim[1] - centre[1]));
+            let a = s.radius[i];
+            assert!(
+                (dx.hypot(dy) - a).abs() < 1e-5,
+                "frame {k}, disk {i}: length"
+            );
+            let (sin, cos) = spins[i].0.sin_cos();
+            assert!(
+                (dx - a * cos).abs() < 1e-5 && (dy - a * sin).abs() < 1e-5,
+                "frame {k}, disk {i}: ({dx}, {dy}) at angle {}",
+                spins[i].0
+            );
+        }
+        let colors = &c.disks[k].colors;
+        assert_eq!(colors[0], 0x3b4cc0ff, "ω a = −1: full blue");
+        assert_eq!(colors[1], 0xddddddff, "not turning: grey");
+        assert_eq!(
+            colors[2],
+            spin_color(0.5).to_u32(),
+            "ω a = 0.5: half way to red"
+        );
+    }
+    // A line of the helper: radius 2 at a quarter turn points straight up.
+    assert_eq!(
+        orientation_line(1.0, 1.0, 2.0, std::f64::consts::FRAC_PI_2)[1][1],
+        3.0
+    );
+    std::fs::remove_file(&path).ok();
+}
+
+/// Spins of another length than the disks are refused, like any per-disk slice.
+#[test]
+fn spins_of_the_wrong_length_are_an_error() {
+    let path = tmp("bad-spins");
+    let mut rec = RerunRecorder::create(&path, &layout(None), ColorBy::Spin).unwrap();
+    let s = state(0);
+    let spins = [(0.0, 1.0)];
+    let mut f = view(0, &s);
+    f.spins = Some(&spins);
+    let e = rec.frame(&f).unwrap_err();
+    assert!(e.contains("spins of 1 disks for 3 disks"), "{e}");
+    drop(rec);
     std::fs::remove_file(&path).ok();
 }

@@ -166,6 +166,71 @@ fn a_spinning_disk_rebounds_from_the_floor_as_the_rule_says() {
     }
 }
 
+/// A disk thrown sideways onto a rough floor, without spin, bounces (each impact's friction
+/// impulse acts at the contact point, so `I ω − m a v_x` is kept) and comes to rest riding
+/// the floor; Coulomb friction then slows its slip until it rolls. Whatever the impacts and the
+/// slide did, it rolls on at `v₀/(1 + q)` — two thirds of its speed for a uniform disk — with
+/// `ω = −v_x/a`, and the energy it lost is booked.
+#[test]
+fn a_disk_sliding_onto_a_rough_floor_rolls_on_at_two_thirds_of_its_speed() {
+    for (friction, beta) in [(0.2, None), (0.5, Some(0.3)), (f64::INFINITY, Some(0.0))] {
+        let law = match beta {
+            Some(b) if friction == f64::INFINITY => format!(r#""tangential_restitution": {b}"#),
+            Some(b) => format!(r#""friction": {friction}, "tangential_restitution": {b}"#),
+            None => format!(r#""friction": {friction}"#),
+        };
+        let mut sim = common::ballistic(&format!(
+            r#"{{"name": "sliding drop", "gravity": 1.0,
+            "domain": {{"width": 20, "x_boundary": "periodic"}},
+            "floor": {{"restitution": 0.5, {law}}},
+            "particles": {{"count": 1, "radius": 0.5,
+                "placement": {{"positions": [[10, 2.5]], "velocities": [[1.0, 0]]}}}},
+            "run": {{"duration": 30}}}}"#
+        ));
+        sim.advance_to(30.0).unwrap();
+        assert_eq!(sim.riders(), 1, "{law}: rides the floor");
+        let (v, w) = (sim.snapshot(30.0).vx[0], sim.spins_at(30.0).unwrap()[0].1);
+        assert!((v - 2.0 / 3.0).abs() < 1e-12, "{law}: v = {v}");
+        assert!((w + v / 0.5).abs() < 1e-12, "{law}: ω = {w}");
+        // Mass 1, radius 0.5, q = ½; it started at height 2.5 with speed 1 and no spin.
+        let flow = sim.energy_flow();
+        let now = 0.5 * v * v + 0.5 * 0.5 * 0.25 * w * w + 0.5;
+        let budget = now - (0.5 + 2.5) - flow.injected + flow.dissipated;
+        assert!(budget.abs() < 1e-12, "{law}: energy budget off by {budget}");
+    }
+}
+
+/// A disk dropped a little off the crown of a rough disk at rest on the floor, in a narrow box
+/// with rough walls, rolls off and comes to rest: both at rest, still, no spin, no events.
+/// (The two roll on the floor together, without rolling resistance, to the wall: at rest from
+/// t ≈ 115.)
+#[test]
+fn a_disk_dropped_on_the_crown_of_a_rough_disk_at_rest_stops() {
+    let mut sim = common::ballistic(
+        r#"{"name": "crown drop", "gravity": 1.0,
+        "domain": {"width": 4.3, "x_boundary": "walls", "y_boundary": "open",
+                   "wall_friction": 0.5, "wall_restitution": 0.5},
+        "floor": {"restitution": 0.5, "friction": 0.5},
+        "particles": {"count": 2, "radius": 0.5,
+            "placement": {"positions": [[2.15, 0.5], [2.25, 3.0]],
+                          "velocities": [[0, 0], [0, 0]]}},
+        "collisions": {"restitution": 0.5, "friction": 0.5, "tc": 0.001},
+        "run": {"duration": 300}}"#,
+    );
+    sim.advance_to(150.0).unwrap();
+    assert_eq!(sim.riders(), 2, "both at rest by t = 150");
+    let events = sim.counts().popped();
+    sim.advance_to(300.0).unwrap();
+    assert_eq!(sim.counts().popped(), events, "events at rest");
+    let snap = sim.snapshot(300.0);
+    assert!(snap.vx.iter().chain(&snap.vy).all(|&v| v == 0.0));
+    assert!(
+        snap.y.iter().all(|&y| (y - 0.5).abs() < 1e-6),
+        "both on the floor"
+    );
+    assert!(sim.spins_at(300.0).unwrap().iter().all(|&(_, w)| w == 0.0));
+}
+
 /// A rough bed on a vibrating floor with friction on pairs, floor and walls keeps its energy
 /// budget, rotation and tangential losses included, to round-off, under the invariant checks.
 #[test]

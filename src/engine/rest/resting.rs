@@ -210,6 +210,7 @@ impl<F: Flight> Simulation<F> {
         self.tally.flow.floor_impulse += mass * (hd - m.vy);
         m.vx = vx;
         m.vy = hd;
+        self.hold_spin(k);
     }
 
     /// What carries flying disk `k` (at now) if it rests on riding disk `hit`: `hit` alone if it
@@ -239,7 +240,9 @@ impl<F: Flight> Simulation<F> {
 
     /// Two supports of disk `k` (at now) whose contact normals bracket the vertical, among the
     /// disks touching it that `can_support` accepts (and `hit`, always), and the side walls; or
-    /// one straight below it (only `hit`, if given; any accepted disk otherwise).
+    /// one straight below it (only `hit`, if given; any accepted disk otherwise); or, for rough
+    /// disks, two on which static friction holds it (see
+    /// [`held_by_friction`](Self::held_by_friction)).
     pub(in crate::engine) fn stable_place(
         &self,
         k: usize,
@@ -301,6 +304,7 @@ impl<F: Flight> Simulation<F> {
             }
         }
         best.map(|(pair, _)| pair)
+            .or_else(|| self.held_by_friction(normals))
     }
 
     /// Whether disk `k` (at now), given the velocity `(vx, vy)`, would move into a side wall or a
@@ -407,6 +411,7 @@ impl<F: Flight> Simulation<F> {
         let m = &mut self.disks.motion[i];
         self.tally.flow.dissipated += 0.5 * self.disks.mass[i] * m.vx * m.vx;
         m.vx = 0.0;
+        self.hold_spin(i);
     }
 
     /// Disk `i` (brought to now) reaches a side wall: if it is at rest and slower than the sleep
@@ -465,6 +470,8 @@ impl<F: Flight> Simulation<F> {
             self.stop_sliding(i);
             self.stop_sliding(j);
         }
+        self.hold_spin(i);
+        self.hold_spin(j);
         self.tally.counts.pair += 1;
         self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
         self.moved(i);
@@ -547,6 +554,7 @@ impl<F: Flight> Simulation<F> {
             if v.abs() < sleep {
                 self.stop_sliding(k);
             }
+            self.hold_spin(k);
         }
         self.tally.counts.pair += 1;
         for &k in row {

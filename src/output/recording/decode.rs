@@ -61,6 +61,9 @@ pub struct RecordingContents {
     pub static_entities: BTreeSet<String>,
     /// `disks` frame by frame, sorted by frame.
     pub disks: Vec<DiskFrame>,
+    /// Rough disks' radius lines per frame: `(frame, [centre, rim point] of each disk)`, sorted
+    /// by frame (empty for smooth disks).
+    pub orientation: Vec<(i64, Vec<[[f32; 2]; 2]>)>,
     /// Floor height per frame: `(frame, height)`, sorted by frame.
     pub floor: Vec<(i64, f32)>,
     /// Live profiles by name (`packing_fraction`, `temperature`), sorted by frame.
@@ -270,6 +273,17 @@ impl Gathered {
         let out = &mut self.out;
         if entity == DISKS_ENTITY {
             self.disks(chunk);
+        } else if entity == ORIENTATION_ENTITY {
+            for (f, v) in rows_of(chunk, strips)
+                .into_iter()
+                .zip(chunk.iter_component::<LineStrip2D>(strips))
+            {
+                let lines = v.iter().map(|s| match s.0.as_slice() {
+                    [a, b] => [[a.x(), a.y()], [b.x(), b.y()]],
+                    _ => [[f32::NAN; 2]; 2], // Not a radius line: no test would pass it.
+                });
+                out.orientation.push((f, lines.collect()));
+            }
         } else if entity == CLOCK_ENTITY {
             for (f, t) in firsts::<Text>(chunk, labels) {
                 out.clock.push((f, t.as_str().to_owned()));
@@ -355,6 +369,7 @@ impl Gathered {
             })
             .collect();
         out.floor.sort_by_key(|&(f, _)| f);
+        out.orientation.sort_by_key(|(f, _)| *f);
         out.clock.sort_by_key(|(f, _)| *f);
         out.log.sort_by(|a, b| {
             a.time

@@ -94,14 +94,19 @@ impl Writer {
     }
 
     /// Logs the colour scale in the sky of the bed view, near its top right corner below
-    /// `view_top`: a bar of 20 coloured segments from 0 to the scale, and labels under it.
-    pub(super) fn log_speed_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
+    /// `view_top`: a bar of 20 coloured segments, and labels under it: from 0 to the scale for
+    /// speeds, from minus to plus the scale for spins (the same colours, centred on zero).
+    pub(super) fn log_colour_scale(&self, view_top: f64, bottom: f64) -> Result<(), String> {
         let w = self.layout.width;
         let span = view_top - bottom;
         let length = (0.2 * w).min(1.5 * span);
         let (x0, y) = (w - length - 0.01 * w, view_top - 0.1 * span);
         let thickness = 0.025 * span;
-        let scale = self.layout.speed_scale;
+        let scale = if self.color_by == ColorBy::Spin {
+            self.layout.spin_scale
+        } else {
+            self.layout.speed_scale
+        };
         let segments = 20;
         let strips: Vec<[[f32; 2]; 2]> = (0..segments)
             .map(|k| {
@@ -121,11 +126,20 @@ impl Writer {
                     .with_radii([Radius::new_scene_units(thickness as f32)]),
             )
             .map_err(|e| err("colour scale", e))?;
+        let (low, middle, name) = if self.color_by == ColorBy::Spin {
+            (
+                format!("≤ −{}", tick_label(scale)),
+                "0".to_owned(),
+                "spin ω a",
+            )
+        } else {
+            ("0".to_owned(), tick_label(0.5 * scale), "speed |v|")
+        };
         let labels = [
-            (x0, "0".to_owned()),
-            (x0 + 0.5 * length, tick_label(0.5 * scale)),
+            (x0, low),
+            (x0 + 0.5 * length, middle),
             (x0 + length, format!("≥ {}", tick_label(scale))),
-            (x0 - 0.2 * length, "speed |v|".to_owned()),
+            (x0 - 0.2 * length, name.to_owned()),
         ];
         self.rec
             .log_static(
@@ -172,6 +186,18 @@ impl Writer {
             ColorBy::Species => text.push_str(
                 "**Disks coloured by species** (radius class; hover a disk for its class).\n\n",
             ),
+            ColorBy::Spin => text.push_str(&format!(
+                "**Disks coloured by spin**: the rim speed ω a on one scale for the whole run, \
+                 blue turning clockwise at {s} and faster → grey not turning → red turning \
+                 anticlockwise at {s} and faster (bar at the top right; `output.spin_scale`).\n\n",
+                s = tick_label(self.layout.spin_scale)
+            )),
+        }
+        if self.rough {
+            text.push_str(
+                "**Orientation**: the dark line in each disk is a radius fixed in the disk; it \
+                 turns with the disk's spin.\n\n",
+            );
         }
         text.push_str(
             "**Follow a disk**: click it; instance *i* is disk *i* in every frame (and line *i* \
@@ -260,16 +286,20 @@ impl Writer {
         bounds: &mut Vec<(String, [f64; 4])>,
     ) -> Result<ContainerLike, String> {
         let w = self.layout.width;
+        let mut contents = vec![format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()];
+        if self.rough {
+            contents.push(format!("/{ORIENTATION_ENTITY}"));
+        }
         let view = Spatial2DView::new(self.layout.name.clone())
             .with_origin("/")
-            .with_contents([format!("/{DISKS_ENTITY}"), "/scene/**".to_owned()]);
+            .with_contents(contents);
         let Some(top) = view_top else {
             return Ok(view.into());
         };
         let bed_bottom = range.map_or(0.0, |(b, _)| b.min(0.0));
         let span = top - bed_bottom;
-        if self.color_by == ColorBy::Speed {
-            self.log_speed_scale(top, bed_bottom)?;
+        if self.color_by != ColorBy::Species {
+            self.log_colour_scale(top, bed_bottom)?;
         }
         self.log_clock(top, bed_bottom)?;
         let (view, path) = view_with_path(view);

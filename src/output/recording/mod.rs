@@ -5,19 +5,21 @@
 //!
 //! | entity                          | kind     | content                                          |
 //! |---------------------------------|----------|--------------------------------------------------|
-//! | `disks`                         | temporal | `Points2D`: centres, radii, colours (by speed or species), class ids = species; instance i is disk i in every frame |
+//! | `disks`                         | temporal | `Points2D`: centres, radii, colours (by speed, species or spin), class ids = species; instance i is disk i in every frame |
+//! | `disks/orientation`             | temporal | `LineStrips2D`, rough disks only: one radius per disk, centre to rim at its angle (line i is disk i) |
+//! | `disks/orientation`             | static   | its colour, line width and draw order (over the disks; rough disks only) |
 //! | `disks`                         | static   | `AnnotationContext` (species names and colours), y-up `Transform3D` |
 //! | `scene`                         | static   | y-up `Transform3D` for everything under it       |
 //! | `scene/walls`                   | static   | `LineStrips2D`: hard walls at x = 0 and x = width |
 //! | `scene/periodic_edges`          | static   | `LineStrips2D`: the periodic edges x = 0 and x = width, dim |
 //! | `scene/lid`                     | static   | `LineStrips2D`: the lid at y = top (lid scenes only) |
 //! | `scene/floor`                   | temporal | `LineStrips2D`: the floor at its current height  |
-//! | `scene/speed_scale`             | static   | `LineStrips2D` and labelled `Points2D`: the colour scale (colouring by speed) |
+//! | `scene/speed_scale`             | static   | `LineStrips2D` and labelled `Points2D`: the colour scale (colouring by speed or spin) |
 //! | `scene/clock`                   | static + temporal | `Points2D` at the bed's top left (static), its label `t = …` per frame: the simulated time as a plain number |
 //! | `profiles/packing_fraction`     | temporal | `LineStrips2D`: (φ, height) of the frame, one point per bin |
 //! | `profiles/temperature`          | temporal | `LineStrips2D`: ((Tx + Ty)/2, height), bins holding disks |
 //! | `profiles/<name>/axes`          | static   | `LineStrips2D` and labelled `Points2D`: axes, ticks, titles |
-//! | `series/<name>`                 | temporal | `Scalars`: one value per frame                   |
+//! | `series/<name>`                 | temporal | `Scalars`: one value per frame (`energy/rotational` for rough disks only) |
 //! | `legend`                        | static   | `TextDocument` (Markdown): what the colours and views show |
 //! | `log`                           | temporal | `TextLog`: notable events                        |
 //!
@@ -80,7 +82,8 @@ use rerun::blueprint::{
     Spatial2DView, TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 use rerun::components::{
-    ClassId, Color, LineStrip2D, MediaType, Position2D, Radius, Scalar, Text, TextLogLevel,
+    ClassId, Color, DrawOrder, LineStrip2D, MediaType, Position2D, Radius, Scalar, Text,
+    TextLogLevel,
 };
 use rerun::datatypes::{ClassDescriptionMapElem, Rgba32};
 use rerun::external::re_log_encoding::DecoderApp;
@@ -106,6 +109,8 @@ pub const FRAME_TIMELINE: &str = "frame";
 pub const SIM_TIME_TIMELINE: &str = "sim_time";
 /// Entity of the disks.
 pub const DISKS_ENTITY: &str = "disks";
+/// Entity of rough disks' orientations: a radius line per disk, under the disks.
+pub const ORIENTATION_ENTITY: &str = "disks/orientation";
 /// Entity of the walls (static).
 pub const WALLS_ENTITY: &str = "scene/walls";
 /// Entity of the periodic edges (static).
@@ -169,7 +174,7 @@ mod writer;
 pub use decode::*;
 use file::RrdFile;
 use style::*;
-pub use style::{clock_label, speed_color};
+pub use style::{clock_label, orientation_line, speed_color, spin_color};
 use writer::*;
 
 /// A frame owned by the queue (the buffers are recycled).
@@ -183,6 +188,8 @@ struct FrameBuf {
     vy: Vec<f64>,
     radius: Vec<f64>,
     species: Vec<u32>,
+    /// Rough disks' `(angle, ω)`; empty for smooth disks.
+    spins: Vec<(f64, f64)>,
     floor_height: Option<f64>,
     series: Vec<(&'static str, f64)>,
     profile: Option<ProfileTable>,
@@ -202,6 +209,7 @@ impl FrameBuf {
         copy(&mut self.vy, f.vy);
         copy(&mut self.radius, f.radius);
         copy(&mut self.species, f.species);
+        copy(&mut self.spins, f.spins.unwrap_or_default());
         self.floor_height = f.floor_height;
         copy(&mut self.series, f.series);
         self.profile = f.profile.cloned();
@@ -281,6 +289,7 @@ impl RerunRecorder {
             file,
             layout: layout.clone(),
             color_by,
+            rough: false,
             wall_height: None,
             last_radii: Vec::new(),
             last_species: Vec::new(),
@@ -305,12 +314,12 @@ impl RerunRecorder {
         })
     }
 
-    /// Starts the writer thread, with a queue sized for frames of `disks` disks.
-    fn start(&mut self, disks: usize) -> Result<(), String> {
+    /// Starts the writer thread, with a queue sized for frames of `frame_bytes` bytes.
+    fn start(&mut self, frame_bytes: usize) -> Result<(), String> {
         let Some(writer) = self.pending.take() else {
             return Ok(());
         };
-        let frame_bytes = 6 * 8 * disks + 1;
+        let frame_bytes = frame_bytes + 1;
         let (tx, rx) = mpsc::sync_channel::<Msg>((QUEUE_BYTES / frame_bytes).clamp(2, QUEUE));
         let (recycle_tx, recycled) = mpsc::channel();
         let worker = std::thread::Builder::new()
@@ -375,9 +384,10 @@ impl RerunRecorder {
     }
 
     /// Queues one frame, written on timelines `frame` = `f.index` and `sim_time` = `f.time`:
-    /// the disks, the floor line (when `f.floor_height` is `Some`), the profiles (when
-    /// `f.profile` is `Some`) and every series value under `series/<name>`. Fails when the
-    /// per-disk slices have different lengths, or with the writer's error once it failed.
+    /// the disks, their orientations (when `f.spins` is `Some`), the floor line (when
+    /// `f.floor_height` is `Some`), the profiles (when `f.profile` is `Some`) and every series
+    /// value under `series/<name>`. Fails when the per-disk slices have different lengths, or
+    /// with the writer's error once it failed.
     pub fn frame(&mut self, f: &FrameView) -> Result<(), String> {
         let n = f.x.len();
         if f.y.len() != n || f.vx.len() != n || f.vy.len() != n || f.radius.len() != n {
@@ -399,7 +409,17 @@ impl RerunRecorder {
                 n
             ));
         }
-        self.start(n)?;
+        if f.spins.is_some_and(|s| s.len() != n) {
+            return Err(format!(
+                "rerun recording: frame {}: spins of {} disks for {} disks",
+                f.index,
+                f.spins.map_or(0, <[_]>::len),
+                n
+            ));
+        }
+        // Six numbers per disk, eight for rough disks.
+        let per_disk = if f.spins.is_some() { 8 } else { 6 };
+        self.start(per_disk * 8 * n)?;
         let mut buf = self
             .recycled
             .as_ref()

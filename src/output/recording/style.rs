@@ -23,6 +23,10 @@ pub(super) const AXIS_COLOR: [u8; 3] = [150, 150, 150];
 pub(super) const PACKING_COLOR: [u8; 3] = [80, 170, 255];
 pub(super) const TEMPERATURE_COLOR: [u8; 3] = [255, 110, 80];
 pub(super) const CLOCK_COLOR: [u8; 3] = [230, 230, 230];
+/// Rough disks' radius lines: dark on every colour of the disks.
+pub(super) const ORIENTATION_COLOR: [u8; 3] = [25, 25, 25];
+/// Half the width of a radius line, in units of the smallest disk radius.
+pub(super) const ORIENTATION_HALF_WIDTH: f64 = 0.08;
 /// Width of a profile view in units of its height range (its values are stretched to it).
 pub(super) const PROFILE_ASPECT: f64 = 0.6;
 
@@ -49,6 +53,19 @@ pub fn speed_color(t: f64) -> Color {
     };
     let mix = |i: usize| (a[i] + (b[i] - a[i]) * s).round() as u8;
     Color::from_rgb(mix(0), mix(1), mix(2))
+}
+
+/// The same diverging map centred on zero, `s` = rim speed ω a / scale: blue turning
+/// clockwise (`s` ≤ −1) → light grey not turning → red anticlockwise (`s` ≥ 1).
+pub fn spin_color(s: f64) -> Color {
+    speed_color(0.5 + 0.5 * s)
+}
+
+/// The radius line of a disk of radius `a` centred at `(x, y)` and turned by `angle`: from the
+/// centre to the point of its rim at that angle (anticlockwise from +x), in f32 as logged.
+pub fn orientation_line(x: f64, y: f64, a: f64, angle: f64) -> [[f32; 2]; 2] {
+    let (sin, cos) = angle.sin_cos();
+    line([[x, y], [x + a * cos, y + a * sin]])
 }
 
 pub(super) fn line(points: [[f64; 2]; 2]) -> [[f32; 2]; 2] {

@@ -44,6 +44,10 @@ pub(super) struct Batch {
     pub(super) disks: Column<usize>,
     pub(super) positions: Vec<[f32; 2]>,
     pub(super) colors: Vec<Color>,
+    /// Rough disks' radius lines of all frames, one frame after the other; `values` holds each
+    /// frame's count.
+    pub(super) orientation: Column<usize>,
+    pub(super) radius_lines: Vec<[[f32; 2]; 2]>,
     pub(super) floor: Column<LineStrip2D>,
     pub(super) packing: Column<LineStrip2D>,
     pub(super) temperature: Column<LineStrip2D>,
@@ -59,6 +63,9 @@ pub(super) struct Writer {
     pub(super) file: RrdFile,
     pub(super) layout: SceneLayout,
     pub(super) color_by: ColorBy,
+    /// Whether the disks are rough (the first frame carries spins): their orientations are
+    /// drawn.
+    pub(super) rough: bool,
     /// Height the walls are currently drawn to (open top only).
     pub(super) wall_height: Option<f64>,
     /// Radii last logged (re-logged only on change).
@@ -231,6 +238,10 @@ impl Writer {
     pub(super) fn frame(&mut self, f: &FrameBuf) -> Result<(), String> {
         let index = i64::try_from(f.index).unwrap_or(i64::MAX);
         if !self.blueprint_sent {
+            self.rough = !f.spins.is_empty();
+            if self.rough {
+                self.log_orientation_style(f)?;
+            }
             let view_top = self.view_top(f);
             self.send_blueprint(&f.series, f.profile.as_ref(), Some(view_top))?;
         }
@@ -252,6 +263,27 @@ impl Writer {
             self.flush_batch()?;
         }
         Ok(())
+    }
+
+    /// The radius lines' look, static: dark, a fixed fraction of the smallest disk's radius
+    /// wide (in scene units, so that they scale with the disks), drawn over the disks (Rerun
+    /// draws 2D lines under points by default).
+    fn log_orientation_style(&self, f: &FrameBuf) -> Result<(), String> {
+        let smallest = f.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let half_width = if smallest.is_finite() {
+            ORIENTATION_HALF_WIDTH * smallest
+        } else {
+            ORIENTATION_HALF_WIDTH
+        };
+        self.rec
+            .log_static(
+                ORIENTATION_ENTITY,
+                &LineStrips2D::update_fields()
+                    .with_colors([rgb(ORIENTATION_COLOR)])
+                    .with_radii([Radius::new_scene_units(half_width as f32)])
+                    .with_draw_order(DrawOrder::DEFAULT_POINTS2D.0 .0 + 1.0),
+            )
+            .map_err(|e| err("orientation", e))
     }
 
     /// Open top: the walls grow when something rises above 80 % of them.
@@ -310,7 +342,8 @@ impl Writer {
     }
 
     /// Frame `f` (number `index`, `step` after the frame before) into the batch: the clock, the
-    /// disks' positions and colours, the floor, the profiles, the series.
+    /// disks' positions and colours, rough disks' radius lines, the floor, the profiles, the
+    /// series.
     fn gather(&mut self, f: &FrameBuf, index: i64, step: Option<f64>) {
         let (n, t) = (f.x.len(), nanos(f.time));
         let b = &mut self.batch;
@@ -318,12 +351,28 @@ impl Writer {
         b.disks.push(index, t, n);
         b.positions
             .extend(f.x.iter().zip(&f.y).map(|(&x, &y)| [x as f32, y as f32]));
-        if self.color_by == ColorBy::Speed {
-            let scale = self.layout.speed_scale;
-            b.colors.extend(
+        let (speeds, spins) = (self.layout.speed_scale, self.layout.spin_scale);
+        match self.color_by {
+            ColorBy::Speed => b.colors.extend(
                 f.vx.iter()
                     .zip(&f.vy)
-                    .map(|(vx, vy)| speed_color(vx.hypot(*vy) / scale)),
+                    .map(|(vx, vy)| speed_color(vx.hypot(*vy) / speeds)),
+            ),
+            ColorBy::Spin => b.colors.extend(
+                f.spins
+                    .iter()
+                    .zip(&f.radius)
+                    .map(|(&(_, w), a)| spin_color(w * a / spins)),
+            ),
+            ColorBy::Species => {}
+        }
+        if !f.spins.is_empty() {
+            b.orientation.push(index, t, n);
+            b.radius_lines.extend(
+                f.spins
+                    .iter()
+                    .zip(f.x.iter().zip(&f.y).zip(&f.radius))
+                    .map(|(&(angle, _), ((&x, &y), &a))| orientation_line(x, y, a, angle)),
             );
         }
         if let Some(h) = f.floor_height {
@@ -367,6 +416,15 @@ impl Writer {
         self.rec
             .send_columns(DISKS_ENTITY, b.disks.take_times(), columns)
             .map_err(|e| err("disks", e))?;
+        if !b.orientation.values.is_empty() {
+            let lengths: Vec<usize> = b.orientation.values.drain(..).collect();
+            let columns = LineStrips2D::new(b.radius_lines.drain(..))
+                .columns(lengths)
+                .map_err(|e| err("orientation", e))?;
+            self.rec
+                .send_columns(ORIENTATION_ENTITY, b.orientation.take_times(), columns)
+                .map_err(|e| err("orientation", e))?;
+        }
 
         for (entity, column, color) in [
             (FLOOR_ENTITY, &mut b.floor, FLOOR_COLOR),

@@ -82,7 +82,8 @@ impl<F: Flight> Simulation<F> {
     /// an impact on a boundary (a cure acts only through k's own past, as at a wall: the row, hit
     /// over and over, does not make every impact on it elastic). It comes to rest on `s` if the meeting
     /// is gentle (see [`try_rest_on`](Self::try_rest_on)); else it bounces off `s` as off a fixed
-    /// disk moving with the floor, and the row stays at rest. The exact engine would send the
+    /// disk moving with the floor (rough disks rubbing on it as on a wall), and the row stays at
+    /// rest. The exact engine would send the
     /// push through the row to the wall and back in a chain of collisions at one instant, for
     /// ever under a cure (the *exact jam*).
     pub(in crate::engine) fn meet_held(
@@ -118,6 +119,9 @@ impl<F: Flight> Simulation<F> {
         self.tally.flow.injected += gained + lost;
         self.tally.flow.floor_impulse += mass * (after - u) * ny;
         self.tally.virial += dist * mass * (after - u);
+        // Rough disks rub on the held disk as on a wall: a layer sliding over disks at rest
+        // slows.
+        self.rub_held(k, s, (nx, ny), (0.0, hd), (mk.vx, mk.vy));
         self.tally.counts.pair += 1;
         self.moved(k);
         // `s` did not change: only its own event (this one, if it was its) needs renewing.
