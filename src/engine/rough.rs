@@ -8,47 +8,10 @@
 use super::Simulation;
 use crate::engine::rest::riders::RIGHT_WALL;
 use crate::physics::flight::Flight;
-use crate::physics::rough::{friction_holds, kick, Body, Friction, Roughness};
-
-/// The boundary a disk hits, by the normal from it to the disk.
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Boundary {
-    Left,
-    Right,
-    Lid,
-    Floor,
-}
-
-impl Boundary {
-    fn normal(self) -> (f64, f64) {
-        match self {
-            Boundary::Left => (1.0, 0.0),
-            Boundary::Right => (-1.0, 0.0),
-            Boundary::Lid => (0.0, -1.0),
-            Boundary::Floor => (0.0, 1.0),
-        }
-    }
-
-    fn law(self, r: &Roughness) -> Friction {
-        match self {
-            Boundary::Floor => r.floor,
-            _ => r.walls,
-        }
-    }
-}
+pub(super) use crate::physics::rough::Boundary;
+use crate::physics::rough::{fixed_kick, friction_holds, Body, Friction};
 
 impl<F: Flight> Simulation<F> {
-    /// Disk `i` as one side of a contact.
-    fn body(&self, i: usize) -> Body {
-        let d = &self.disks;
-        Body {
-            m: d.mass[i],
-            a: d.radius[i],
-            q: d.spins.as_ref().map_or(1.0, |s| s.q),
-            w: d.spins.as_ref().map_or(0.0, |s| s.omega[i]),
-        }
-    }
-
     /// The tangential part of the collision of disks `i` and `j` (separation `(dx, dy)` from
     /// `j` to `i` at contact `distance`, centres' relative velocity `dv` before the normal
     /// impulse `p_n`): the velocities and spins change, the loss is booked. Nothing for smooth
@@ -81,25 +44,12 @@ impl<F: Flight> Simulation<F> {
             return;
         };
         let n = (dx / distance, dy / distance);
-        let k = kick(&laws.pair, n, dv, &self.body(i), &self.body(j), p_n);
+        let k = laws.pair_kick(&self.disks, (i, j), n, dv, p_n);
         if k.j == 0.0 {
             return;
         }
-        self.take_kick(i, k.dv_i, k.dw_i);
-        self.take_kick(j, k.dv_j, k.dw_j);
+        k.apply(&mut self.disks, i, Some(j), self.now);
         self.tally.flow.dissipated += k.energy_lost;
-    }
-
-    /// Disk `i` takes its side of a tangential kick: velocity change `dv`, spin change `dw`.
-    fn take_kick(&mut self, i: usize, dv: (f64, f64), dw: f64) {
-        let now = self.now;
-        let d = &mut self.disks;
-        d.motion[i].vx += dv.0;
-        d.motion[i].vy += dv.1;
-        d.spins
-            .as_mut()
-            .expect("rough disks have spins")
-            .spin(i, now, dw);
     }
 
     /// The tangential part of disk `i`'s impact on `boundary` moving with velocity `wall`
@@ -152,7 +102,7 @@ impl<F: Flight> Simulation<F> {
         let law = laws.pair;
         let s = Body {
             m: f64::INFINITY,
-            ..self.body(s)
+            ..Body::disk(&self.disks, s)
         };
         self.rub_fixed(k, &law, n, held, before, &s);
     }
@@ -171,15 +121,12 @@ impl<F: Flight> Simulation<F> {
         before: (f64, f64),
         other: &Body,
     ) {
-        let m = &self.disks.motion[i];
         let mass = self.disks.mass[i];
-        let p_n = mass * ((m.vx - before.0) * n.0 + (m.vy - before.1) * n.1);
-        let dv = (m.vx - wall.0, m.vy - wall.1);
-        let k = kick(law, n, dv, &self.body(i), other, p_n);
+        let k = fixed_kick(law, &self.disks, i, (n, wall, before), other);
         if k.j == 0.0 {
             return;
         }
-        self.take_kick(i, k.dv_i, k.dw_i);
+        k.apply(&mut self.disks, i, None, self.now);
         self.tally.flow.dissipated += k.energy_lost;
         let work = mass * (wall.0 * k.dv_i.0 + wall.1 * k.dv_i.1);
         if work != 0.0 {

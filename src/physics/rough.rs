@@ -11,8 +11,11 @@
 //! `−(J g_t + J²/(2 m_t))`, `½ m_t (1 − β²) g_t²` when sticking. A wall, the lid or the floor
 //! is a body of infinite mass that does not turn (`1/m_j = 0`, `a_j = 0`).
 //!
-//! One home for the rule, for pair collisions and boundary impacts alike (the approximate
-//! schemes are to use it too), and the per-disk rotational state it acts on.
+//! One home for the rule, for pair collisions and boundary impacts alike, in the exact engine
+//! and the approximate schemes, and the per-disk rotational state it acts on.
+
+use crate::physics::disks::Disks;
+use crate::physics::walls::Side;
 
 /// The tangential part of a contact law: tangential restitution β ∈ [−1, 1] of sticking
 /// contacts, capped by Coulomb friction μ ≥ 0 (∞: no cap). β = −1 or μ = 0 is a smooth contact.
@@ -82,6 +85,110 @@ pub struct Roughness {
     pub inertia_factor: f64,
 }
 
+impl Roughness {
+    /// The tangential part of the collision of disks `i` and `j` of `disks`: unit normal `n`
+    /// from `j` to `i`, the centres' relative velocity `dv` before the normal impulse `p_n`.
+    #[inline]
+    pub fn pair_kick(
+        &self,
+        disks: &Disks,
+        (i, j): (usize, usize),
+        n: (f64, f64),
+        dv: (f64, f64),
+        p_n: f64,
+    ) -> Kick {
+        kick(
+            &self.pair,
+            n,
+            dv,
+            &Body::disk(disks, i),
+            &Body::disk(disks, j),
+            p_n,
+        )
+    }
+
+    /// The tangential part of disk `i`'s impact on `boundary` moving with velocity `wall` (the
+    /// floor's; 0 for the others), after the normal part changed the disk's velocity from
+    /// `before` to what it is now: the normal impulse is the change along the normal.
+    #[inline]
+    pub fn boundary_kick(
+        &self,
+        disks: &Disks,
+        i: usize,
+        boundary: Boundary,
+        wall: (f64, f64),
+        before: (f64, f64),
+    ) -> Kick {
+        let law = boundary.law(self);
+        fixed_kick(
+            &law,
+            disks,
+            i,
+            (boundary.normal(), wall, before),
+            &Body::WALL,
+        )
+    }
+}
+
+/// The tangential part of disk `i`'s impact on a body `other` that does not give (a wall, the
+/// lid, the floor, or a disk held at rest), with unit normal `n` from it to the disk, moving
+/// with velocity `wall`, after the normal part changed the disk's velocity from `before` to
+/// what it is now: the normal impulse is that change along the normal.
+#[inline]
+pub fn fixed_kick(
+    law: &Friction,
+    disks: &Disks,
+    i: usize,
+    (n, wall, before): ((f64, f64), (f64, f64), (f64, f64)),
+    other: &Body,
+) -> Kick {
+    let m = &disks.motion[i];
+    let p_n = disks.mass[i] * ((m.vx - before.0) * n.0 + (m.vy - before.1) * n.1);
+    let dv = (m.vx - wall.0, m.vy - wall.1);
+    kick(law, n, dv, &Body::disk(disks, i), other, p_n)
+}
+
+/// The boundary a disk hits, by the normal from it to the disk.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Boundary {
+    /// The left side wall.
+    Left,
+    /// The right side wall.
+    Right,
+    /// The lid.
+    Lid,
+    /// The floor.
+    Floor,
+}
+
+impl Boundary {
+    /// The unit normal from the boundary to a disk that hits it.
+    pub fn normal(self) -> (f64, f64) {
+        match self {
+            Boundary::Left => (1.0, 0.0),
+            Boundary::Right => (-1.0, 0.0),
+            Boundary::Lid => (0.0, -1.0),
+            Boundary::Floor => (0.0, 1.0),
+        }
+    }
+
+    /// Its tangential law: the floor's, or the side walls' and lid's.
+    pub fn law(self, r: &Roughness) -> Friction {
+        match self {
+            Boundary::Floor => r.floor,
+            _ => r.walls,
+        }
+    }
+
+    /// The side wall `side`.
+    pub fn side(side: Side) -> Boundary {
+        match side {
+            Side::Left => Boundary::Left,
+            Side::Right => Boundary::Right,
+        }
+    }
+}
+
 /// What the tangential part of one contact does: disk i's velocity changes by `j·t/m_i` and
 /// disk j's by `−j·t/m_j`; their spins by `dw_i`, `dw_j`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -100,6 +207,29 @@ pub struct Kick {
     pub energy_lost: f64,
 }
 
+impl Kick {
+    /// Disk `i` of `disks` takes its side of the kick at time `now` (on the clock the spins'
+    /// orientations refer to), and disk `j`, if the other body is a disk, takes the other.
+    #[inline]
+    pub fn apply(&self, disks: &mut Disks, i: usize, j: Option<usize>, now: f64) {
+        take(disks, i, self.dv_i, self.dw_i, now);
+        if let Some(j) = j {
+            take(disks, j, self.dv_j, self.dw_j, now);
+        }
+    }
+}
+
+/// Disk `i` takes its side of a tangential kick: velocity change `dv`, spin change `dw`.
+fn take(disks: &mut Disks, i: usize, dv: (f64, f64), dw: f64, now: f64) {
+    disks.motion[i].vx += dv.0;
+    disks.motion[i].vy += dv.1;
+    disks
+        .spins
+        .as_mut()
+        .expect("rough disks have spins")
+        .spin(i, now, dw);
+}
+
 /// One side of a contact: a disk's mass, radius, inertia factor q and spin; a wall is
 /// [`Body::WALL`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,6 +245,16 @@ pub struct Body {
 }
 
 impl Body {
+    /// Disk `i` of `disks` (with its spin; a disk without spins does not turn).
+    pub fn disk(disks: &Disks, i: usize) -> Body {
+        Body {
+            m: disks.mass[i],
+            a: disks.radius[i],
+            q: disks.spins.as_ref().map_or(1.0, |s| s.q),
+            w: disks.spins.as_ref().map_or(0.0, |s| s.omega[i]),
+        }
+    }
+
     /// A wall, the lid or the floor: infinite mass, no turning.
     pub const WALL: Body = Body {
         m: f64::INFINITY,
@@ -187,6 +327,13 @@ impl Spins {
     /// Disk `k`'s orientation at local time `t`, in [0, 2π) up to round-off.
     pub fn angle(&self, k: usize, t: f64) -> f64 {
         (self.phase[k] + self.omega[k] * t).rem_euclid(std::f64::consts::TAU)
+    }
+
+    /// Every disk's `(orientation, ω)` at local time `t`, in their own order.
+    pub fn at(&self, t: f64) -> Vec<(f64, f64)> {
+        (0..self.omega.len())
+            .map(|k| (self.angle(k, t), self.omega[k]))
+            .collect()
     }
 
     /// Disk `k`'s spin changes by `dw` at local time `now`: the orientation carries on from
@@ -461,6 +608,48 @@ mod tests {
         let (vx, w) = (1.0 + k.dv_i.0, k.dw_i);
         assert!((vx - 2.0 / 3.0).abs() < 1e-15 && (w + vx / 0.5).abs() < 1e-15);
         assert_eq!(k.dv_j, (0.0, 0.0));
+    }
+
+    #[test]
+    fn a_disk_rubbing_a_wall_takes_the_kick_of_the_normal_impulse_it_got() {
+        // A disk (m = 2, a = 0.25) hits the left wall at v = (−1, 0.5) with ω = 1 and leaves
+        // at v_x = 0.9: p_n = 2·1.9. The wall's tangent is (0, 1): g_t = 0.5 − 0.25·1 = 0.25;
+        // β = 0 without a cap: J = −m_t g_t, m_t = m q/(1 + q).
+        let mut disks = Disks::new(&[[0.25, 3.0]], vec![0.25], vec![2.0], vec![0]);
+        disks.spins = Some(Spins::new(0.5, vec![1.0]));
+        (disks.motion[0].vx, disks.motion[0].vy) = (0.9, 0.5);
+        let laws = Roughness {
+            pair: Friction::SMOOTH,
+            floor: Friction::SMOOTH,
+            walls: Friction::of(Some(0.0), None),
+            inertia_factor: 0.5,
+        };
+        let k = laws.boundary_kick(
+            &disks,
+            0,
+            Boundary::side(Side::Left),
+            (0.0, 0.0),
+            (-1.0, 0.5),
+        );
+        let m_t = 2.0 * 0.5 / 1.5;
+        assert!((k.j + m_t * 0.25).abs() < 1e-15, "{}", k.j);
+        k.apply(&mut disks, 0, None, 2.0);
+        // It leaves rolling on the wall (g_t = 0), its orientation carrying on from time 2.
+        let (vy, w) = (disks.motion[0].vy, disks.spins.as_ref().unwrap().omega[0]);
+        assert!((vy - 0.25 * w).abs() < 1e-15, "{vy} {w}");
+        assert_eq!(disks.motion[0].vx, 0.9);
+        assert!((disks.spins.as_ref().unwrap().angle(0, 2.0) - 2.0).abs() < 1e-15);
+        // Capped at μ = 0.02: |J| = μ p_n, from the velocity change along the normal.
+        let capped = Roughness {
+            walls: Friction::of(Some(0.0), Some(0.02)),
+            ..laws
+        };
+        (disks.motion[0].vy, disks.spins.as_mut().unwrap().omega[0]) = (0.5, 1.0);
+        let k = capped.boundary_kick(&disks, 0, Boundary::Left, (0.0, 0.0), (-1.0, 0.5));
+        assert!((k.j + 0.02 * 2.0 * 1.9).abs() < 1e-15, "{}", k.j);
+        // The lid and the floor have the other law: smooth here.
+        let k = laws.boundary_kick(&disks, 0, Boundary::Floor, (0.0, 0.0), (0.9, -1.0));
+        assert_eq!(k, Kick::default());
     }
 
     #[test]

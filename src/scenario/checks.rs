@@ -134,13 +134,6 @@ fn validate_rough(s: &Scenario) -> Result<()> {
             ));
         }
     }
-    if s.is_rough() && s.engine.scheme != Scheme::EventDriven {
-        return Err(Error::input(
-            "engine.scheme",
-            "rough disks (friction, tangential restitution, rotation) run on the event-driven \
-             scheme only, for now",
-        ));
-    }
     Ok(())
 }
 

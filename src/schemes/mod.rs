@@ -14,6 +14,7 @@
 
 pub mod cells;
 pub mod cores;
+mod rough;
 pub mod space_time;
 pub mod time_step;
 

@@ -15,6 +15,9 @@
 //! would be negligible (it would come to rest in the exact engine) instead hops
 //! [`REST_HOP`] radii, which ends the infinite sequence of ever smaller bounces.
 //!
+//! Rough disks get the exact engine's tangential kick after the normal part of every collision
+//! and bounce (a hop included).
+//!
 //! On several threads ([`Cores`]) the synchronisation is shared among them: bringing the disks
 //! to its time, the candidate pairs and the prediction of every disk (each thread writes only
 //! its own disks' predictions; they are queued in the order of the disks). The events between
@@ -23,6 +26,7 @@
 
 use super::cells::CellList;
 use super::cores::{Cores, MIN_PIECE};
+use super::rough::Rub;
 use super::{free_flight_visit, min_image, wrap, Integrator, SchemeStats, Setup};
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
@@ -31,6 +35,7 @@ use crate::physics::flight::Flight;
 use crate::physics::floor::{Floor, FloorEvent};
 use crate::physics::pair::{collide, contact_time};
 use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::rough::Boundary;
 use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::Engine;
 use rayon::prelude::*;
@@ -96,6 +101,7 @@ pub struct SpaceTime<F: Flight> {
     top: Top,
     floor: Option<Floor>,
     restitution: CollisionLaw,
+    rub: Rub,
     sync_distance: f64,
     cell: f64,
     cells: CellList,
@@ -162,6 +168,7 @@ impl<F: Flight> SpaceTime<F> {
                 },
                 n,
             ),
+            rub: Rub::new(scene.rough),
             sync_distance,
             cell,
             cells: CellList::default(),
@@ -478,15 +485,24 @@ impl<F: Flight> SpaceTime<F> {
                 self.bring(i, now);
                 let side = if who == LEFT { Side::Left } else { Side::Right };
                 let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                let before = (m.vx, m.vy);
                 self.flow.dissipated +=
                     self.sides.hit(side, &mut self.restitution, i, now, m, mass);
+                let wall = Boundary::side(side);
+                self.flow.dissipated +=
+                    self.rub
+                        .boundary(&mut self.disks, i, wall, (0.0, 0.0), before, now);
                 self.counts.wall += 1;
                 self.moved(i);
             }
             LID => {
                 self.bring(i, now);
                 let (m, mass) = (&mut self.disks.motion[i], self.disks.mass[i]);
+                let before = (m.vx, m.vy);
                 self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
+                self.flow.dissipated +=
+                    self.rub
+                        .boundary(&mut self.disks, i, Boundary::Lid, (0.0, 0.0), before, now);
                 self.counts.lid += 1;
                 self.moved(i);
             }
@@ -508,7 +524,16 @@ impl<F: Flight> SpaceTime<F> {
                 }
                 self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
                 self.flow.floor_impulse += self.disks.mass[i] * (after - before);
+                let vx = self.disks.motion[i].vx;
                 self.disks.motion[i].vy = after;
+                self.flow.dissipated += self.rub.boundary(
+                    &mut self.disks,
+                    i,
+                    Boundary::Floor,
+                    (0.0, hd),
+                    (vx, before),
+                    now,
+                );
                 self.counts.floor += 1;
                 self.moved(i);
             }
@@ -557,6 +582,9 @@ impl<F: Flight> SpaceTime<F> {
         }
         imp.apply(&mut self.disks.motion, i, j);
         self.flow.dissipated += imp.energy_lost;
+        self.flow.dissipated +=
+            self.rub
+                .pair(&mut self.disks, (i, j), (dx, dy), (dvx, dvy), &imp, now);
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;
         self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
@@ -583,6 +611,16 @@ impl<F: Flight> Integrator for SpaceTime<F> {
     }
     fn floor_height_at(&self, t: f64) -> Option<f64> {
         self.floor.as_ref().map(|f| f.height(t))
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.disks.spins.as_ref()?;
+        Some(self.disks.rotational_energy())
+    }
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        self.disks.spins.as_ref().map(|s| s.at(t))
+    }
+    fn inertia_factor(&self) -> Option<f64> {
+        self.disks.spins.as_ref().map(|s| s.q)
     }
     fn counts(&self) -> EventCounts {
         self.counts

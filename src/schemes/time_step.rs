@@ -5,11 +5,12 @@
 //! pairs from a Verlet list of radius `2 a_max + skin`, built from a cell list (head-of-chain +
 //! linked list, cells at least the Verlet radius) and rebuilt when any disk has moved more than
 //! half the skin since the last build. An overlapping pair that approaches gets the pair
-//! collision rule with the scene's restitution law (TC, speed cutoff included); an overlapping
-//! pair that recedes is left alone. Walls, the lid and the floor likewise: a disk below the floor
-//! (its position as in the exact model, or y = 0 in the fixed-position model) that moves down
-//! relative to it bounces with the floor's velocity at that time. Energy changes only at the
-//! bounces, where they are booked, so the energy budget closes to round-off.
+//! collision rule with the scene's restitution law (TC, speed cutoff included), and rough disks
+//! the exact engine's tangential kick after it; an overlapping pair that recedes is left alone.
+//! Walls, the lid and the floor likewise: a disk below the floor (its position as in the exact
+//! model, or y = 0 in the fixed-position model) that moves down relative to it bounces with the
+//! floor's velocity at that time. Energy changes only at the bounces, where they are booked, so
+//! the energy budget closes to round-off.
 //!
 //! On several threads ([`Cores`]) the flight, the Verlet list and the search for touching pairs
 //! and for disks past a boundary are shared among them; the collisions and bounces found are
@@ -19,6 +20,7 @@
 
 use super::cells::CellList;
 use super::cores::{Cores, MIN_PIECE};
+use super::rough::Rub;
 use super::{free_flight_visit, min_image, wrap, wrap_positions, Integrator, SchemeStats, Setup};
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
@@ -27,6 +29,7 @@ use crate::physics::flight::Flight;
 use crate::physics::floor::Floor;
 use crate::physics::pair::{collide, contact_time};
 use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::rough::Boundary;
 use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::{Engine, FloorModel};
 use rayon::prelude::*;
@@ -66,6 +69,7 @@ pub struct TimeStep<F: Flight> {
     top: Top,
     floor: Option<Floor>,
     restitution: CollisionLaw,
+    rub: Rub,
     dt: f64,
     skin: f64,
     verlet: f64,
@@ -145,6 +149,7 @@ impl<F: Flight> TimeStep<F> {
                 },
                 n,
             ),
+            rub: Rub::new(scene.rough),
             dt,
             skin,
             verlet,
@@ -364,6 +369,9 @@ impl<F: Flight> TimeStep<F> {
         let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
         imp.apply(&mut self.disks.motion, i, j);
         self.flow.dissipated += imp.energy_lost;
+        self.flow.dissipated +=
+            self.rub
+                .pair(&mut self.disks, (i, j), (dx, dy), (dvx, dvy), &imp, now);
         self.virial += imp.distance * imp.momentum;
         self.counts.pair += 1;
     }
@@ -373,45 +381,78 @@ impl<F: Flight> TimeStep<F> {
     fn boundaries_step(&mut self, past: Vec<u32>, floor_now: Option<(f64, f64)>, now: f64) {
         for i in past {
             let i = i as usize;
-            let a = self.disks.radius[i];
-            let mass = self.disks.mass[i];
-            let m = &mut self.disks.motion[i];
-            if let SideBounds::Walls { width, .. } = self.sides {
-                let hit = if m.x - a < 0.0 && m.vx < 0.0 {
-                    Some((Side::Left, a - m.x))
-                } else if m.x + a > width && m.vx > 0.0 {
-                    Some((Side::Right, m.x + a - width))
-                } else {
-                    None
-                };
-                if let Some((side, depth)) = hit {
-                    self.flow.dissipated +=
-                        self.sides.hit(side, &mut self.restitution, i, now, m, mass);
-                    self.counts.wall += 1;
-                    self.stats.max_boundary_penetration =
-                        self.stats.max_boundary_penetration.max(depth);
-                }
+            self.side_wall(i, now);
+            self.lid(i, now);
+            if let Some(floor_now) = floor_now {
+                self.floor(i, floor_now, now);
             }
-            if let Top::Lid { height, .. } = self.top {
-                if m.y + a > height && m.vy > 0.0 {
-                    self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
-                    self.stats.max_boundary_penetration =
-                        self.stats.max_boundary_penetration.max(m.y + a - height);
-                    self.counts.lid += 1;
-                }
-            }
-            if let (Some(floor), Some((h, hd))) = (&self.floor, floor_now) {
-                if m.y - a < h && m.vy < hd {
-                    let elastic = self.restitution.boundary_elastic(i, now, hd - m.vy);
-                    let after = floor.bounce_on(m.vy, hd, elastic);
-                    self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
-                    self.flow.floor_impulse += mass * (after - m.vy);
-                    self.stats.max_boundary_penetration =
-                        self.stats.max_boundary_penetration.max(h - (m.y - a));
-                    m.vy = after;
-                    self.counts.floor += 1;
-                }
-            }
+        }
+    }
+
+    /// Disk `i` bounces off a side wall it reaches past while moving into it.
+    fn side_wall(&mut self, i: usize, now: f64) {
+        let SideBounds::Walls { width, .. } = self.sides else {
+            return;
+        };
+        let (a, mass) = (self.disks.radius[i], self.disks.mass[i]);
+        let m = &mut self.disks.motion[i];
+        let (side, depth) = if m.x - a < 0.0 && m.vx < 0.0 {
+            (Side::Left, a - m.x)
+        } else if m.x + a > width && m.vx > 0.0 {
+            (Side::Right, m.x + a - width)
+        } else {
+            return;
+        };
+        let before = (m.vx, m.vy);
+        self.flow.dissipated += self.sides.hit(side, &mut self.restitution, i, now, m, mass);
+        let wall = Boundary::side(side);
+        self.flow.dissipated +=
+            self.rub
+                .boundary(&mut self.disks, i, wall, (0.0, 0.0), before, now);
+        self.counts.wall += 1;
+        self.stats.max_boundary_penetration = self.stats.max_boundary_penetration.max(depth);
+    }
+
+    /// Disk `i` bounces off the lid it reaches past while moving into it.
+    fn lid(&mut self, i: usize, now: f64) {
+        let Top::Lid { height, .. } = self.top else {
+            return;
+        };
+        let (a, mass) = (self.disks.radius[i], self.disks.mass[i]);
+        let m = &mut self.disks.motion[i];
+        if m.y + a > height && m.vy > 0.0 {
+            let before = (m.vx, m.vy);
+            self.flow.dissipated += self.top.hit(&mut self.restitution, i, now, m, mass);
+            self.stats.max_boundary_penetration =
+                self.stats.max_boundary_penetration.max(m.y + a - height);
+            self.flow.dissipated +=
+                self.rub
+                    .boundary(&mut self.disks, i, Boundary::Lid, (0.0, 0.0), before, now);
+            self.counts.lid += 1;
+        }
+    }
+
+    /// Disk `i` bounces off the floor at height `h` moving with velocity `hd`, if it is below
+    /// it and moves down relative to it.
+    fn floor(&mut self, i: usize, (h, hd): (f64, f64), now: f64) {
+        let Some(floor) = &self.floor else {
+            return;
+        };
+        let (a, mass) = (self.disks.radius[i], self.disks.mass[i]);
+        let m = &mut self.disks.motion[i];
+        if m.y - a < h && m.vy < hd {
+            let elastic = self.restitution.boundary_elastic(i, now, hd - m.vy);
+            let after = floor.bounce_on(m.vy, hd, elastic);
+            self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
+            self.flow.floor_impulse += mass * (after - m.vy);
+            self.stats.max_boundary_penetration =
+                self.stats.max_boundary_penetration.max(h - (m.y - a));
+            let before = (m.vx, m.vy);
+            m.vy = after;
+            self.counts.floor += 1;
+            self.flow.dissipated +=
+                self.rub
+                    .boundary(&mut self.disks, i, Boundary::Floor, (0.0, hd), before, now);
         }
     }
 
@@ -458,6 +499,16 @@ impl<F: Flight> Integrator for TimeStep<F> {
     }
     fn floor_height_at(&self, t: f64) -> Option<f64> {
         self.floor.as_ref().map(|f| f.height(t))
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.disks.spins.as_ref()?;
+        Some(self.disks.rotational_energy())
+    }
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        self.disks.spins.as_ref().map(|s| s.at(t))
+    }
+    fn inertia_factor(&self) -> Option<f64> {
+        self.disks.spins.as_ref().map(|s| s.q)
     }
     fn counts(&self) -> EventCounts {
         self.counts

@@ -21,9 +21,10 @@
 //! re-run on the same seeds gives zero error (it is deterministic).
 //!
 //! `--effects` adds a table of what each effect of a scene costs (gravity, floor kind, walls vs
-//! periodic, dissipation model, polydispersity, recording): the slowdown of a scene with the effect
-//! against the same scene without it, on the exact engine, measured per collision and per unit of
-//! simulated time.
+//! periodic, dissipation model, polydispersity, friction, recording): the slowdown of a scene with
+//! the effect against the same scene without it, on the exact engine, measured per collision and
+//! per unit of simulated time; for friction, added to the scene itself, also what it changes in
+//! the observables.
 //!
 //! The parts: `ensemble` (seed-averaged observables and their errors), `variants` (what is run
 //! against the reference), [`cheapest`] (the answers), `effects` (`--effects`), `table` (the
@@ -158,6 +159,9 @@ pub struct EffectRow {
     pub slowdown_per_collision: f64,
     /// Slowdown per unit of simulated time (with / without).
     pub slowdown_per_time: f64,
+    /// What the effect changes in the observables (the friction row): the profiles' relative
+    /// L2 distances, the scalars' relative changes with their sign, with against without.
+    pub changes: Option<Errors>,
     /// Remarks.
     pub note: String,
 }
@@ -244,7 +248,7 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
         rows.push(variant_row(&runner, &scale, &exact, v));
     }
     let effects = if opts.effects {
-        effects::table(scenario, opts)?
+        effects::table(&reference, opts)?
     } else {
         Vec::new()
     };

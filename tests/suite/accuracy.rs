@@ -161,6 +161,8 @@ fn the_command_writes_table_csv_and_plot() {
         "what each effect costs",
         "polydispersity",
         "gravity",
+        "friction",
+        "it changes: ρ(z)",
     ] {
         assert!(stdout.contains(want), "table lacks {want}:\n{stdout}");
     }
@@ -170,9 +172,26 @@ fn the_command_writes_table_csv_and_plot() {
     let svg = std::fs::read_to_string(out.join("accuracy.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("circle"), "not a plot");
     svg::check(&svg, 6);
-    assert!(std::fs::read_to_string(out.join("effects.csv"))
-        .unwrap()
-        .contains("walls vs periodic"));
+    let effects = std::fs::read_to_string(out.join("effects.csv")).unwrap();
+    assert!(effects.contains("walls vs periodic"));
+    // The friction row: the bed with friction on pairs and floor against the bed without, and
+    // what that changes (a rough bed is colder: its contacts also dissipate tangentially). The
+    // row is three quoted texts, the numbers, and a quoted note.
+    let header: Vec<&str> = effects.lines().next().unwrap().split(',').collect();
+    let line = effects
+        .lines()
+        .find(|l| l.starts_with("\"friction\""))
+        .expect("a friction row");
+    let (texts, numbers) = line.rsplit_once("\",").unwrap();
+    assert!(texts.ends_with("μ = 0.5, β = 0.4; floor μ = 0.5"), "{line}");
+    let numbers: Vec<&str> = numbers.split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let t = column("change_temperature") - column("seconds_per_collision_without");
+    let change: f64 = numbers[t].parse().unwrap();
+    assert!(
+        change < -0.1,
+        "friction changes the temperature by {change}"
+    );
     // Bad input exits 2 naming the field.
     let o = Command::new(env!("CARGO_BIN_EXE_vibrobed"))
         .args([

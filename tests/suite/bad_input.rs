@@ -632,8 +632,7 @@ fn a_periodic_box_narrower_than_three_diameters_is_refused_by_the_local_re_mappi
     );
 }
 
-// --- Rough disks: each field out of range is refused by name, and so is a scheme that does
-// not rotate disks. ---
+// --- Rough disks: each field out of range is refused by name. ---
 
 #[test]
 fn rough_fields_out_of_range_are_refused_by_name() {
@@ -665,10 +664,4 @@ fn rough_fields_out_of_range_are_refused_by_name() {
     {
         check_refuses(&format!("rough-{k}"), "vibrated_bed.json", &[set], &[field]);
     }
-    check_refuses(
-        "rough-scheme",
-        "vibrated_bed.json",
-        &["collisions.friction=0.5", "engine.scheme=time-step"],
-        &["engine.scheme"],
-    );
 }

@@ -1,32 +1,36 @@
 //! `--effects`: what each effect of a scene costs (walls, polydispersity, dissipation, a floor,
-//! gravity, floor kinds, recording). Each effect is a pair of scenes, without and with it, built
-//! around the scenario's disks and run on the exact engine; the row gives the slowdown per
-//! collision and per unit of simulated time.
+//! gravity, floor kinds, friction, recording). Each effect is a pair of scenes, without and with
+//! it, built around the scenario's disks and run on the exact engine; the row gives the slowdown
+//! per collision and per unit of simulated time. Friction is added to the scenario itself (the
+//! vibrated bed with friction on and off), and its row also gives what it changes in the
+//! observables.
 
+use super::ensemble::{Ensemble, Measured};
 use super::{say, with_sets, EffectRow, Options};
 use crate::error::Result;
 use crate::run::{run, RunOptions};
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, XBoundary, YBoundary};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// What each effect costs: the minimum over repetitions of the wall time per collision and per
-/// unit time (the minimum is the least disturbed by a noisy machine).
+/// unit time (the minimum is the least disturbed by a noisy machine). `scenario` is the
+/// reference (the exact engine, without recording).
 pub(super) fn table(scenario: &Scenario, opts: &Options) -> Result<Vec<EffectRow>> {
     let scenes = Scenes::around(scenario, opts.quick);
     let reps = if opts.quick { 1 } else { 3 };
     let mut rows = Vec::new();
     for effect in scenes.effects() {
-        let (best, note) = effect.time(reps, &opts.out)?;
+        let timed = effect.time(reps, &opts.out)?;
         say(
             opts,
             format!(
                 "  effect {:<30} ×{:.2} per collision",
                 effect.name,
-                best[1][0] / best[0][0]
+                timed.best[1][0] / timed.best[0][0]
             ),
         );
-        rows.push(effect.row(best, note));
+        rows.push(effect.row(timed));
     }
     Ok(rows)
 }
@@ -41,6 +45,10 @@ struct Scenes {
     a: f64,
     /// Gravity: a gravitational height kT/(mg) of two diameters.
     g: f64,
+    /// The scenario itself.
+    scenario: Value,
+    /// Its overrides without and with friction, and the friction in words (see [`friction`]).
+    friction: (Vec<String>, Vec<String>, String),
 }
 
 impl Scenes {
@@ -76,6 +84,8 @@ impl Scenes {
             floor_box,
             a,
             g,
+            scenario: serde_json::to_value(scenario).expect("a scenario serialises"),
+            friction: friction(scenario),
         }
     }
 
@@ -83,6 +93,16 @@ impl Scenes {
     fn effects(&self) -> Vec<Effect<'_>> {
         let mut effects = self.gas_effects();
         effects.extend(self.floor_effects());
+        let (without, with, added) = &self.friction;
+        let mut friction = Effect::on(
+            "friction",
+            &self.scenario,
+            without.clone(),
+            with.clone(),
+            added,
+        );
+        friction.observe = true;
+        effects.push(friction);
         if cfg!(feature = "record") {
             let mut recording = Effect::on(
                 "recording",
@@ -195,6 +215,56 @@ fn sets(v: &[&str]) -> Vec<String> {
     v.iter().map(|s| s.to_string()).collect()
 }
 
+/// The friction effect on `scenario`: the overrides of the scene without friction, those of
+/// the scene with it, and the friction in words. A rough scenario is the scene with friction,
+/// and without it every rough field is removed; a smooth one is the scene without, and gets
+/// the friction of `scenarios/rough_vibrated_bed.json`: μ = 0.5 and β = 0.4 at pairs, μ = 0.5
+/// at the floor and the walls (where the scene has them), spins started at the translational
+/// temperature.
+fn friction(scenario: &Scenario) -> (Vec<String>, Vec<String>, String) {
+    let floor = scenario.floor.is_some();
+    let walls = scenario.domain.x_boundary == XBoundary::Walls
+        || scenario.domain.y_boundary == YBoundary::Lid;
+    if scenario.is_rough() {
+        let mut fields = vec![
+            "collisions.friction",
+            "collisions.tangential_restitution",
+            "domain.wall_friction",
+            "domain.wall_tangential_restitution",
+            "particles.inertia_factor",
+            "particles.rotational_temperature",
+        ];
+        if floor {
+            fields.extend(["floor.friction", "floor.tangential_restitution"]);
+        }
+        let smooth = fields.iter().map(|f| format!("{f}=null")).collect();
+        return (smooth, vec![], "the scenario's friction".into());
+    }
+    let mut rough = sets(&[
+        "collisions.friction=0.5",
+        "collisions.tangential_restitution=0.4",
+    ]);
+    let mut added = String::from("μ = 0.5, β = 0.4");
+    let at: Vec<&str> = [(floor, "floor"), (walls, "walls")]
+        .into_iter()
+        .filter_map(|(has, name)| has.then_some(name))
+        .collect();
+    if floor {
+        rough.push("floor.friction=0.5".into());
+    }
+    if walls {
+        rough.push("domain.wall_friction=0.5".into());
+    }
+    if !at.is_empty() {
+        added += &format!("; {} μ = 0.5", at.join(", "));
+    }
+    rough.push(format!(
+        "particles.rotational_temperature={}",
+        scenario.particles.temperature
+    ));
+    (vec![], rough, added)
+}
+
 /// One effect: the scene without it and the scene with it (each a base scene and its
 /// overrides), and what is added, in words.
 struct Effect<'a> {
@@ -204,6 +274,8 @@ struct Effect<'a> {
     added: String,
     /// The scene with the effect records frames.
     record: bool,
+    /// The row also gives what the effect changes in the observables.
+    observe: bool,
 }
 
 impl<'a> Effect<'a> {
@@ -231,33 +303,52 @@ impl<'a> Effect<'a> {
             with,
             added: added.into(),
             record: false,
+            observe: false,
         }
     }
 
     /// The least wall seconds per collision (`[k][0]`) and per unit time (`[k][1]`) over `reps`
-    /// repetitions, without (`k = 0`) and with (`k = 1`) the effect. A failed run leaves its
-    /// entries at infinity and says why in the note; a scene that does not build is an error.
-    fn time(&self, reps: usize, out: &Path) -> Result<([[f64; 2]; 2], String)> {
-        let mut best = [[f64::INFINITY; 2]; 2];
-        let mut note = String::new();
+    /// repetitions, without (`k = 0`) and with (`k = 1`) the effect, and what the runs measured
+    /// (the same each time: a run is deterministic). A failed run leaves its entries at infinity
+    /// and says why in the note; a scene that does not build is an error.
+    fn time(&self, reps: usize, out: &Path) -> Result<Timed> {
+        let mut t = Timed {
+            best: [[f64::INFINITY; 2]; 2],
+            note: String::new(),
+            measured: [None, None],
+        };
         for _ in 0..reps {
             for (k, (base, sets)) in [&self.without, &self.with].into_iter().enumerate() {
                 let sc = with_sets(base, sets)?;
                 let rrd = (self.record && k == 1).then(|| out.join("effects-recording.rrd"));
                 match time_run(&sc, rrd) {
-                    Ok(t) => {
-                        best[k][0] = best[k][0].min(t[0]);
-                        best[k][1] = best[k][1].min(t[1]);
+                    Ok((times, measured)) => {
+                        t.best[k][0] = t.best[k][0].min(times[0]);
+                        t.best[k][1] = t.best[k][1].min(times[1]);
+                        t.measured[k] = Some(measured);
                     }
-                    Err(e) => note = format!("failed: {e}"),
+                    Err(e) => t.note = format!("failed: {e}"),
                 }
             }
         }
-        Ok((best, note))
+        Ok(t)
     }
 
-    /// The effect's row, from its best times.
-    fn row(self, best: [[f64; 2]; 2], note: String) -> EffectRow {
+    /// The effect's row, from its best times (and, for an effect that observes, what it
+    /// changed).
+    fn row(self, timed: Timed) -> EffectRow {
+        let Timed {
+            best,
+            note,
+            measured,
+        } = timed;
+        let changes = match measured {
+            [Some(without), Some(with)] if self.observe => {
+                let one = |m: Measured| Ensemble { runs: vec![m] };
+                Some(one(with).changes_from(&one(without)))
+            }
+            _ => None,
+        };
         let (base, without) = self.without;
         EffectRow {
             effect: self.name.into(),
@@ -273,14 +364,23 @@ impl<'a> Effect<'a> {
             per_time: [best[0][1], best[1][1]],
             slowdown_per_collision: best[1][0] / best[0][0],
             slowdown_per_time: best[1][1] / best[0][1],
+            changes,
             note,
         }
     }
 }
 
+/// What the runs of an effect gave: the least times (see [`Effect::time`]), a note, and what
+/// the runs without and with the effect measured.
+struct Timed {
+    best: [[f64; 2]; 2],
+    note: String,
+    measured: [Option<Measured>; 2],
+}
+
 /// Runs a scene (recording into `rrd`, removed afterwards) and gives its wall seconds per
-/// collision and per unit of simulated time.
-fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<[f64; 2]> {
+/// collision and per unit of simulated time, and what it measured.
+fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<([f64; 2], Measured)> {
     let result = run(
         sc,
         RunOptions {
@@ -293,5 +393,6 @@ fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<[f64; 2]> {
     }
     let sum = result?;
     let coll = sum.events.collisions().max(1) as f64;
-    Ok([sum.wall_seconds / coll, sum.wall_seconds / sum.sim_time])
+    let times = [sum.wall_seconds / coll, sum.wall_seconds / sum.sim_time];
+    Ok((times, Measured::of(&sum, sc.floor.is_some())))
 }

@@ -133,8 +133,20 @@ impl Ensemble {
 
     /// Errors of this ensemble's means against `reference`'s.
     pub(super) fn errors_against(&self, reference: &Ensemble) -> Errors {
+        self.compare(reference, |a, b| (a - b).abs() / b.abs())
+    }
+
+    /// What changed from `other`'s means to this ensemble's: the profiles' distances as in
+    /// [`errors_against`](Self::errors_against), the scalars' relative changes with their sign.
+    pub(super) fn changes_from(&self, other: &Ensemble) -> Errors {
+        self.compare(other, |a, b| (a - b) / b.abs())
+    }
+
+    /// The profiles' relative L2 distances from `reference`'s, and `relative(a, b)` of each
+    /// scalar (`b` the reference's).
+    fn compare(&self, reference: &Ensemble, relative: impl Fn(f64, f64) -> f64) -> Errors {
         let rel = |a: Option<f64>, b: Option<f64>| match (a, b) {
-            (Some(a), Some(b)) if b != 0.0 => Some((a - b).abs() / b.abs()),
+            (Some(a), Some(b)) if b != 0.0 => Some(relative(a, b)),
             _ => None,
         };
         let density = match (self.density(), reference.density()) {

@@ -13,6 +13,16 @@ fn cell(v: Option<f64>) -> String {
     }
 }
 
+/// A change the effect makes, in per cent (with its sign, given `"+"`: a scalar's change, not
+/// a profile's distance), `-` where absent.
+fn change(v: Option<f64>, sign: &str) -> String {
+    match v {
+        Some(v) if v.is_finite() && sign == "+" => format!("{:+.1} %", 100.0 * v),
+        Some(v) if v.is_finite() => format!("{:.1} %", 100.0 * v),
+        _ => "-".into(),
+    }
+}
+
 /// A cost cell of the table: `digits` decimals, `-` where not measured.
 fn cost(v: f64, digits: usize) -> String {
     if v.is_finite() {
@@ -160,6 +170,19 @@ impl Report {
                 e.slowdown_per_time,
                 e.note
             );
+            if let Some(c) = e.changes {
+                let _ = writeln!(
+                    out,
+                    "{:<28} it changes: ρ(z) {}, T(z) {}, z_cm {}, T {}, E_in/t {}, coll/t {}",
+                    "",
+                    change(c.density_profile, ""),
+                    change(c.temperature_profile, ""),
+                    change(c.com_height, "+"),
+                    change(c.temperature, "+"),
+                    change(c.energy_input, "+"),
+                    change(c.collision_rate, "+"),
+                );
+            }
         }
     }
 
@@ -228,12 +251,18 @@ impl Report {
     /// The effects table as CSV.
     pub fn effects_csv(&self) -> String {
         let mut out = String::from(
-            "effect,without,with,seconds_per_collision_without,seconds_per_collision_with,seconds_per_time_without,seconds_per_time_with,slowdown_per_collision,slowdown_per_time,note\n",
+            "effect,without,with,seconds_per_collision_without,seconds_per_collision_with,seconds_per_time_without,seconds_per_time_with,slowdown_per_collision,slowdown_per_time,change_density_profile,change_temperature_profile,change_com_height,change_temperature,change_energy_input,change_collision_rate,note\n",
         );
         for e in &self.effects {
+            let changes = e
+                .changes
+                .unwrap_or_default()
+                .entries()
+                .map(|(_, v)| v.map_or(String::new(), |v| format!("{v:e}")))
+                .join(",");
             let _ = writeln!(
                 out,
-                "\"{}\",\"{}\",\"{}\",{:e},{:e},{:e},{:e},{},{},\"{}\"",
+                "\"{}\",\"{}\",\"{}\",{:e},{:e},{:e},{:e},{},{},{},\"{}\"",
                 e.effect,
                 e.without,
                 e.with,
@@ -243,6 +272,7 @@ impl Report {
                 e.per_time[1],
                 e.slowdown_per_collision,
                 e.slowdown_per_time,
+                changes,
                 e.note
             );
         }
