@@ -328,3 +328,25 @@ fn trajectories_carry_the_orientation_and_spin_of_rough_disks() {
     }
     assert_eq!(frames, 17);
 }
+
+/// The shipped rough bed on the fixed-position floor stalled at t = 20.87: a disk came to rest
+/// on the floor while the floor moved down faster than gravity, where the fixed-position model's
+/// ride ends at once with a launch of 0 — it landed again at the same instant, for ever. Such a
+/// disk now rides on to the next take-off, and the run goes on.
+#[test]
+fn a_disk_at_rest_on_the_fixed_position_floor_while_it_falls_rides_on() {
+    let text =
+        std::fs::read_to_string(common::crate_path("scenarios/rough_vibrated_bed.json")).unwrap();
+    let sets: Vec<String> = [
+        "floor.model=fixed-position",
+        "run.duration=22",
+        "run.warmup=1",
+    ]
+    .map(String::from)
+    .to_vec();
+    let s = vibrobed::Scenario::from_json_with_overrides(&text, &sets).unwrap();
+    let summary = vibrobed::run::run(&s, vibrobed::run::RunOptions::default()).unwrap();
+    let summary = serde_json::to_value(&summary).unwrap();
+    assert_eq!(summary["ending"], "completed", "{}", summary["ending"]);
+    assert!(summary["energy"]["balance_error"].as_f64().unwrap() < 1e-10);
+}
