@@ -96,16 +96,19 @@ pub trait Integrator {
     /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
     /// disks.
     fn rotational_energy(&self) -> Option<f64> {
-        None
+        self.disks().spins.as_ref()?;
+        Some(self.disks().rotational_energy())
     }
     /// Each rough disk's `(angle, ω)` at absolute time `t ≥ time()`, in the scenario's
-    /// numbering; `None` for smooth disks.
-    fn spins_at(&self, _t: f64) -> Option<Vec<(f64, f64)>> {
-        None
+    /// numbering; `None` for smooth disks. (By default the spins' own clock and numbering, the
+    /// approximate schemes'; the exact engine, which re-bases its clock and renumbers its disks,
+    /// says its own.)
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        self.disks().spins.as_ref().map(|s| s.at(t))
     }
     /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
     fn inertia_factor(&self) -> Option<f64> {
-        None
+        self.disks().spins.as_ref().map(|s| s.q)
     }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;

@@ -500,16 +500,6 @@ impl<F: Flight> Integrator for TimeStep<F> {
     fn floor_height_at(&self, t: f64) -> Option<f64> {
         self.floor.as_ref().map(|f| f.height(t))
     }
-    fn rotational_energy(&self) -> Option<f64> {
-        self.disks.spins.as_ref()?;
-        Some(self.disks.rotational_energy())
-    }
-    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
-        self.disks.spins.as_ref().map(|s| s.at(t))
-    }
-    fn inertia_factor(&self) -> Option<f64> {
-        self.disks.spins.as_ref().map(|s| s.q)
-    }
     fn counts(&self) -> EventCounts {
         self.counts
     }
