@@ -286,47 +286,55 @@ fn a_rough_vibrated_bed_closes_its_energy_budget_under_the_invariant_checks() {
     );
 }
 
-/// Trajectories carry each rough disk's orientation and spin as two more extended XYZ columns:
-/// a lone disk spinning in flight turns at its constant ω, across the engine's re-based clock.
+/// Trajectories carry each rough disk's orientation and spin as two more extended XYZ columns,
+/// on every engine: a lone disk spinning in flight turns at its constant ω
+/// (|ω| = √(T_rot / I) = √(2 / 0.125) = 4), across the exact engine's re-based clock and on the
+/// schemes' absolute one.
 #[test]
 fn trajectories_carry_the_orientation_and_spin_of_rough_disks() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("rough-trajectory");
     let _ = std::fs::create_dir_all(&dir);
-    let path = dir.join("spin.xyz");
-    let s = common::scenario(&format!(
-        r#"{{"name": "spinning", "seed": 5,
-        "domain": {{"width": 10, "height": 10, "x_boundary": "periodic", "y_boundary": "periodic"}},
-        "particles": {{"count": 1, "radius": 0.5, "rotational_temperature": 2.0,
-            "placement": {{"positions": [[5, 5]], "velocities": [[0.3, 0.1]]}}}},
-        "run": {{"duration": 40}},
-        "output": {{"trajectory": "{}", "trajectory_interval": 2.5}}}}"#,
-        path.display()
-    ));
-    vibrobed::run::run(&s, vibrobed::run::RunOptions::default()).unwrap();
-    let text = std::fs::read_to_string(&path).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
-    assert!(
-        lines[1].contains("Properties=species:S:1:pos:R:3:radius:R:1:velo:R:3:angle:R:1:omega:R:1")
-    );
-    // |ω| = √(T_rot / I) = √(2 / 0.125) = 4.
-    let mut frames = 0;
-    for (k, frame) in lines.chunks(3).enumerate() {
-        let cols: Vec<f64> = frame[2]
-            .split_whitespace()
-            .skip(1)
-            .map(|c| c.parse().unwrap())
-            .collect();
-        let (angle, omega) = (cols[7], cols[8]);
-        assert!((omega.abs() - 4.0).abs() < 1e-14, "{omega}");
-        let expected = (omega * 2.5 * k as f64).rem_euclid(std::f64::consts::TAU);
-        let diff = (angle - expected).abs();
+    for scheme in ["event-driven", "time-step", "space-time"] {
+        let path = dir.join(format!("{scheme}.xyz"));
+        let s = common::scenario(&format!(
+            r#"{{"name": "spinning", "seed": 5,
+            "domain": {{"width": 10, "height": 10, "x_boundary": "periodic",
+                        "y_boundary": "periodic"}},
+            "particles": {{"count": 1, "radius": 0.5, "rotational_temperature": 2.0,
+                "placement": {{"positions": [[5, 5]], "velocities": [[0.3, 0.1]]}}}},
+            "run": {{"duration": 40}},
+            "engine": {{"scheme": "{scheme}"}},
+            "output": {{"trajectory": "{}", "trajectory_interval": 2.5}}}}"#,
+            path.display()
+        ));
+        vibrobed::run::run(&s, vibrobed::run::RunOptions::default()).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
         assert!(
-            diff.min(std::f64::consts::TAU - diff) < 1e-9,
-            "frame {k}: {angle} vs {expected}"
+            lines[1]
+                .contains("Properties=species:S:1:pos:R:3:radius:R:1:velo:R:3:angle:R:1:omega:R:1"),
+            "{scheme}: {}",
+            lines[1]
         );
-        frames += 1;
+        let mut frames = 0;
+        for (k, frame) in lines.chunks(3).enumerate() {
+            let cols: Vec<f64> = frame[2]
+                .split_whitespace()
+                .skip(1)
+                .map(|c| c.parse().unwrap())
+                .collect();
+            let (angle, omega) = (cols[7], cols[8]);
+            assert!((omega.abs() - 4.0).abs() < 1e-14, "{scheme}: {omega}");
+            let expected = (omega * 2.5 * k as f64).rem_euclid(std::f64::consts::TAU);
+            let diff = (angle - expected).abs();
+            assert!(
+                diff.min(std::f64::consts::TAU - diff) < 1e-9,
+                "{scheme}, frame {k}: {angle} vs {expected}"
+            );
+            frames += 1;
+        }
+        assert_eq!(frames, 17, "{scheme}");
     }
-    assert_eq!(frames, 17);
 }
 
 /// The shipped rough bed on the fixed-position floor stalled at t = 20.87: a disk came to rest

@@ -486,54 +486,6 @@ fn beta_minus_one_is_the_smooth_scheme_bit_for_bit() {
     }
 }
 
-/// Trajectories of a rough scene on the schemes carry each disk's orientation and spin: a lone
-/// disk spinning in flight turns at its constant ω (|ω| = √(T_rot / I) = 4), on the schemes'
-/// absolute clock.
-#[test]
-fn trajectories_on_the_schemes_carry_orientation_and_spin() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("schemes-spin");
-    let _ = std::fs::create_dir_all(&dir);
-    for scheme in ["time-step", "space-time"] {
-        let path = dir.join(format!("{scheme}.xyz"));
-        let s = with(
-            &format!(
-                r#"{{"name": "spinning", "seed": 5,
-                "domain": {{"width": 10, "height": 10, "x_boundary": "periodic",
-                            "y_boundary": "periodic"}},
-                "particles": {{"count": 1, "radius": 0.5, "rotational_temperature": 2.0,
-                    "placement": {{"positions": [[5, 5]], "velocities": [[0.3, 0.1]]}}}},
-                "run": {{"duration": 10}},
-                "output": {{"trajectory": "{}", "trajectory_interval": 2.5}}}}"#,
-                path.display()
-            ),
-            &[format!("engine.scheme={scheme}")],
-        );
-        run(&s, RunOptions::default()).unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        let lines: Vec<&str> = text.lines().collect();
-        assert!(
-            lines[1].contains("angle:R:1:omega:R:1"),
-            "{scheme}: {}",
-            lines[1]
-        );
-        for (k, frame) in lines.chunks(3).enumerate() {
-            let cols: Vec<f64> = frame[2]
-                .split_whitespace()
-                .skip(1)
-                .map(|c| c.parse().unwrap())
-                .collect();
-            let (angle, omega) = (cols[7], cols[8]);
-            assert!((omega.abs() - 4.0).abs() < 1e-14, "{scheme}: {omega}");
-            let expected = (omega * 2.5 * k as f64).rem_euclid(std::f64::consts::TAU);
-            let diff = (angle - expected).abs();
-            assert!(
-                diff.min(std::f64::consts::TAU - diff) < 1e-9,
-                "{scheme}, frame {k}: {angle} vs {expected}"
-            );
-        }
-    }
-}
-
 /// A disk thrown spinning onto a static floor (e_f = 0.8, μ = 0.2, β = 0), as in
 /// `rough::a_spinning_disk_rebounds_from_the_floor_as_the_rule_says`, on the schemes. Space-time
 /// meets the floor at its exact time (t = 2, v_y = −2) and rebounds as the rule says by hand,
