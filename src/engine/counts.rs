@@ -32,6 +32,9 @@ pub struct EventCounts {
     /// wedge); the event that would have been one more is dropped.
     #[serde(default)]
     pub zeno: u64,
+    /// Disks that stopped sliding on a rough floor and roll on.
+    #[serde(default)]
+    pub slide_end: u64,
 }
 
 impl EventCounts {
@@ -50,6 +53,7 @@ impl EventCounts {
             + self.unmount
             + self.shell
             + self.zeno
+            + self.slide_end
     }
 
     /// What `run.max_events` limits: every popped event and every disk coming to rest (which

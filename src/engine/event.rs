@@ -22,6 +22,8 @@ pub enum Event {
     RideEnd,
     /// A disk resting on disks loses a support (they slide apart).
     Unmount,
+    /// A disk sliding on a rough floor rolls.
+    SlideEnd,
     /// The disk leaves its shell (local re-mapping): its neighbour list is rebuilt.
     ShellExit,
     /// The prediction is made again: the floor search looked only so far ahead.
@@ -41,8 +43,9 @@ pub(crate) mod code {
     pub const UNMOUNT: u32 = u32::MAX - 6;
     pub const SHELL: u32 = u32::MAX - 7;
     pub const RECHECK: u32 = u32::MAX - 8;
+    pub const SLIDE_END: u32 = u32::MAX - 9;
     /// The lowest code that is not a disk: no scene may have this many disks.
-    pub const FIRST_NOT_A_DISK: u32 = RECHECK;
+    pub const FIRST_NOT_A_DISK: u32 = SLIDE_END;
 }
 
 impl Event {
@@ -59,6 +62,7 @@ impl Event {
             code::UNMOUNT => Event::Unmount,
             code::SHELL => Event::ShellExit,
             code::RECHECK => Event::Recheck,
+            code::SLIDE_END => Event::SlideEnd,
             j => Event::Pair(j),
         }
     }
@@ -76,6 +80,7 @@ impl Event {
             Event::Unmount => code::UNMOUNT,
             Event::ShellExit => code::SHELL,
             Event::Recheck => code::RECHECK,
+            Event::SlideEnd => code::SLIDE_END,
             Event::None => code::NONE,
         }
     }
@@ -89,9 +94,12 @@ impl Event {
             Event::Wall(Side::Right) => Some(Partner::Right),
             Event::Lid => Some(Partner::Lid),
             Event::Floor => Some(Partner::Floor),
-            Event::RideEnd | Event::Unmount | Event::ShellExit | Event::Recheck | Event::None => {
-                None
-            }
+            Event::RideEnd
+            | Event::Unmount
+            | Event::SlideEnd
+            | Event::ShellExit
+            | Event::Recheck
+            | Event::None => None,
         }
     }
 }
@@ -113,6 +121,7 @@ mod tests {
             Event::Unmount,
             Event::ShellExit,
             Event::Recheck,
+            Event::SlideEnd,
             Event::None,
         ];
         for e in events {

@@ -24,6 +24,7 @@ impl<F: Flight> Simulation<F> {
             Event::Floor => self.hit_floor(i),
             Event::RideEnd => self.end_ride(i),
             Event::Unmount => self.unmount(i),
+            Event::SlideEnd => self.end_slide(i),
             Event::Recheck => {
                 self.tally.counts.recheck += 1;
                 self.predict(i);

@@ -29,6 +29,12 @@ impl<F: Flight> Simulation<F> {
                     next.counter = matches!(end, RideEnd::Kick { .. }) as u32;
                 }
             }
+            if let Some(slide) = self.rest.riders.slide(i) {
+                if slide.end < next.t {
+                    next.t = slide.end;
+                    next.who = code::SLIDE_END;
+                }
+            }
             if !self.rest.riders.on_floor(i) {
                 let t_off = self.unmount_time(i);
                 if t_off < next.t {
@@ -178,7 +184,7 @@ impl<F: Flight> Simulation<F> {
             m.vy = hd_ride;
             self.rest.riders.mount_on_floor(i, above);
             self.tally.counts.rest += 1;
-            self.roll_on_floor(i);
+            self.slide_on_floor(i);
             if self.rest.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {
                 self.stop_sliding(i);
             }

@@ -72,13 +72,41 @@ impl<F: Flight> Simulation<F> {
         self.map.numbering.original().unwrap_or(&self.disks)
     }
 
-    /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
-    /// disks.
-    pub fn rotational_energy(&self) -> Option<f64> {
-        self.disks
-            .spins
-            .as_ref()
-            .map(|_| self.disks.rotational_energy())
+    /// `Σ ½ I ω²` of rough disks at absolute time `t ≥ time()` (spins are constant between
+    /// events, but for disks sliding on a rough floor); `None` for smooth disks.
+    pub fn rotational_energy(&self, t: f64) -> Option<f64> {
+        let spins = self.disks.spins.as_ref()?;
+        let mut e = self.disks.rotational_energy();
+        if self.rest.riders.any_sliding() {
+            let local = self.base.local(t);
+            for k in self.rest.riders.iter() {
+                if self.rest.riders.slide(k).is_some() {
+                    let w0 = spins.omega[k];
+                    let (_, w) = self.spin_at(k, local);
+                    let a = self.disks.radius[k];
+                    e += 0.5 * spins.q * self.disks.mass[k] * a * a * (w * w - w0 * w0);
+                }
+            }
+        }
+        Some(e)
+    }
+
+    /// Rough disk `k`'s `(orientation, ω)` at local time `t` (no event of its between): its
+    /// free turn, or for a disk sliding on a rough floor its turn under the friction's torque.
+    fn spin_at(&self, k: usize, t: f64) -> (f64, f64) {
+        let spins = self.disks.spins.as_ref().expect("rough disks");
+        let (angle, w) = (spins.angle(k, t), spins.omega[k]);
+        if self.rest.riders.slide(k).is_none() {
+            return (angle, w);
+        }
+        let m = &self.disks.motion[k];
+        let (x, _, vx, _) = self.state_at(k, t);
+        let qa = spins.q * self.disks.radius[k];
+        let dx = x - m.x - m.vx * (t - m.t);
+        (
+            (angle + dx / qa).rem_euclid(std::f64::consts::TAU),
+            w + (vx - m.vx) / qa,
+        )
     }
 
     /// `q` in `I = q m a²` of rough disks; `None` for smooth disks.
@@ -93,7 +121,11 @@ impl<F: Flight> Simulation<F> {
         let local = self.base.local(t);
         let mut out = vec![(0.0, 0.0); self.disks.len()];
         for k in 0..self.disks.len() {
-            out[self.map.numbering.id(k)] = (spins.angle(k, local), spins.omega[k]);
+            out[self.map.numbering.id(k)] = if self.rest.riders.any_sliding() {
+                self.spin_at(k, local)
+            } else {
+                (spins.angle(k, local), spins.omega[k])
+            };
         }
         Some(out)
     }
@@ -203,8 +235,23 @@ impl<F: Flight> Simulation<F> {
             let m = &self.disks.motion[i];
             flow.injected += self.disks.mass[i] * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
             flow.floor_impulse += self.disks.mass[i] * (g * (local - m.t) + (vy - m.vy));
+            if self.rest.riders.slide(i).is_some() {
+                flow.dissipated += self.slide_loss(i, local);
+            }
         }
         flow
+    }
+
+    /// The kinetic energy (translation and spin) friction has taken from sliding disk `i`
+    /// since its time stamp, by local time `t`.
+    fn slide_loss(&self, i: usize, t: f64) -> f64 {
+        let spins = self.disks.spins.as_ref().expect("rough disks");
+        let m = &self.disks.motion[i];
+        let (_, _, vx, _) = self.state_at(i, t);
+        let (_, w) = self.spin_at(i, t);
+        let (a, w0) = (self.disks.radius[i], spins.omega[i]);
+        let mass = self.disks.mass[i];
+        0.5 * mass * ((m.vx * m.vx - vx * vx) + spins.q * a * a * (w0 * w0 - w * w))
     }
 
     /// Number of disks at rest now: riding the floor, or resting on disks that rest.

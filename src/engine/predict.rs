@@ -51,7 +51,12 @@ impl<F: Flight> Simulation<F> {
         } else {
             0
         };
-        let (best, who) = self.wall_event(state, a, best, who);
+        let mut recheck = recheck;
+        let (best, who) = if self.rest.riders.any_sliding() && self.rest.riders.slide(i).is_some() {
+            self.sliding_wall_event(i, state, a, (best, who), &mut recheck)
+        } else {
+            self.wall_event(state, a, best, who)
+        };
         let mut next = Next {
             t: now + best,
             who,

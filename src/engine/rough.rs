@@ -152,6 +152,7 @@ impl<F: Flight> Simulation<F> {
     /// [`hold_spin`](Self::hold_spin) for rough disks.
     #[inline(never)]
     fn hold_rough_spin(&mut self, i: usize) {
+        self.rest.riders.set_slide(i, None);
         let Some(laws) = &self.friction else {
             return;
         };
@@ -173,27 +174,81 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
+    /// The floor's law when it is rough with a Coulomb cap (a disk on it slides until it
+    /// rolls); `None` otherwise.
+    pub(in crate::engine) fn floor_friction(&self) -> Option<Friction> {
+        let law = self.friction.as_ref()?.floor;
+        (!law.is_smooth() && law.mu.is_finite()).then_some(law)
+    }
+
     /// Disk `i` has just come to rest on a rough floor (or, riding it, bounced off a wall),
-    /// sliding (its contact point moving at
-    /// `s = v_x + a ω`): Coulomb friction, `μ` times the floor's push `m (g + h'')`, which is
-    /// positive while it rides, slows the slip until the disk rolls. Whatever the push's
-    /// history, the friction impulse that ends the slip is `m s q/(1 + q)` (angular momentum
-    /// about the contact point is kept), so the disk rolls on at `v_x − s q/(1 + q)`; that end
-    /// is taken at once (the slide's duration, `|s|/(μ g (1 + 1/q))` on a still floor, is not
-    /// followed). The energy lost is booked as dissipated.
-    pub(in crate::engine) fn roll_on_floor(&mut self, i: usize) {
-        let rough_floor = self.friction.as_ref().is_some_and(|l| !l.floor.is_smooth());
-        if !rough_floor {
+    /// its contact point slipping at `s = v_x + a ω`. With a Coulomb cap it slides until it
+    /// rolls, exactly in time ([`physics::slide`](crate::physics::slide)): the slide's end is
+    /// its event. Without a cap (β alone), the contact sticks at once: it rolls on at
+    /// `v_x − s q/(1 + q)` (angular momentum about the contact point kept), the loss booked.
+    pub(in crate::engine) fn slide_on_floor(&mut self, i: usize) {
+        let Some(laws) = &self.friction else {
+            return;
+        };
+        let law = laws.floor;
+        if law.is_smooth() {
             return;
         }
         let spins = self.disks.spins.as_ref().expect("rough disks have spins");
         let (a, q) = (self.disks.radius[i], spins.q);
+        let slip = self.disks.motion[i].vx + a * spins.omega[i];
+        if law.mu.is_finite() {
+            let floor = self.bounds.floor.as_ref().expect("riders need a floor");
+            let (now, g) = (self.now, self.flight.g());
+            let ride_end = floor.ride_end(now, g).map(|(t, _)| t);
+            let slide = crate::physics::slide::slide_from(
+                slip,
+                law.mu,
+                q,
+                g,
+                now,
+                ride_end,
+                floor.max_speed(),
+                |t| floor.ride(t).1,
+            );
+            self.rest.riders.set_slide(i, slide);
+            if slide.is_some() {
+                let v_end = self.disks.motion[i].vx - slip * q / (1.0 + q);
+                let lift = floor.max_speed();
+                self.map.dutc.ride(now, v_end.abs() + lift, g);
+                return;
+            }
+        }
         let m = &mut self.disks.motion[i];
-        let slip = m.vx + a * spins.omega[i];
         let vx = m.vx - slip * q / (1.0 + q);
         self.tally.flow.dissipated += 0.5 * self.disks.mass[i] * (m.vx * m.vx - vx * vx);
         m.vx = vx;
         self.hold_spin(i);
+    }
+
+    /// Sliding disk `i` brought from its time stamp to `t`, where its state is `(x, v_x)`: its
+    /// spin follows the friction's torque (`δω = δv_x/(q a)`, the orientation `δx/(q a)` off its
+    /// free turn), and the kinetic energy the friction took is booked as dissipated.
+    pub(in crate::engine) fn bring_slide(&mut self, i: usize, t: f64, (x, vx): (f64, f64)) {
+        let m = self.disks.motion[i];
+        let (a, mass) = (self.disks.radius[i], self.disks.mass[i]);
+        let spins = self.disks.spins.as_mut().expect("rough disks have spins");
+        let qa = spins.q * a;
+        let (dv, dx) = (vx - m.vx, x - m.x - m.vx * (t - m.t));
+        let (w0, w1) = (spins.omega[i], spins.omega[i] + dv / qa);
+        spins.phase[i] += dx / qa;
+        spins.spin(i, t, dv / qa);
+        self.tally.flow.dissipated +=
+            0.5 * mass * ((m.vx * m.vx - vx * vx) + spins.q * a * a * (w0 * w0 - w1 * w1));
+    }
+
+    /// Disk `i`'s slide ends (its event): brought to now it rolls, `ω = −v_x/a` (the slip left
+    /// is round-off, its energy booked), and its path is a line again.
+    pub(in crate::engine) fn end_slide(&mut self, i: usize) {
+        self.bring(i, self.now);
+        self.tally.counts.slide_end += 1;
+        self.hold_spin(i);
+        self.moved(i);
     }
 
     /// Two of the contacts of a disk at rest (`normals`: support code, unit normal from the

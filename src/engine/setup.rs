@@ -216,6 +216,9 @@ impl<F: Flight> Simulation<F> {
         };
         if sim.bounds.floor.is_some() {
             sim.rest.riders = Riders::new(n, riders::carried_room(a_min, a_max));
+            if sim.floor_friction().is_some() {
+                sim.rest.riders = std::mem::take(&mut sim.rest.riders).with_slides();
+            }
             if sim.rest.resting_contacts {
                 sim.rest.same_instant = vec![(f64::NAN, 0); n];
                 sim.rest.zeno_instant2 = jams::instant2(sim.flight.g(), sim.bounds.floor.as_ref());

@@ -7,7 +7,9 @@ use super::rest::riders::{LEFT_WALL, RIGHT_WALL};
 use super::rough::Boundary;
 use super::Simulation;
 use crate::physics::flight::Flight;
-use crate::physics::walls::Side;
+use crate::physics::pair::RiderContact;
+use crate::physics::slide::riders_contact;
+use crate::physics::walls::{Side, SideBounds};
 
 impl<F: Flight> Simulation<F> {
     /// A side wall's impact, if earlier than the pair contact `best` from now (partner `who`):
@@ -24,6 +26,51 @@ impl<F: Flight> Simulation<F> {
             Some((dt, side)) if dt < best => (dt, Event::Wall(side).code()),
             _ => (best, who),
         }
+    }
+
+    /// [`wall_event`](Self::wall_event) of disk `i` while it slides on a rough floor: its path
+    /// bends, followed to the end of its slide (its event) or of its ride. A search that did
+    /// not conclude asks for a re-check (`recheck`, absolute).
+    pub(super) fn sliding_wall_event(
+        &self,
+        i: usize,
+        (x, _, vx, _): State,
+        a: f64,
+        (best, who): (f64, u32),
+        recheck: &mut f64,
+    ) -> (f64, u32) {
+        let SideBounds::Walls { width, .. } = self.bounds.sides else {
+            return (best, who);
+        };
+        let slide = self.rest.riders.slide(i).expect("a sliding disk");
+        let floor = self.bounds.floor.as_ref().expect("riders need a floor");
+        let (now, g) = (self.now, self.flight.g());
+        let mut limit = (now + best).min(slide.end);
+        if let Some((t_end, _)) = floor.ride_end(now, g) {
+            limit = limit.min(t_end);
+        }
+        let mut first = (best, who);
+        // Each wall as a fixed point the centre must come within `a` of.
+        for (wall_x, side) in [(0.0, Side::Left), (width, Side::Right)] {
+            let contact = riders_contact(
+                (x - wall_x, vx, 0.0),
+                slide.kappa,
+                a,
+                g,
+                floor.max_acceleration(),
+                now,
+                limit.min(now + first.0),
+                |t| floor.ride(t),
+            );
+            match contact {
+                Some(RiderContact::At(t)) if t - now < first.0 => {
+                    first = (t - now, Event::Wall(side).code())
+                }
+                Some(RiderContact::Recheck(t)) => *recheck = recheck.min(t),
+                _ => {}
+            }
+        }
+        first
     }
 
     /// The lid's impact in a scene without a floor, if earlier than `best` from now (the
@@ -63,7 +110,7 @@ impl<F: Flight> Simulation<F> {
         self.rub_boundary(i, boundary, (0.0, 0.0), before);
         if self.is_riding(i) && self.rest.riders.on_floor(i) {
             // Sent back along a rough floor, it slides until it rolls again.
-            self.roll_on_floor(i);
+            self.slide_on_floor(i);
         }
         self.tally.counts.wall += 1;
         self.moved(i);

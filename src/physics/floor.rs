@@ -360,10 +360,11 @@ impl Floor {
                 if peak <= g {
                     return None;
                 }
-                let crit = (g / peak).asin(); // sin θ = 1/Γ, θ in (0, π/2)
-                                              // The fixed-position floor cannot launch a disk while it moves down (the launch
-                                              // would be 0 and the disk land again at once, for ever): a disk that comes to
-                                              // rest there rides on to the next take-off.
+                // sin θ = 1/Γ, θ in (0, π/2).
+                let crit = (g / peak).asin();
+                // The fixed-position floor cannot launch a disk while it moves down (the launch
+                // would be 0 and the disk land again at once, for ever): a disk that comes to
+                // rest there rides on to the next take-off.
                 let falling = self.model == FloorModel::FixedPosition && self.velocity(now) <= 0.0;
                 let dth = if th < crit {
                     crit - th

@@ -9,5 +9,6 @@ pub mod floor;
 pub mod pair;
 pub mod restitution;
 pub mod rough;
+pub mod slide;
 pub mod theory;
 pub mod walls;

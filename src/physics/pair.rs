@@ -343,12 +343,14 @@ const RIDER_STEPS: usize = 200;
 
 /// First time in `[now, limit]` at which a disk riding the floor touches a flying disk.
 ///
-/// The rider moves with `x_r + vx_r τ` and `y = h(t) + a_r` (`ride(t)` gives `(h, h')`); the flyer
+/// The rider moves with `x_r + vx_r τ − κ Q(τ)` and `y = h(t) + a_r` (`ride(t)` gives `(h, h')`;
+/// `κ ≠ 0` while it slides on a rough floor, `Q(τ) = ½ g τ² + h(t) − h(now) − h'(now) τ`, see
+/// [`slide`](crate::physics::slide)); the flyer
 /// on its parabola under gravity `g` (`ride_acc(t)` is the rider's vertical acceleration). `dx` is
 /// the flyer's x minus the rider's at `now` (minimum
 /// image), `dy0` the flyer's y minus the rider's, `dvx` and `dvy0` likewise, `s` the contact
 /// distance and `k_floor` a bound on |h''|. With `F(τ) = |Δr|² − s²`,
-/// `|F''| ≤ 2(Δvx² + Δvy² + |Δy| (g + k_floor))`, bounded over a window from the values at its
+/// `|F''| ≤ 2(Δvx² + Δvy² + (|Δx| |κ| + |Δy|) (g + k_floor))`, bounded over a window from the values at its
 /// start; stepping to the first root of the parabola `F + F' σ − ½ M σ²` never passes the first
 /// root of F (the same safe-step scheme as the floor impacts).
 #[allow(clippy::too_many_arguments)]
@@ -361,13 +363,16 @@ pub fn rider_contact(
     s: f64,
     g: f64,
     k_floor: f64,
+    kappa: f64,
     now: f64,
     limit: f64,
     ride: impl Fn(f64) -> (f64, f64),
     ride_acc: impl Fn(f64) -> f64,
 ) -> Option<RiderContact> {
     let k = g + k_floor;
+    let kx = kappa.abs() * k;
     let tol = 1e-13 * s * s;
+    let (h0, hd0) = if kappa != 0.0 { ride(now) } else { (0.0, 0.0) };
     let mut tau = 0.0f64;
     let mut window = f64::NAN;
     for _ in 0..RIDER_STEPS {
@@ -376,20 +381,26 @@ pub fn rider_contact(
             return None;
         }
         let (h, hd) = ride(t);
-        let ddx = dx + dvx * tau;
+        // The rider's slide (nothing when κ = 0: the terms vanish exactly).
+        let (q, push) = (0.5 * g * tau * tau + h - h0 - hd0 * tau, g * tau + hd - hd0);
+        let ddx = dx + dvx * tau + kappa * q;
+        let dvx_t = dvx + kappa * push;
         let ddy = flyer_y + (flyer_vy - 0.5 * g * tau) * tau - h - rider_a;
         let dvy = flyer_vy - g * tau - hd;
         let f = ddx * ddx + ddy * ddy - s * s;
-        let fd = 2.0 * (ddx * dvx + ddy * dvy);
+        let fd = 2.0 * (ddx * dvx_t + ddy * dvy);
         let bound = |w: f64| {
             let v = dvy.abs() + k * w;
             let y = ddy.abs() + dvy.abs() * w + 0.5 * k * w * w;
-            2.0 * (dvx * dvx + v * v + y * k)
+            let u = dvx_t.abs() + kx * w;
+            let x = ddx.abs() + dvx_t.abs() * w + 0.5 * kx * w * w;
+            2.0 * (u * u + v * v + y * k + x * kx)
         };
         if f <= tol {
-            // Touching. Half of F'' now: relative speed² + Δy·(relative vertical acceleration).
-            let curvature = dvx * dvx + dvy * dvy - ddy * (g + ride_acc(t));
-            if fd.abs() <= 1e-12 * s * (dvx.abs() + dvy.abs()) + tol / s && curvature >= 0.0 {
+            // Touching. Half of F'' now: relative speed² + Δr·(relative acceleration).
+            let press = g + ride_acc(t);
+            let curvature = dvx_t * dvx_t + dvy * dvy - ddy * press + ddx * (kappa * press);
+            if fd.abs() <= 1e-12 * s * (dvx_t.abs() + dvy.abs()) + tol / s && curvature >= 0.0 {
                 // No normal approach, and nothing pressing the pair together: no collision now
                 // (colliding would exchange nothing). Look again once the floor's motion could
                 // have changed that: after the time to move by a rest height under g + h''.

@@ -284,7 +284,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let collisions = sim.counts().collisions();
         let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
         self.last_frame_collisions = collisions;
-        let rotational = sim.rotational_energy();
+        let rotational = sim.rotational_energy(snap.time);
         let series = [
             ("temperature/x", o.temperature[0]),
             ("temperature/y", o.temperature[1]),
@@ -555,7 +555,7 @@ impl<E: Integrator> States for StatesAt<'_, E> {
         self.0.visit_states(self.1, f)
     }
     fn rotational_energy(&self) -> Option<f64> {
-        self.0.rotational_energy()
+        self.0.rotational_energy(self.1)
     }
     fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
         Some((self.0.inertia_factor()?, self.0.spins_at(self.1)?))

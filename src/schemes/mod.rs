@@ -93,9 +93,9 @@ pub trait Integrator {
             self.visit_states(t, f)
         });
     }
-    /// `Σ ½ I ω²` of rough disks now (spins are constant between events); `None` for smooth
-    /// disks.
-    fn rotational_energy(&self) -> Option<f64> {
+    /// `Σ ½ I ω²` of rough disks at absolute time `t ≥ time()` (by default the spins now: the
+    /// approximate schemes' spins are constant between steps); `None` for smooth disks.
+    fn rotational_energy(&self, _t: f64) -> Option<f64> {
         self.disks().spins.as_ref()?;
         Some(self.disks().rotational_energy())
     }
@@ -173,8 +173,8 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn counts(&self) -> EventCounts {
         Simulation::counts(self)
     }
-    fn rotational_energy(&self) -> Option<f64> {
-        Simulation::rotational_energy(self)
+    fn rotational_energy(&self, t: f64) -> Option<f64> {
+        Simulation::rotational_energy(self, t)
     }
     fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
         Simulation::spins_at(self, t)

@@ -18,7 +18,7 @@ fn temperatures<F: Flight>(sim: &Simulation<F>) -> (f64, f64) {
     let kinetic: f64 = (0..d.len())
         .map(|k| d.mass[k] * (snap.vx[k] * snap.vx[k] + snap.vy[k] * snap.vy[k]))
         .sum();
-    let rotational = 2.0 * sim.rotational_energy().expect("rough disks") / n;
+    let rotational = 2.0 * sim.rotational_energy(sim.time()).expect("rough disks") / n;
     (kinetic / (2.0 * n), rotational)
 }
 
@@ -198,6 +198,149 @@ fn a_disk_sliding_onto_a_rough_floor_rolls_on_at_two_thirds_of_its_speed() {
         let budget = now - (0.5 + 2.5) - flow.injected + flow.dissipated;
         assert!(budget.abs() < 1e-12, "{law}: energy budget off by {budget}");
     }
+}
+
+/// Total energy of the disks at absolute time `t` (kinetic, potential under g = 1, rotational)
+/// minus what the floor put in plus what was lost: constant for an exact engine.
+fn budget(sim: &Simulation<vibrobed::physics::flight::Ballistic>, t: f64) -> f64 {
+    let snap = sim.snapshot(t);
+    let disks = sim.disks();
+    let mut e = sim.rotational_energy(t).unwrap();
+    for k in 0..snap.x.len() {
+        let m = disks.mass[k];
+        e += 0.5 * m * (snap.vx[k].powi(2) + snap.vy[k].powi(2)) + m * snap.y[k];
+    }
+    let flow = sim.energy_flow_at(t);
+    e - flow.injected + flow.dissipated
+}
+
+/// A disk set down sliding on a still rough floor (v₀ = 1, no spin, μ = 0.2, q = ½) slows
+/// uniformly under Coulomb friction, `v_x = v₀ − μ g t`, while the friction's torque spins it
+/// up, `ω = −μ g t/(q a)`, until its slip `v_x + a ω` vanishes at `t = v₀/(μ g (1 + 1/q))`;
+/// then it rolls on at two thirds of its speed. Followed in time, with no step: positions,
+/// velocities, spins and orientations agree with the closed form to round-off at any time, and
+/// the energy budget closes in the middle of the slide.
+#[test]
+fn a_disk_sliding_on_a_still_rough_floor_slows_exactly_until_it_rolls() {
+    let mut sim = common::ballistic(
+        r#"{"name": "slide", "gravity": 1.0,
+        "domain": {"width": 20, "x_boundary": "periodic"},
+        "floor": {"restitution": 0.5, "friction": 0.2},
+        "particles": {"count": 1, "radius": 0.5,
+            "placement": {"positions": [[10, 0.5]], "velocities": [[1.0, 0]]}},
+        "run": {"duration": 3}}"#,
+    );
+    let (mu, qa) = (0.2, 0.25);
+    let end = 1.0 / (mu * 3.0);
+    let e0 = budget(&sim, 0.0);
+    for k in 1..=12 {
+        let t = 0.25 * k as f64;
+        sim.advance_to(t).unwrap();
+        let ts = t.min(end);
+        let (x, v) = (10.0 + ts - 0.5 * mu * ts * ts, 1.0 - mu * ts);
+        let (x, w) = (x + v * (t - ts), -mu * ts / qa);
+        let angle = -0.5 * mu * ts * ts / qa + w * (t - ts);
+        let snap = sim.snapshot(t);
+        let (a, w_sim) = sim.spins_at(t).unwrap()[0];
+        assert!(
+            (snap.x[0] - x).abs() < 1e-13,
+            "t = {t}: x = {} vs {x}",
+            snap.x[0]
+        );
+        assert!(
+            (snap.vx[0] - v).abs() < 1e-14,
+            "t = {t}: v = {} vs {v}",
+            snap.vx[0]
+        );
+        assert!((w_sim - w).abs() < 1e-13, "t = {t}: ω = {w_sim} vs {w}");
+        let da = (a - angle.rem_euclid(std::f64::consts::TAU)).abs();
+        assert!(
+            da.min(std::f64::consts::TAU - da) < 1e-12,
+            "t = {t}: angle {a} vs {angle}"
+        );
+        let off = budget(&sim, t) - e0;
+        assert!(off.abs() < 1e-14, "t = {t}: energy budget off by {off}");
+        assert_eq!(sim.counts().slide_end, u64::from(t >= end), "t = {t}");
+    }
+}
+
+/// On a floor vibrating below Γ = 1 the floor's push `m (g + h'')` varies, and so does the
+/// friction: a disk sliding on it follows `v_x' = −μ (g + h'')` exactly. Against a fine
+/// numerical integration of that law, its velocity, spin and the moment it starts rolling.
+#[test]
+fn a_disk_sliding_on_a_vibrating_rough_floor_follows_the_floors_push() {
+    // Γ = A ω²/g = 0.8, period 2π/4.
+    let (amp, omega, mu) = (0.05, 4.0, 0.3);
+    let mut sim = common::ballistic(&format!(
+        r#"{{"name": "slide", "gravity": 1.0,
+        "domain": {{"width": 40, "x_boundary": "periodic"}},
+        "floor": {{"restitution": 0.5, "friction": {mu}, "amplitude": {amp}, "frequency": {f}}},
+        "particles": {{"count": 1, "radius": 0.5,
+            "placement": {{"positions": [[10, 0.5]], "velocities": [[-1.2, 0]]}}}},
+        "run": {{"duration": 3}}}}"#,
+        f = omega / std::f64::consts::TAU
+    ));
+    // It bounces on the rising floor a little, then rides it.
+    let mut t0 = 0.0;
+    while sim.riders() == 0 && t0 < 2.0 {
+        t0 += 1e-3;
+        sim.advance_to(t0).unwrap();
+    }
+    assert_eq!(sim.riders(), 1, "rides the floor by t = {t0}");
+    let (v0, w0) = (sim.snapshot(t0).vx[0], sim.spins_at(t0).unwrap()[0].1);
+    let slip0 = v0 + 0.5 * w0;
+    assert!(slip0.abs() > 0.5, "slides: slip {slip0}");
+    // Integrate v' = −κ (1 + h''), ω' = v'/(q a) from t0 until the slip vanishes.
+    let h2 = |t: f64| -amp * omega * omega * (omega * t).sin();
+    let kappa = slip0.signum() * mu;
+    let (mut t, mut v, mut w, dt) = (t0, v0, w0, 1e-6);
+    let mut samples = Vec::new();
+    while (v + 0.5 * w) * slip0 > 0.0 {
+        let acc = -kappa * (1.0 + h2(t + 0.5 * dt));
+        v += acc * dt;
+        w += acc * dt / 0.25;
+        t += dt;
+        if samples.len() < 8 && t >= t0 + 0.2 * (samples.len() + 1) as f64 {
+            samples.push((t, v, w));
+        }
+    }
+    for (ts, v, w) in samples {
+        sim.advance_to(ts).unwrap();
+        let (vs, ws) = (sim.snapshot(ts).vx[0], sim.spins_at(ts).unwrap()[0].1);
+        assert!(
+            (vs - v).abs() < 1e-6 && (ws - w).abs() < 4e-6,
+            "t = {ts}: {vs} {ws} vs {v} {w}"
+        );
+    }
+    sim.advance_to(t - 1e-4).unwrap();
+    assert_eq!(sim.counts().slide_end, 0, "still sliding just before {t}");
+    sim.advance_to(t + 1e-4).unwrap();
+    assert_eq!(sim.counts().slide_end, 1, "rolling just after {t}");
+}
+
+/// A disk sliding on a rough floor toward a side wall, and another into a disk rolling on the
+/// floor: the bent paths meet the wall and the disk exactly (no overlap under the invariant
+/// checks), and the energy budget closes.
+#[test]
+fn sliding_disks_meet_walls_and_disks_on_their_bent_paths() {
+    let mut sim = common::ballistic(
+        r#"{"name": "slide", "gravity": 1.0,
+        "domain": {"width": 6, "x_boundary": "walls", "wall_restitution": 0.9},
+        "floor": {"restitution": 0.5, "friction": 0.1},
+        "collisions": {"restitution": 0.9},
+        "particles": {"count": 2, "radius": 0.5,
+            "placement": {"positions": [[1.5, 0.5], [4.0, 0.5]], "velocities": [[-1.5, 0], [2.5, 0]]}},
+        "engine": {"check_invariants": true},
+        "run": {"duration": 20}}"#,
+    );
+    let e0 = budget(&sim, 0.0);
+    sim.advance_to(20.0).unwrap();
+    let counts = sim.counts();
+    assert!(counts.wall >= 2 && counts.pair >= 1, "{counts:?}");
+    assert!(counts.slide_end >= 2, "{counts:?}");
+    let off = budget(&sim, 20.0) - e0;
+    assert!(off.abs() < 1e-12, "energy budget off by {off}");
+    assert!(sim.max_overlap() < 1e-10, "overlap {}", sim.max_overlap());
 }
 
 /// A disk dropped a little off the crown of a rough disk at rest on the floor, in a narrow box

@@ -840,20 +840,35 @@ struct RiderCase {
     s: f64,
     g: f64,
     limit: f64,
+    /// The rider's slide on a rough floor (0: none): its path is `x + v t − κ Q(t)`.
+    kappa: f64,
 }
 
 impl RiderCase {
     fn ride(&self, t: f64) -> (f64, f64) {
         (self.floor.height(t), self.floor.velocity(t))
     }
+    /// The flyer's x minus the rider's at `t`, and its rate: the rider's slide adds `κ Q(t)`.
+    fn sep_x(&self, t: f64) -> (f64, f64) {
+        let (h0, hd0) = self.ride(0.0);
+        let (h, hd) = self.ride(t);
+        let q = 0.5 * self.g * t * t + h - h0 - hd0 * t;
+        let push = self.g * t + hd - hd0;
+        (
+            self.dx + self.dvx * t + self.kappa * q,
+            self.dvx + self.kappa * push,
+        )
+    }
     /// `F(t) = |Δr|² − s²`.
     fn f(&self, t: f64) -> f64 {
-        let ddx = self.dx + self.dvx * t;
+        let ddx = self.sep_x(t).0;
         let ddy = self.fy + (self.fvy - 0.5 * self.g * t) * t - self.floor.height(t) - self.ar;
         ddx * ddx + ddy * ddy - self.s * self.s
     }
     fn noise(&self, t: f64) -> f64 {
-        let ddx = self.dx.abs() + self.dvx.abs() * t;
+        let ddx = self.dx.abs()
+            + self.dvx.abs() * t
+            + self.kappa.abs() * (self.g * t * t + 2.0 * self.floor.amplitude);
         let ddy = self.fy.abs()
             + self.fvy.abs() * t
             + 0.5 * self.g * t * t
@@ -864,18 +879,19 @@ impl RiderCase {
     fn engine(&self, max_rechecks: usize) -> Result<(Option<f64>, usize), String> {
         let mut now = 0.0;
         for n in 0..=max_rechecks {
-            let dx = self.dx + self.dvx * now;
+            let (dx, dvx) = self.sep_x(now);
             let fy = self.fy + (self.fvy - 0.5 * self.g * now) * now;
             let fvy = self.fvy - self.g * now;
             let r = rider_contact(
                 dx,
-                self.dvx,
+                dvx,
                 fy,
                 fvy,
                 self.ar,
                 self.s,
                 self.g,
                 self.floor.max_acceleration(),
+                self.kappa,
                 now,
                 self.limit,
                 |t| self.ride(t),
@@ -965,7 +981,8 @@ fn check_rider(c: &RiderCase) -> Result<(), TestCaseError> {
             // Accuracy: the time F needs to change by its noise near the root.
             let h = 1e-7 * (1.0 + tr);
             let slope = ((c.f(tr + h) - c.f(tr - h).max(-1e300)) / (2.0 * h)).abs();
-            let k = 2.0 * (c.dvx * c.dvx + (c.fvy.abs() + c.g * tr + c.floor.max_speed()).powi(2))
+            let vx = c.dvx.abs() + c.kappa.abs() * (c.g * tr + 2.0 * c.floor.max_speed());
+            let k = 2.0 * (vx * vx + (c.fvy.abs() + c.g * tr + c.floor.max_speed()).powi(2))
                 + 2.0 * c.s * (c.g + c.floor.max_acceleration());
             let noise = c.noise(tr);
             let dt = 2.0 * noise / slope.max(f64::MIN_POSITIVE)
@@ -998,6 +1015,7 @@ proptest! {
         dy in 0.0f64..3.0, fvy in -1.5f64..1.5,
         af in 0.3f64..0.7,
         len in scale(),
+        slides in any::<bool>(), kappa in -0.6f64..0.6,
     ) {
         let floor = make_floor(la, lf, phase, Waveform::Sine, false, len);
         let (ar, g) = (0.5 * len, len);
@@ -1007,7 +1025,10 @@ proptest! {
         let dx = dx * len;
         let gap_y = (s * s - dx * dx).max(0.0).sqrt();
         let fy = h0 + ar + gap_y + dy * len + 1e-6 * len;
-        let c = RiderCase { floor, dx, dvx: dvx * len, fy, fvy: fvy * len, ar, s, g, limit: 4.0 };
+        let kappa = if slides { kappa } else { 0.0 };
+        let c = RiderCase {
+            floor, dx, dvx: dvx * len, fy, fvy: fvy * len, ar, s, g, limit: 4.0, kappa,
+        };
         check_rider(&c)?;
     }
 
@@ -1028,7 +1049,7 @@ proptest! {
         let dx = -dvx;
         let top = s * (1.0 + if hit { -1.0 } else { 1.0 } * 10f64.powi(-k));
         let fy = floor.height(1.0) + ar + top - 0.5 * g; // apex at t = 1 with fvy = g
-        let c = RiderCase { floor, dx, dvx, fy, fvy: g, ar, s, g, limit: 2.0 };
+        let c = RiderCase { floor, dx, dvx, fy, fvy: g, ar, s, g, limit: 2.0, kappa: 0.0 };
         check_rider(&c)?;
     }
 }
@@ -1047,6 +1068,7 @@ fn flyer_resting_on_a_rider_makes_progress() {
         0.5,
         1.0,
         1.0,
+        0.0,
         0.0,
         0.0,
         10.0,

@@ -8,6 +8,7 @@ use crate::physics::flight::Flight;
 use crate::physics::pair::{
     contact_time_within, meeting_time, paths_meet, paths_meet_within, rider_contact, RiderContact,
 };
+use crate::physics::slide::{riders_contact, Slide};
 use crate::platform::prefetch::prefetch;
 
 impl<F: Flight> Simulation<F> {
@@ -75,13 +76,25 @@ impl<F: Flight> Simulation<F> {
                 let (xj, yj, vxj, vyj) = self.state_at_with(j as usize, now, ride);
                 let (dx, dy) = self.wrap(xi - xj, yi - yj);
                 let s = ai + self.disks.radius[j as usize];
-                let mixed = self.is_riding(j as usize) != rider;
+                // A rider and a flyer, or a slider (its path bends): always to the second pass.
+                let riding_j = self.is_riding(j as usize);
+                let bent = riding_j != rider || (rider && self.slides_either(i, j as usize));
                 meeting[k] = j;
-                k += (mixed | paths_meet(dx, dy, vxi - vxj, vyi - vyj, s)) as usize;
+                k += (bent | paths_meet(dx, dy, vxi - vxj, vyi - vyj, s)) as usize;
             }
             for &j in &meeting[..k] {
                 let j = j as usize;
-                let dt = if self.is_riding(j) == rider {
+                let dt = if rider && self.is_riding(j) && self.slides_either(i, j) {
+                    let limit = (now + best.min(horizon)).min(self.map.dutc.deadline);
+                    match self.sliders_contact(i, j, limit) {
+                        Some(RiderContact::At(t)) => Some(t - now),
+                        Some(RiderContact::Recheck(t)) => {
+                            recheck = recheck.min(t);
+                            None
+                        }
+                        None => None,
+                    }
+                } else if self.is_riding(j) == rider {
                     // Both fly, or both ride the floor: relative motion is straight.
                     let (xj, yj, vxj, vyj) = self.state_at_with(j, now, ride);
                     let (dx, dy) = self.wrap(xi - xj, yi - yj);
@@ -229,6 +242,46 @@ impl<F: Flight> Simulation<F> {
         (best, who)
     }
 
+    /// `true` when riding disk `i` or `j` slides on a rough floor.
+    #[inline(always)]
+    fn slides_either(&self, i: usize, j: usize) -> bool {
+        let riders = &self.rest.riders;
+        riders.any_sliding() && (riders.slide(i).is_some() || riders.slide(j).is_some())
+    }
+
+    /// Contact search between riding disks `i` and `j`, one of which slides, from now to
+    /// `limit` (no further than either slide's end or the ride's).
+    fn sliders_contact(&self, i: usize, j: usize, limit: f64) -> Option<RiderContact> {
+        let now = self.now;
+        let floor = self.bounds.floor.as_ref().expect("riders need a floor");
+        let g = self.flight.g();
+        let slide = |k: usize| self.rest.riders.slide(k).unwrap_or(Slide::NONE);
+        let (si, sj) = (slide(i), slide(j));
+        let mut limit = limit;
+        for sl in [si, sj].iter().filter(|sl| sl.is_on()) {
+            limit = limit.min(sl.end);
+        }
+        if let Some((t_end, _)) = floor.ride_end(now, g) {
+            limit = limit.min(t_end);
+        }
+        let ride = floor.ride(now);
+        let (xi, yi, vxi, _) = self.state_at_with(i, now, ride);
+        let (xj, yj, vxj, _) = self.state_at_with(j, now, ride);
+        let (dx, dy) = self.wrap(xi - xj, yi - yj);
+        let s = self.disks.radius[i] + self.disks.radius[j];
+        let kappa = si.kappa - sj.kappa;
+        riders_contact(
+            (dx, vxi - vxj, dy),
+            kappa,
+            s,
+            g,
+            floor.max_acceleration(),
+            now,
+            limit,
+            |t| floor.ride(t),
+        )
+    }
+
     /// Contact search between riding disk `r` and flying disk `f` from now to `limit`; `ride`:
     /// the floor's height and velocity now.
     fn rider_contact(
@@ -245,6 +298,12 @@ impl<F: Flight> Simulation<F> {
             Some((t_end, _)) => limit.min(t_end),
             None => limit,
         };
+        // A sliding rider's path is followed to the end of its slide (its event: it is then
+        // predicted again, against the flyer too).
+        let (kappa, limit) = match self.rest.riders.slide(r) {
+            Some(slide) => (slide.kappa, limit.min(slide.end)),
+            None => (0.0, limit),
+        };
         let (xr, _, vxr, _) = self.state_at_with(r, now, ride);
         let (xf, yf, vxf, vyf) = self.state_at_with(f, now, ride);
         let (dx, _) = self.wrap(xf - xr, 0.0);
@@ -257,6 +316,7 @@ impl<F: Flight> Simulation<F> {
             self.disks.radius[r] + self.disks.radius[f],
             g,
             floor.max_acceleration(),
+            kappa,
             now,
             limit,
             |t| floor.ride(t),

@@ -36,6 +36,7 @@ impl<F: Flight> Simulation<F> {
         if let Some(floor) = &mut self.bounds.floor {
             floor.rebase(now);
         }
+        self.rest.riders.rebase(now);
         // Pairs farther apart than contact + margin cannot meet before the DUTC deadline: the
         // lists keep only the closer ones (the mask guarantees every closer disk is seen).
         let (disks, geometry) = (&self.disks, &self.map.geometry);
@@ -52,7 +53,7 @@ impl<F: Flight> Simulation<F> {
         let lift = self.bounds.floor.as_ref().map_or(0.0, |f| f.max_speed());
         let speed = |i: usize| {
             if self.is_riding(i) {
-                self.disks.motion[i].vx.abs() + lift
+                self.riding_speed_bound(i, self.disks.motion[i].vx) + lift
             } else {
                 self.falling_speed_sq(i).sqrt()
             }

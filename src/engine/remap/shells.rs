@@ -237,7 +237,7 @@ impl<F: Flight> Simulation<F> {
             if room <= 0.0 {
                 return now;
             }
-            let slide = vx.abs();
+            let slide = self.riding_speed_bound(i, vx);
             let by_speed = room / (slide + lift);
             let by_span = if room > span {
                 (room - span) / slide

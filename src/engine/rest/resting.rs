@@ -79,7 +79,7 @@ impl<F: Flight> Simulation<F> {
         let u = dvx * nx + dvy * ny;
         let slide = (dvy * nx - dvx * ny).abs();
         let gentle = self.sleep_speed(k);
-        if gentle == 0.0 {
+        if gentle == 0.0 || self.rest.riders.slide(s).is_some() {
             return Ok(false);
         }
         if -e * u > gentle || slide > gentle {
@@ -263,6 +263,11 @@ impl<F: Flight> Simulation<F> {
             .iter()
             .map(|&c| c as usize)
             .filter(|&c| Some(c) != hit && can_support(c));
+        // A disk sliding on a rough floor carries nothing: its path bends under what it carried.
+        if hit.is_some_and(|h| self.rest.riders.slide(h).is_some()) {
+            return None;
+        }
+        let others = others.filter(|&c| self.rest.riders.slide(c).is_none());
         for c in hit.into_iter().chain(others) {
             let (xc, yc, _, _) = self.state_at(c, now);
             let (dx, dy) = self.wrap(xk - xc, yk - yc);

@@ -12,6 +12,8 @@
 //! The carried lists are validated lazily: an entry counts only while the carried disk still
 //! rides and still names the carrier among its supports.
 
+use crate::physics::slide::Slide;
+
 /// No disk (an empty support or carried slot, or "supported by the floor").
 pub const NO_DISK: u32 = u32::MAX;
 /// A support code: the left side wall.
@@ -40,6 +42,12 @@ pub struct Riders {
     room: usize,
     /// The disks each disk carries, `room` slots per disk.
     carries: Vec<u32>,
+    /// Each disk's slide on a rough floor ([`Slide::NONE`] when it rolls or flies); empty
+    /// unless the floor is rough.
+    slides: Vec<Slide>,
+    /// How many disks slide (kept with `slides`; recounted after a checkpoint is read).
+    #[serde(skip)]
+    sliding_count: usize,
 }
 
 impl Riders {
@@ -62,6 +70,43 @@ impl Riders {
             support: vec![[NO_DISK; 2]; n],
             room,
             carries: vec![NO_DISK; n * room],
+            slides: Vec::new(),
+            sliding_count: 0,
+        }
+    }
+
+    /// Room for slides: the floor is rough.
+    pub fn with_slides(mut self) -> Riders {
+        self.slides = vec![Slide::NONE; self.riding.len()];
+        self
+    }
+
+    /// Disk `i`'s slide on a rough floor, if it slides.
+    #[inline(always)]
+    pub fn slide(&self, i: usize) -> Option<Slide> {
+        self.slides.get(i).copied().filter(Slide::is_on)
+    }
+
+    /// `true` when some disk slides.
+    #[inline(always)]
+    pub fn any_sliding(&self) -> bool {
+        self.sliding_count > 0
+    }
+
+    /// Disk `i` (riding the floor itself) slides with `slide`, or stops sliding (`None`).
+    pub fn set_slide(&mut self, i: usize, slide: Option<Slide>) {
+        let Some(old) = self.slides.get_mut(i) else {
+            return;
+        };
+        let new = slide.unwrap_or(Slide::NONE);
+        self.sliding_count = self.sliding_count + new.is_on() as usize - old.is_on() as usize;
+        *old = new;
+    }
+
+    /// The clock's origin moved forward by `dt`: slides end `dt` earlier in local time.
+    pub fn rebase(&mut self, dt: f64) {
+        for s in self.slides.iter_mut().filter(|s| s.is_on()) {
+            s.end -= dt;
         }
     }
 
@@ -104,6 +149,7 @@ impl Riders {
     /// Disk `i` starts riding the floor directly, its centre `lift` above the floor's surface.
     pub fn mount_on_floor(&mut self, i: usize, lift: f64) {
         self.set_riding(i, true);
+        self.set_slide(i, None);
         self.lift[i] = lift;
         self.support[i] = [NO_DISK; 2];
     }
@@ -120,6 +166,7 @@ impl Riders {
             }
         }
         self.set_riding(k, true);
+        self.set_slide(k, None);
         self.lift[k] = lift;
         self.support[k] = supports;
         for s in disks() {
@@ -162,6 +209,9 @@ impl Riders {
     /// Marks disk `i` riding or not, keeping the count.
     #[inline]
     fn set_riding(&mut self, i: usize, riding: bool) {
+        if !riding {
+            self.set_slide(i, None);
+        }
         if self.riding[i] != riding {
             self.riding[i] = riding;
             if riding {
@@ -175,6 +225,7 @@ impl Riders {
     /// Counts the riding disks anew (after the flags were read from a checkpoint).
     pub fn recount(&mut self) {
         self.riding_count = self.riding.iter().filter(|&&r| r).count();
+        self.sliding_count = self.slides.iter().filter(|s| s.is_on()).count();
     }
 
     /// Appends the disks resting on `s` now to `out` (clears its carried list).
@@ -235,6 +286,9 @@ impl Riders {
         let take = |k: &u32| *k as usize;
         self.riding = from.iter().map(|k| self.riding[take(k)]).collect();
         self.lift = from.iter().map(|k| self.lift[take(k)]).collect();
+        if !self.slides.is_empty() {
+            self.slides = from.iter().map(|k| self.slides[take(k)]).collect();
+        }
         self.support = from
             .iter()
             .map(|k| self.support[take(k)].map(renamed))
@@ -252,6 +306,7 @@ impl Riders {
             + 8 * self.lift.capacity()
             + 8 * self.support.capacity()
             + 4 * self.carries.capacity()
+            + std::mem::size_of::<Slide>() * self.slides.capacity()
     }
 }
 

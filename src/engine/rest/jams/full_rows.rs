@@ -190,7 +190,10 @@ impl<F: Flight> Simulation<F> {
         let a = self.disks.radius[m];
         self.map.lists.of(m).iter().find_map(|&c| {
             let c = c as usize;
-            if !self.is_riding(c) || self.disks.motion[c].vx != 0.0 {
+            if !self.is_riding(c)
+                || self.disks.motion[c].vx != 0.0
+                || self.rest.riders.slide(c).is_some()
+            {
                 return None;
             }
             let (xc, yc, _, _) = self.state_at(c, now);
