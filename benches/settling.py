@@ -29,6 +29,7 @@ Usage, from the project root (builds the engine without the recorder first):
     benches/settling.py beds --jobs 1   # the real beds (about 15 minutes on one core)
     benches/settling.py --bin PATH jam  # another build
     benches/settling.py --friction 0.5 piles
+    benches/settling.py --only "cutoff poly" piles   # the runs whose label holds these words
 """
 import argparse
 import collections
@@ -154,6 +155,8 @@ def main():
     p.add_argument("--bin", help="vibrobed binary (default: build and use target/release/vibrobed)")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--friction", type=float, help="Coulomb friction on pairs, floor and walls")
+    p.add_argument("--only", metavar="WORDS",
+                   help="only the runs whose label holds every word (e.g. 'cutoff poly')")
     args = p.parse_args()
     matrices = args.matrix or ["piles", "jam"]
     unknown = [m for m in matrices if m not in MATRICES]
@@ -168,6 +171,8 @@ def main():
     for name in matrices:
         make, duration = MATRICES[name]
         runs = list(make())
+        if args.only:
+            runs = [(label, s) for label, s in runs if all(w in label for w in args.only.split())]
         if args.friction is not None:
             runs = [(label, roughen(s, args.friction)) for label, s in runs]
         rough = "" if args.friction is None else f" (mu = {args.friction:g} on pairs, floor, walls)"
