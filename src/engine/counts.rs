@@ -86,6 +86,8 @@ pub struct JamCounts {
     pub seated_row: u64,
     /// A full row on the floor stopped.
     pub floor_row: u64,
+    /// A disk sliding on a rough floor, pressed gently into another, rolled at once.
+    pub pressed_slider: u64,
 }
 
 /// Energy (and the floor's momentum) exchanged with the outside, and energy lost in collisions,

@@ -219,7 +219,17 @@ impl<F: Flight> Simulation<F> {
                 return;
             }
         }
+        self.roll_at_once(i);
+    }
+
+    /// Disk `i`, riding a rough floor, stops slipping at once: it rolls on at
+    /// `v_x − s q/(1 + q)` (the friction impulse that ends a slip, whatever its history: the
+    /// angular momentum about the contact point is kept), the loss booked.
+    pub(in crate::engine) fn roll_at_once(&mut self, i: usize) {
+        let spins = self.disks.spins.as_ref().expect("rough disks have spins");
+        let (a, q) = (self.disks.radius[i], spins.q);
         let m = &mut self.disks.motion[i];
+        let slip = m.vx + a * spins.omega[i];
         let vx = m.vx - slip * q / (1.0 + q);
         self.tally.flow.dissipated += 0.5 * self.disks.mass[i] * (m.vx * m.vx - vx * vx);
         m.vx = vx;
@@ -248,7 +258,16 @@ impl<F: Flight> Simulation<F> {
         self.bring(i, self.now);
         self.tally.counts.slide_end += 1;
         self.hold_spin(i);
+        self.stop_if_slow(i);
         self.moved(i);
+    }
+
+    /// Disk `i`, at rest on the floor and rolling, stops if slower than its sleep speed (as a
+    /// disk coming to rest on the floor does).
+    pub(in crate::engine) fn stop_if_slow(&mut self, i: usize) {
+        if self.rest.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {
+            self.stop_sliding(i);
+        }
     }
 
     /// Two of the contacts of a disk at rest (`normals`: support code, unit normal from the

@@ -104,6 +104,10 @@ impl JamCounts {
             ("floor room", self.floor_room - before.floor_room),
             ("seated row", self.seated_row - before.seated_row),
             ("floor row", self.floor_row - before.floor_row),
+            (
+                "pressed slider",
+                self.pressed_slider - before.pressed_slider,
+            ),
         ];
         list(&rules)
     }

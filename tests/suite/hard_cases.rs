@@ -314,6 +314,8 @@ hard_cases! {
     pile_equal_walls_e095_cutoff: "pile_equal_walls_e095_cutoff.json", 1e5; // [1.9e4: from 17]
     pile_poly_periodic_cutoff: "pile_poly_periodic_cutoff.json", 3e5; // [5.2e4: from 15]
     pile_poly_walls_cutoff: "pile_poly_walls_cutoff.json", 3e5; // [4.2e4: from 15]
+    // A pile of 400 rough disks landing; stalled at t = 5.18 before pressed sliders rolled.
+    pile_rough_pressed_slider: "pile_rough_pressed_slider.json", 1e6; // [1.9e5]
     // Without the pocket rule: 4.6e3, the disk sliding to the wall and back for ever.
     pocket_by_a_wall: "pocket_by_a_wall.json", 2e3; // [2.8e2: at rest from t = 2]
     // A column a hair (9e-5 radii) off a side wall, each disk tilted toward it on the one below:
@@ -465,8 +467,9 @@ fn beds_at_rest_come_to_rest_and_cost_nothing() {
 /// every pile comes to rest (before, the upper layers of a pile rolled and rattled on the
 /// disks at rest for ever, 1.8·10⁷ events for 100 disks), and a disk at rest does not turn:
 /// on disks it has no spin, on the floor it rolls with its sliding speed (0, once stopped).
-/// Twice as long: a disk rolling on the floor (no rolling resistance) rolls on until it meets
-/// a wall or a disk.
+/// Four times as long: a disk rolling on the floor (no rolling resistance) rolls on until it
+/// meets a wall or a disk (in `bed_at_rest_tc`, one rolls at 2–3·10⁻³ across a gap in the
+/// bottom row, bounces off the wall and stops against its neighbour near t = 75).
 #[test]
 fn rough_beds_at_rest_come_to_rest_and_cost_nothing() {
     let rough = [
@@ -474,7 +477,24 @@ fn rough_beds_at_rest_come_to_rest_and_cost_nothing() {
         "floor.friction=0.5",
         "domain.wall_friction=0.5",
     ];
-    beds_come_to_rest_and_cost_nothing(&rough, 2.0);
+    beds_come_to_rest_and_cost_nothing(&rough, 4.0);
+}
+
+/// A pile of rough disks poured on a rough floor: at t = 5.18 a disk sliding on the floor is
+/// pressed by its friction into a neighbour moving with it; colliding exchanged nothing, at one
+/// instant, for ever (the run stalled there). The slider now rolls at once (the friction
+/// impulse left, at once): time goes on, under the invariant checks, at a fraction of the cost.
+#[test]
+fn a_sliding_disk_pressed_into_a_neighbour_rolls_and_time_goes_on() {
+    let s = load("pile_rough_pressed_slider.json", &[]);
+    let mut sim = common::ballistic(&json_of(&s));
+    let p = sim.advance_to(s.run.duration).unwrap();
+    assert_eq!(p, vibrobed::engine::Progress::Reached);
+    assert!(
+        sim.jam_counts().pressed_slider > 0,
+        "{:?}",
+        sim.jam_counts()
+    );
 }
 
 /// The beds at rest with `sets`, run `stretch` times their duration: at rest by half of it.
