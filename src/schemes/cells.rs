@@ -24,6 +24,7 @@ pub struct CellList {
     y_wrap: bool,
     head: Vec<u32>,
     next: Vec<u32>,
+    cell_of: Vec<u32>,
     stencil: Vec<(isize, isize)>,
 }
 
@@ -35,7 +36,7 @@ impl CellList {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity())
+        4 * (self.head.capacity() + self.next.capacity() + self.cell_of.capacity())
     }
 
     /// Maps `n` disks at positions `pos(i)` (wrapped into the box where periodic) into cells of
@@ -43,7 +44,7 @@ impl CellList {
     pub fn build(
         &mut self,
         n: usize,
-        pos: impl Fn(usize) -> (f64, f64),
+        pos: impl Fn(usize) -> (f64, f64) + Sync,
         size: f64,
         sides: SideBounds,
         top: Top,
@@ -69,10 +70,14 @@ impl CellList {
                 self.y_wrap = true;
             }
             _ => {
-                let (lo, hi) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), i| {
-                    let y = pos(i).1;
-                    (lo.min(y), hi.max(y))
-                });
+                let (lo, hi) = (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_PIECE)
+                    .map(|i| (pos(i).1, pos(i).1))
+                    .reduce(
+                        || (f64::INFINITY, f64::NEG_INFINITY),
+                        |(lo_a, hi_a), (lo_b, hi_b)| (lo_a.min(lo_b), hi_a.max(hi_b)),
+                    );
                 let (lo, hi) = if n == 0 { (0.0, 0.0) } else { (lo, hi) };
                 let rows = ((hi - lo) / size).floor() as usize + 1;
                 let cap = (2 * n.div_ceil(self.nx) + 3).max(3);
@@ -107,12 +112,21 @@ impl CellList {
         self.head.resize(self.nx * self.ny, EMPTY);
         self.next.clear();
         self.next.resize(n, EMPTY);
-        for i in 0..n {
-            let (x, y) = pos(i);
-            let c = self.index(x, y);
-            self.next[i] = self.head[c];
-            self.head[c] = i as u32;
+        // The cells on the threads; the chains linked in the order of the disks, on one.
+        let mut cell_of = std::mem::take(&mut self.cell_of);
+        (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_PIECE)
+            .map(|i| {
+                let (x, y) = pos(i);
+                self.index(x, y) as u32
+            })
+            .collect_into_vec(&mut cell_of);
+        for (i, &c) in cell_of.iter().enumerate() {
+            self.next[i] = self.head[c as usize];
+            self.head[c as usize] = i as u32;
         }
+        self.cell_of = cell_of;
     }
 
     #[inline]
