@@ -57,8 +57,8 @@ impl Cores {
 /// results to `consume` in the order of `k` on the calling thread, as soon as each is done: the
 /// calling thread applies what the others find while they are still finding it, instead of
 /// waiting for all of it (and the others do not fall asleep between the two). Pieces are taken
-/// in order by whichever thread is free, the calling one included when its next piece has not
-/// been taken; `consume` sees the same results in the same order on any number of threads.
+/// in order by whichever thread is free, the calling one included whenever the next result it
+/// needs is not done yet; `consume` sees the same results in the same order on any number of threads.
 pub fn in_order<T: Send + Sync>(
     pieces: usize,
     work: impl Fn(usize) -> T + Sync,
@@ -79,17 +79,19 @@ pub fn in_order<T: Send + Sync>(
         for _ in 1..rayon::current_num_threads().min(pieces) {
             s.spawn(|_| while take() {});
         }
-        for (k, piece) in done.iter().enumerate() {
+        for piece in &done {
             let mut spins = 0u32;
             let result = loop {
                 if let Some(result) = piece.get() {
                     break result;
                 }
-                if next.load(Ordering::Relaxed) <= k {
-                    take();
-                } else if spins < 1 << 12 {
+                // Another thread is working this piece out: take a later one meanwhile.
+                if next.load(Ordering::Relaxed) < pieces && take() {
+                    continue;
+                }
+                if spins < 1 << 12 {
                     spins += 1;
-                    std::hint::spin_loop(); // another thread is working it out
+                    std::hint::spin_loop();
                 } else {
                     std::thread::yield_now();
                 }
