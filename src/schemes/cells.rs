@@ -24,6 +24,7 @@ pub struct CellList {
     y_wrap: bool,
     head: Vec<u32>,
     next: Vec<u32>,
+    cell_of: Vec<u32>,
     stencil: Vec<(isize, isize)>,
 }
 
@@ -35,7 +36,7 @@ impl CellList {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity())
+        4 * (self.head.capacity() + self.next.capacity() + self.cell_of.capacity())
     }
 
     /// Maps `n` disks at positions `pos(i)` (wrapped into the box where periodic) into cells of
@@ -43,7 +44,7 @@ impl CellList {
     pub fn build(
         &mut self,
         n: usize,
-        pos: impl Fn(usize) -> (f64, f64),
+        pos: impl Fn(usize) -> (f64, f64) + Sync,
         size: f64,
         sides: SideBounds,
         top: Top,
@@ -69,10 +70,14 @@ impl CellList {
                 self.y_wrap = true;
             }
             _ => {
-                let (lo, hi) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), i| {
-                    let y = pos(i).1;
-                    (lo.min(y), hi.max(y))
-                });
+                let (lo, hi) = (0..n)
+                    .into_par_iter()
+                    .with_min_len(MIN_PIECE)
+                    .map(|i| (pos(i).1, pos(i).1))
+                    .reduce(
+                        || (f64::INFINITY, f64::NEG_INFINITY),
+                        |(lo_a, hi_a), (lo_b, hi_b)| (lo_a.min(lo_b), hi_a.max(hi_b)),
+                    );
                 let (lo, hi) = if n == 0 { (0.0, 0.0) } else { (lo, hi) };
                 let rows = ((hi - lo) / size).floor() as usize + 1;
                 let cap = (2 * n.div_ceil(self.nx) + 3).max(3);
@@ -107,12 +112,21 @@ impl CellList {
         self.head.resize(self.nx * self.ny, EMPTY);
         self.next.clear();
         self.next.resize(n, EMPTY);
-        for i in 0..n {
-            let (x, y) = pos(i);
-            let c = self.index(x, y);
-            self.next[i] = self.head[c];
-            self.head[c] = i as u32;
+        // The cells on the threads; the chains linked in the order of the disks, on one.
+        let mut cell_of = std::mem::take(&mut self.cell_of);
+        (0..n)
+            .into_par_iter()
+            .with_min_len(MIN_PIECE)
+            .map(|i| {
+                let (x, y) = pos(i);
+                self.index(x, y) as u32
+            })
+            .collect_into_vec(&mut cell_of);
+        for (i, &c) in cell_of.iter().enumerate() {
+            self.next[i] = self.head[c as usize];
+            self.head[c as usize] = i as u32;
         }
+        self.cell_of = cell_of;
     }
 
     #[inline]
@@ -127,68 +141,67 @@ impl CellList {
         cy * self.nx + cx
     }
 
-    /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells, row of
-    /// cells by row of cells.
+    /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells, cell by cell
+    /// in row-major order.
     pub fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
-        for cy in 0..self.ny {
-            self.for_each_pair_from_row(cy, &mut f);
+        for c in 0..self.nx * self.ny {
+            self.for_each_pair_from_cell(c, &mut f);
         }
     }
 
     /// `f(i, j)` of every pair [`for_each_pair`](Self::for_each_pair) visits, where it is
-    /// `Some`, in the order it visits them; the rows of cells are shared among the threads of
-    /// the current pool, the order is not.
+    /// `Some`, in the order it visits them. The cells are shared among the threads of the
+    /// current pool in runs of about [`MIN_PIECE`] disks (not rows: a bed's few rows hold very
+    /// different numbers of disks, and two threads split a dozen rows unevenly); the order is
+    /// not shared out.
     pub fn pairs_where<T: Send>(&self, f: impl Fn(usize, usize) -> Option<T> + Sync) -> Vec<T> {
-        let disks_per_row = self.next.len() / self.ny.max(1);
-        (0..self.ny)
+        let cells = self.nx * self.ny;
+        let disks_per_cell = (self.next.len() / cells.max(1)).max(1);
+        let pieces: Vec<Vec<T>> = (0..cells)
             .into_par_iter()
-            .with_min_len((MIN_PIECE / disks_per_row.max(1)).max(1))
-            .flat_map_iter(|cy| {
-                let mut found = Vec::new();
-                self.for_each_pair_from_row(cy, |i, j| found.extend(f(i, j)));
+            .with_min_len((MIN_PIECE / disks_per_cell).max(1))
+            .fold(Vec::new, |mut found, c| {
+                self.for_each_pair_from_cell(c, |i, j| found.extend(f(i, j)));
                 found
             })
-            .collect()
+            .collect();
+        pieces.into_iter().flatten().collect()
     }
 
-    /// The pairs within row `cy` of cells and between it and the cells its half stencil
-    /// reaches.
-    fn for_each_pair_from_row(&self, cy: usize, mut f: impl FnMut(usize, usize)) {
+    /// The pairs within cell `c` and between it and the cells its half stencil reaches.
+    fn for_each_pair_from_cell(&self, c: usize, mut f: impl FnMut(usize, usize)) {
         let (nx, ny) = (self.nx as isize, self.ny as isize);
-        let cy = cy as isize;
-        for cx in 0..nx {
-            let c = (cy * nx + cx) as usize;
+        let (cx, cy) = ((c % self.nx) as isize, (c / self.nx) as isize);
+        let mut i = self.head[c];
+        while i != EMPTY {
+            let mut j = self.next[i as usize];
+            while j != EMPTY {
+                f(i as usize, j as usize);
+                j = self.next[j as usize];
+            }
+            i = self.next[i as usize];
+        }
+        for &(dx, dy) in &self.stencil {
+            let (mut tx, mut ty) = (cx + dx, cy + dy);
+            if self.x_wrap {
+                tx = tx.rem_euclid(nx);
+            } else if !(0..nx).contains(&tx) {
+                continue;
+            }
+            if self.y_wrap {
+                ty = ty.rem_euclid(ny);
+            } else if !(0..ny).contains(&ty) {
+                continue;
+            }
+            let t = (ty * nx + tx) as usize;
             let mut i = self.head[c];
             while i != EMPTY {
-                let mut j = self.next[i as usize];
+                let mut j = self.head[t];
                 while j != EMPTY {
                     f(i as usize, j as usize);
                     j = self.next[j as usize];
                 }
                 i = self.next[i as usize];
-            }
-            for &(dx, dy) in &self.stencil {
-                let (mut tx, mut ty) = (cx + dx, cy + dy);
-                if self.x_wrap {
-                    tx = tx.rem_euclid(nx);
-                } else if !(0..nx).contains(&tx) {
-                    continue;
-                }
-                if self.y_wrap {
-                    ty = ty.rem_euclid(ny);
-                } else if !(0..ny).contains(&ty) {
-                    continue;
-                }
-                let t = (ty * nx + tx) as usize;
-                let mut i = self.head[c];
-                while i != EMPTY {
-                    let mut j = self.head[t];
-                    while j != EMPTY {
-                        f(i as usize, j as usize);
-                        j = self.next[j as usize];
-                    }
-                    i = self.next[i as usize];
-                }
             }
         }
     }

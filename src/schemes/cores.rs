@@ -10,7 +10,8 @@
 
 use crate::error::{Error, Result};
 use crate::scenario::{Scenario, Scheme};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// Work items (disks, pairs or rows of cells) below which a loop is not split: smaller pieces
 /// cost more to hand to another thread than to do (a scene of 10³ disks runs on one thread).
@@ -50,6 +51,54 @@ impl Cores {
     pub fn run<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
         self.pool.install(op)
     }
+}
+
+/// Works out `pieces` pieces (`work(k)`) on every thread of the current pool and hands their
+/// results to `consume` in the order of `k` on the calling thread, as soon as each is done: the
+/// calling thread applies what the others find while they are still finding it, instead of
+/// waiting for all of it (and the others do not fall asleep between the two). Pieces are taken
+/// in order by whichever thread is free, the calling one included whenever the next result it
+/// needs is not done yet; `consume` sees the same results in the same order on any number of threads.
+pub fn in_order<T: Send + Sync>(
+    pieces: usize,
+    work: impl Fn(usize) -> T + Sync,
+    mut consume: impl FnMut(&T),
+) {
+    let next = AtomicUsize::new(0);
+    let done: Vec<OnceLock<T>> = (0..pieces).map(|_| OnceLock::new()).collect();
+    // Takes the next piece not yet taken and works it out; false when none is left.
+    let take = || {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        let left = k < pieces;
+        if left {
+            let _ = done[k].set(work(k));
+        }
+        left
+    };
+    rayon::in_place_scope(|s| {
+        for _ in 1..rayon::current_num_threads().min(pieces) {
+            s.spawn(|_| while take() {});
+        }
+        for piece in &done {
+            let mut spins = 0u32;
+            let result = loop {
+                if let Some(result) = piece.get() {
+                    break result;
+                }
+                // Another thread is working this piece out: take a later one meanwhile.
+                if next.load(Ordering::Relaxed) < pieces && take() {
+                    continue;
+                }
+                if spins < 1 << 12 {
+                    spins += 1;
+                    std::hint::spin_loop();
+                } else {
+                    std::thread::yield_now();
+                }
+            };
+            consume(result);
+        }
+    });
 }
 
 /// The cores this process may use: the machine's, or fewer where an affinity mask or a cgroup

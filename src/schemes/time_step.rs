@@ -12,14 +12,15 @@
 //! floor's velocity at that time. Energy changes only at the bounces, where they are booked, so
 //! the energy budget closes to round-off.
 //!
-//! On several threads ([`Cores`]) the flight, the Verlet list and the search for touching pairs
-//! and for disks past a boundary are shared among them; the collisions and bounces found are
-//! then resolved one after the other in the list's order, as on one thread (a disk in two
-//! contacts feels the first before the second is tested), so the results do not depend on the
-//! number of threads.
+//! On several threads ([`Cores`]) the flight (with the tests for a rebuild and for disks past a
+//! boundary, in one pass), the Verlet list and the search for touching pairs are shared among
+//! them. The collisions found are resolved on one thread in the list's order, piece after piece
+//! while the threads search the rest ([`cores::in_order`]), as on one thread (a disk in two
+//! contacts feels the first before the second is tested); then the bounces, by disk number. The
+//! results do not depend on the number of threads.
 
 use super::cells::CellList;
-use super::cores::{Cores, MIN_PIECE};
+use super::cores::{self, Cores, MIN_PIECE};
 use super::rough::Rub;
 use super::{free_flight_visit, min_image, wrap, wrap_positions, Integrator, SchemeStats, Setup};
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
@@ -78,8 +79,7 @@ pub struct TimeStep<F: Flight> {
     pairs: Vec<(u32, u32)>,
     built_x: Vec<f64>,
     built_y: Vec<f64>,
-    flight_vx: Vec<f64>,
-    flight_vy: Vec<f64>,
+    flown: Vec<Flown>,
     step: u64,
     counts: EventCounts,
     flow: EnergyFlow,
@@ -91,7 +91,23 @@ pub struct TimeStep<F: Flight> {
     cores: Cores,
 }
 
+/// A disk at the end of a step's flight, before any collision or bounce, with its radius: what
+/// the search for touching pairs reads. It is the search's own copy (one cache line a disk), so
+/// that the collisions already found can be applied while it runs.
+#[derive(Debug, Clone, Copy)]
+struct Flown {
+    x: f64,
+    y: f64,
+    vx: f64,
+    vy: f64,
+    a: f64,
+}
+
+/// Pairs of the Verlet list searched as one piece (the pieces do not depend on the threads).
+const PAIRS_PIECE: usize = 1024;
+
 /// What the search of the Verlet list found in a pair after a step.
+#[derive(Clone, Copy)]
 enum Found {
     /// The pair overlaps: `(dx, dy)` = r_i − r_j (nearest image), and by how much.
     Touching {
@@ -158,8 +174,7 @@ impl<F: Flight> TimeStep<F> {
             pairs: Vec::new(),
             built_x: vec![0.0; n],
             built_y: vec![0.0; n],
-            flight_vx: vec![0.0; n],
-            flight_vy: vec![0.0; n],
+            flown: Vec::new(),
             step: 0,
             counts: EventCounts::default(),
             flow: EnergyFlow::default(),
@@ -176,6 +191,15 @@ impl<F: Flight> TimeStep<F> {
         for m in &mut ts.disks.motion {
             m.t = 0.0;
         }
+        ts.flown = (ts.disks.motion.iter().enumerate())
+            .map(|(i, m)| Flown {
+                x: m.x,
+                y: m.y,
+                vx: m.vx,
+                vy: m.vy,
+                a: ts.disks.radius[i],
+            })
+            .collect();
         wrap_positions(ts.sides, ts.top, &mut ts.disks);
         ts.cores.clone().run(|| ts.rebuild());
         Ok(ts)
@@ -241,19 +265,13 @@ impl<F: Flight> TimeStep<F> {
     /// One step of dt.
     fn one_step(&mut self) {
         let t1 = (self.step + 1) as f64 * self.dt;
-        let moved_far = self.fly(t1);
+        let floor_now = self.floor_at(t1);
+        let (moved_far, past) = self.fly(t1, floor_now.map(|(h, _)| h));
         self.step += 1;
         if moved_far {
             self.rebuild();
         }
-        // Positions do not change until the next flight: the touching pairs and the disks past
-        // a boundary are searched for at once (one hand-over to the threads, not two).
-        let floor_now = self.floor_at(t1);
-        let (found, past) = rayon::join(
-            || self.search_pairs(),
-            || self.past_a_boundary(floor_now.map(|(h, _)| h)),
-        );
-        self.pairs_step(found, t1);
+        self.pairs_step(t1);
         self.boundaries_step(past, floor_now, t1);
         self.stats.steps = self.step;
     }
@@ -269,83 +287,82 @@ impl<F: Flight> TimeStep<F> {
         })
     }
 
-    /// Every disk flies over dt to `t1` (into the periodic box); its flight velocity is kept for
-    /// the test of missed collisions. Returns whether some disk has moved more than half the
-    /// skin since the Verlet list was built.
-    fn fly(&mut self, t1: f64) -> bool {
+    /// Every disk flies over dt to `t1` (into the periodic box), and is copied for the search of
+    /// touching pairs (its flight velocity for the test of missed collisions). Returns whether some disk has moved more than half the
+    /// skin since the Verlet list was built, and the disks that reach past a boundary (the
+    /// floor at height `floor`) in the order of their numbers: one hand-over to the threads for
+    /// all three.
+    fn fly(&mut self, t1: f64, floor: Option<f64>) -> (bool, Vec<u32>) {
         let (flight, dt, sides, top) = (self.flight, self.dt, self.sides, self.top);
         let half = 0.5 * self.skin;
+        let past = self.boundary_test(floor);
         self.disks
             .motion
             .par_iter_mut()
-            .zip(self.flight_vx.par_iter_mut())
-            .zip(self.flight_vy.par_iter_mut())
+            .zip(self.flown.par_iter_mut())
             .zip(self.built_x.par_iter().zip(self.built_y.par_iter()))
+            .enumerate()
             .with_min_len(MIN_PIECE)
-            .map(|(((m, fvx), fvy), (x0, y0))| {
-                let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
-                let (x, y) = wrap(sides, top, x, y);
-                *m = Motion {
-                    x,
-                    y,
-                    vx,
-                    vy,
-                    t: t1,
-                };
-                (*fvx, *fvy) = (vx, vy);
-                let (dx, dy) = min_image(sides, top, x - x0, y - y0);
-                dx * dx + dy * dy > half * half
-            })
-            .reduce(|| false, |a, b| a || b)
+            .fold(
+                || (false, Vec::new()),
+                |(far, mut beyond), (i, ((m, f), (x0, y0)))| {
+                    let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, dt);
+                    let (x, y) = wrap(sides, top, x, y);
+                    *m = Motion {
+                        x,
+                        y,
+                        vx,
+                        vy,
+                        t: t1,
+                    };
+                    (f.x, f.y, f.vx, f.vy) = (x, y, vx, vy);
+                    let (dx, dy) = min_image(sides, top, x - x0, y - y0);
+                    if past(f.a, x, y) {
+                        beyond.push(i as u32);
+                    }
+                    (far || dx * dx + dy * dy > half * half, beyond)
+                },
+            )
+            .reduce(
+                || (false, Vec::new()),
+                |(far_a, mut a), (far_b, b)| {
+                    a.extend(b);
+                    (far_a || far_b, a)
+                },
+            )
     }
 
-    /// Resolves the approaching pairs among those `found` overlapping, in the list's order;
-    /// counts the missed ones.
-    fn pairs_step(&mut self, found: Vec<Found>, now: f64) {
-        for found in found {
-            match found {
-                Found::Missed => self.stats.missed += 1,
-                Found::Touching {
-                    i,
-                    j,
-                    dx,
-                    dy,
-                    overlap,
-                } => self.touching(i as usize, j as usize, dx, dy, overlap, now),
-            }
-        }
-    }
-
-    /// The Verlet list's pairs that overlap after the step, or whose paths touched during it,
-    /// in the list's order.
-    fn search_pairs(&self) -> Vec<Found> {
-        let (dt, sides, top, d) = (self.dt, self.sides, self.top, &self.disks);
-        let (flight_vx, flight_vy) = (&self.flight_vx, &self.flight_vy);
-        self.pairs
-            .par_iter()
-            .with_min_len(MIN_PIECE)
-            .filter_map(|&(i, j)| {
-                let (iu, ju) = (i as usize, j as usize);
-                let (mi, mj) = (d.motion[iu], d.motion[ju]);
-                let (dx, dy) = min_image(sides, top, mi.x - mj.x, mi.y - mj.y);
-                let s = d.radius[iu] + d.radius[ju];
-                let d2 = dx * dx + dy * dy;
-                if d2 < s * s {
-                    let overlap = s - d2.sqrt();
-                    return Some(Found::Touching {
-                        i,
-                        j,
-                        dx,
-                        dy,
-                        overlap,
-                    });
+    /// Searches the Verlet list for the pairs that overlap after the step (or whose paths
+    /// touched during it), piece by piece on the threads, and resolves the approaching ones on
+    /// this thread in the list's order while the search goes on; counts the missed ones.
+    fn pairs_step(&mut self, now: f64) {
+        let (pairs, flown) = (
+            std::mem::take(&mut self.pairs),
+            std::mem::take(&mut self.flown),
+        );
+        let (dt, sides, top) = (self.dt, self.sides, self.top);
+        cores::in_order(
+            pairs.len().div_ceil(PAIRS_PIECE),
+            |k| {
+                let piece = &pairs[k * PAIRS_PIECE..((k + 1) * PAIRS_PIECE).min(pairs.len())];
+                search_pairs(piece, &flown, dt, sides, top)
+            },
+            |found| {
+                for &found in found {
+                    match found {
+                        Found::Missed => self.stats.missed += 1,
+                        Found::Touching {
+                            i,
+                            j,
+                            dx,
+                            dy,
+                            overlap,
+                        } => self.touching(i as usize, j as usize, dx, dy, overlap, now),
+                    }
                 }
-                // Did their paths touch during the step? Relative motion is straight.
-                let (fvx, fvy) = (flight_vx[iu] - flight_vx[ju], flight_vy[iu] - flight_vy[ju]);
-                let tc = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s, 0.0)?;
-                (tc < dt).then_some(Found::Missed)
-            })
-            .collect()
+            },
+        );
+        (self.pairs, self.flown) = (pairs, flown);
     }
 
     /// A pair found overlapping by `overlap` at separation `(dx, dy)`: collides if it
@@ -456,9 +473,9 @@ impl<F: Flight> TimeStep<F> {
         }
     }
 
-    /// The disks that reach past a side wall, the lid or the floor (at height `floor`), in
-    /// the order of their numbers, whichever way they move.
-    fn past_a_boundary(&self, floor: Option<f64>) -> Vec<u32> {
+    /// Whether a disk of radius `a` at `(x, y)` reaches past a side wall, the lid or the floor
+    /// (at height `floor`), whichever way it moves.
+    fn boundary_test(&self, floor: Option<f64>) -> impl Fn(f64, f64, f64) -> bool + Sync {
         let width = match self.sides {
             SideBounds::Walls { width, .. } => Some(width),
             SideBounds::Periodic { .. } => None,
@@ -467,17 +484,11 @@ impl<F: Flight> TimeStep<F> {
             Top::Lid { height, .. } => Some(height),
             _ => None,
         };
-        let d = &self.disks;
-        (0..d.len() as u32)
-            .into_par_iter()
-            .with_min_len(MIN_PIECE)
-            .filter(|&i| {
-                let (a, m) = (d.radius[i as usize], &d.motion[i as usize]);
-                width.is_some_and(|w| m.x - a < 0.0 || m.x + a > w)
-                    || lid.is_some_and(|h| m.y + a > h)
-                    || floor.is_some_and(|h| m.y - a < h)
-            })
-            .collect()
+        move |a, x, y| {
+            width.is_some_and(|w| x - a < 0.0 || x + a > w)
+                || lid.is_some_and(|h| y + a > h)
+                || floor.is_some_and(|h| y - a < h)
+        }
     }
 }
 
@@ -526,10 +537,8 @@ impl<F: Flight> Integrator for TimeStep<F> {
             bytes: self.disks.bytes()
                 + self.cells.bytes()
                 + 8 * self.pairs.capacity()
-                + 8 * (self.built_x.capacity()
-                    + self.built_y.capacity()
-                    + self.flight_vx.capacity()
-                    + self.flight_vy.capacity())
+                + 8 * (self.built_x.capacity() + self.built_y.capacity())
+                + std::mem::size_of::<Flown>() * self.flown.capacity()
                 + self.restitution.bytes(),
             threads: Some(self.cores.count()),
         }
@@ -537,4 +546,38 @@ impl<F: Flight> Integrator for TimeStep<F> {
     fn approximation(&self) -> Option<SchemeStats> {
         Some(self.stats)
     }
+}
+
+/// The `pairs` that overlap after the step, or whose paths touched during it (`flown`: the disks
+/// at the end of the step's flight), in the list's order.
+fn search_pairs(
+    pairs: &[(u32, u32)],
+    flown: &[Flown],
+    dt: f64,
+    sides: SideBounds,
+    top: Top,
+) -> Vec<Found> {
+    pairs
+        .iter()
+        .filter_map(|&(i, j)| {
+            let (fi, fj) = (flown[i as usize], flown[j as usize]);
+            let (dx, dy) = min_image(sides, top, fi.x - fj.x, fi.y - fj.y);
+            let s = fi.a + fj.a;
+            let d2 = dx * dx + dy * dy;
+            if d2 < s * s {
+                let overlap = s - d2.sqrt();
+                return Some(Found::Touching {
+                    i,
+                    j,
+                    dx,
+                    dy,
+                    overlap,
+                });
+            }
+            // Did their paths touch during the step? Relative motion is straight.
+            let (fvx, fvy) = (fi.vx - fj.vx, fi.vy - fj.vy);
+            let tc = contact_time(dx - fvx * dt, dy - fvy * dt, fvx, fvy, s, 0.0)?;
+            (tc < dt).then_some(Found::Missed)
+        })
+        .collect()
 }
