@@ -2,10 +2,11 @@
 //! profiles.
 
 use crate::engine::Scene;
+use crate::measure::fields::{FieldGrid, Fields};
 use crate::measure::{Observables, Profiles, States};
 use crate::output::summary::Temperature;
 use crate::physics::disks::Disks;
-use crate::scenario::Scenario;
+use crate::scenario::{checks::mean_disk_area, Scenario, XBoundary};
 use serde::{Deserialize, Serialize};
 
 /// The window over which averages are taken (from the end of the warm-up).
@@ -28,6 +29,8 @@ pub(super) struct Averages {
     pub(super) com_height: f64,
     pub(super) samples: usize,
     pub(super) profiles: Option<Profiles>,
+    /// The 2D fields, when asked (`run --fields`).
+    pub(super) fields: Option<Fields>,
 }
 
 impl Averages {
@@ -42,6 +45,9 @@ impl Averages {
         self.samples += 1;
         if let Some(p) = self.profiles.as_mut() {
             p.add(states, disks);
+        }
+        if let Some(f) = self.fields.as_mut() {
+            f.add(states, disks);
         }
     }
 
@@ -64,6 +70,23 @@ pub(super) fn empty_profiles(
     states: &impl States,
     disks: &Disks,
 ) -> Option<Profiles> {
+    let (bottom, top) = profile_range(s, scene, states, disks)?;
+    Some(Profiles::new(
+        s.output.profile_bins,
+        bottom,
+        top,
+        s.domain.width,
+    ))
+}
+
+/// The heights the profiles span in a gravity scene: from the floor's lowest point to
+/// `output.profile_height` (default: twice the highest disk top at the start).
+fn profile_range(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<(f64, f64)> {
     scene.gravity?;
     let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
     let top = s.output.profile_height.unwrap_or_else(|| {
@@ -71,10 +94,35 @@ pub(super) fn empty_profiles(
         states.each(|i, [_, y, _, _]| highest = highest.max(y + disks.radius[i]));
         2.0 * highest.max(bottom + 1.0)
     });
-    Some(Profiles::new(
-        s.output.profile_bins,
+    Some((bottom, top))
+}
+
+/// Most cells a side of the default fields' grid.
+const DEFAULT_FIELD_BINS_MAX: usize = 200;
+
+/// The 2D fields' grid of a gravity scene: across the width, from the profiles' bottom to
+/// `output.field_height` (default: the profiles' top), in `output.field_bins` cells (default:
+/// square-ish cells about two mean disk diameters wide, at most 200 a side).
+pub(super) fn field_grid(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<FieldGrid> {
+    let (bottom, profile_top) = profile_range(s, scene, states, disks)?;
+    let top = s.output.field_height.unwrap_or(profile_top);
+    let [nx, ny] = s.output.field_bins.unwrap_or_else(|| {
+        let cell = 4.0 * (mean_disk_area(s) / std::f64::consts::PI).sqrt();
+        let bins =
+            |length: f64| ((length / cell).round() as usize).clamp(1, DEFAULT_FIELD_BINS_MAX);
+        [bins(s.domain.width), bins(top - bottom)]
+    });
+    Some(FieldGrid {
+        nx,
+        ny,
+        width: s.domain.width,
         bottom,
         top,
-        s.domain.width,
-    ))
+        periodic: s.domain.x_boundary == XBoundary::Periodic,
+    })
 }

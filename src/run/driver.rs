@@ -1,13 +1,14 @@
 //! One run of an engine from its start to its ending: the stops, the measurements at each, the
 //! frames and checkpoints, and the summary.
 
-use super::averages::{empty_profiles, Averages, Window};
+use super::averages::{empty_profiles, field_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
+use crate::measure::fields::Fields;
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
@@ -80,6 +81,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let fields = opts
+            .fields
+            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
+            .flatten()
+            .map(Fields::new);
         Driver {
             sim,
             s,
@@ -98,6 +104,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 com_height: 0.0,
                 samples: 0,
                 profiles,
+                fields,
             },
             last_frame_collisions: 0,
             at_rest_since: None,
@@ -133,8 +140,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 "its profiles do not fit this scene",
             ));
         }
+        let mut d = ck.driver;
+        match (&self.averages.fields, &d.averages.fields) {
+            (Some(_), None) if d.averages.window.is_some() => {
+                return Err(Error::input(
+                    "--fields",
+                    "the checkpointed run did not measure 2D fields after its warm-up: run it \
+                     with --fields to resume with them",
+                ))
+            }
+            (Some(_), None) => d.averages.fields = self.averages.fields.take(),
+            _ => {}
+        }
         self.sim.restore_state(ck.engine)?;
-        let d = ck.driver;
         let duration = self.stops.duration;
         self.stops = Stops {
             duration,
@@ -521,6 +539,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             at_rest_since: self.at_rest_since,
             profiles: avg.profiles.as_ref().map(|p| p.table()),
+            fields: avg.fields.clone(),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,
