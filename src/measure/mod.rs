@@ -3,6 +3,7 @@
 
 pub mod coverage;
 pub mod fields;
+pub mod velocities;
 
 use crate::engine::Snapshot;
 use crate::physics::disks::Disks;

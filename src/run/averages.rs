@@ -3,6 +3,7 @@
 
 use crate::engine::Scene;
 use crate::measure::fields::{FieldGrid, Fields};
+use crate::measure::velocities::Velocities;
 use crate::measure::{Observables, Profiles, States};
 use crate::output::summary::Temperature;
 use crate::physics::disks::Disks;
@@ -31,6 +32,8 @@ pub(super) struct Averages {
     pub(super) profiles: Option<Profiles>,
     /// The 2D fields, when asked (`run --fields`).
     pub(super) fields: Option<Fields>,
+    /// The velocities by height band, for their scaled distributions.
+    pub(super) velocities: Velocities,
 }
 
 impl Averages {
@@ -49,6 +52,7 @@ impl Averages {
         if let Some(f) = self.fields.as_mut() {
             f.add(states, disks);
         }
+        self.velocities.add(states);
     }
 
     pub(super) fn temperature(&self) -> Temperature {
@@ -95,6 +99,25 @@ fn profile_range(
         2.0 * highest.max(bottom + 1.0)
     });
     Some((bottom, top))
+}
+
+/// Empty velocity distributions: by the profiles' height bins in a gravity scene, else one band
+/// (the whole box); the finest raw resolution is set from the initial rms speed (or 1).
+pub(super) fn empty_velocities(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Velocities {
+    let bands = profile_range(s, scene, states, disks)
+        .map(|(bottom, top)| (bottom, top, s.output.profile_bins));
+    let (mut v2, mut n) = (0.0, 0.0f64);
+    states.each(|_, [_, _, vx, vy]| {
+        v2 += vx * vx + vy * vy;
+        n += 1.0;
+    });
+    let rms = (v2 / n.max(1.0)).sqrt();
+    Velocities::new(bands, if rms > 0.0 { rms } else { 1.0 })
 }
 
 /// Most cells a side of the default fields' grid.

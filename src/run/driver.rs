@@ -1,7 +1,7 @@
 //! One run of an engine from its start to its ending: the stops, the measurements at each, the
 //! frames and checkpoints, and the summary.
 
-use super::averages::{empty_profiles, field_grid, Averages, Window};
+use super::averages::{empty_profiles, empty_velocities, field_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
@@ -86,6 +86,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
             .flatten()
             .map(Fields::new);
+        let velocities = empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks());
         Driver {
             sim,
             s,
@@ -105,6 +106,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 samples: 0,
                 profiles,
                 fields,
+                velocities,
             },
             last_frame_collisions: 0,
             at_rest_since: None,
@@ -540,6 +542,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             at_rest_since: self.at_rest_since,
             profiles: avg.profiles.as_ref().map(|p| p.table()),
             fields: avg.fields.clone(),
+            velocity_distribution: avg.velocities.distribution(),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,

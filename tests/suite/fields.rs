@@ -185,3 +185,63 @@ fn a_seed_gives_the_same_fields_and_a_resumed_run_those_of_the_whole_run() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The summary's velocity distributions of a scenario run with these overrides.
+fn velocity_distribution(
+    name: &str,
+    sets: &[&str],
+) -> vibrobed::measure::velocities::VelocityDistribution {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let s = vibrobed::Scenario::load(&scenario(name), &sets).expect("scenario");
+    let summary = vibrobed::run::run(&s, vibrobed::run::RunOptions::default()).expect("run");
+    summary.velocity_distribution.expect("a distribution")
+}
+
+/// An elastic gas (2500 disks, φ = 0.3, periodic) relaxes to the Maxwell distribution: each
+/// component Gaussian. 180 units after a warm-up of 20, sampled every 0.5: 9·10⁵ velocities.
+/// Across seeds 1–6 the kurtosis came out 2.988–3.021 (spread 0.009, the samples being
+/// correlated over a few collision times), the histogram within 0.005 of the Gaussian density:
+/// the test allows 0.05 (about 5 spreads) and 0.015.
+#[test]
+fn an_elastic_gas_has_gaussian_velocities() {
+    let d = velocity_distribution(
+        "gas_periodic_phi03.json",
+        &["run.duration=200", "run.warmup=20"],
+    );
+    assert_eq!(d.scaling, "whole box");
+    for (axis, a) in [("x", &d.x), ("y", &d.y)] {
+        assert!(
+            (a.kurtosis - 3.0).abs() < 0.05,
+            "{axis}: kurtosis {} (Gaussian: 3)",
+            a.kurtosis
+        );
+        let gauss = |c: f64| (-0.5 * c * c).exp() / (2.0 * std::f64::consts::PI).sqrt();
+        for (c, p) in d.c.iter().zip(&a.density) {
+            assert!(
+                (p - gauss(*c)).abs() < 0.015,
+                "{axis}: density {p} at c = {c}"
+            );
+        }
+        let total: f64 = a.density.iter().sum::<f64>() * (d.c[1] - d.c[0]);
+        assert!((total - 1.0).abs() < 1e-3, "{axis}: ∫ p dc = {total}");
+    }
+}
+
+/// A driven inelastic bed (the shipped vibrated bed, e = 0.9, Γ = 3) has overpopulated tails in
+/// the horizontal velocity: kurtosis 3.47 here (seed 6), against 3 for a Gaussian and 3.76 for
+/// the exp(−|c|^1.5) of Losert et al. (1999).
+#[test]
+fn a_vibrated_inelastic_bed_has_overpopulated_horizontal_tails() {
+    let d = velocity_distribution("vibrated_bed.json", &[]);
+    assert_eq!(d.scaling, "height bands");
+    assert!(d.x.kurtosis > 3.3, "x: kurtosis {}", d.x.kurtosis);
+    // The tails beyond |c| = 3 hold more than a Gaussian's 0.27 %.
+    let w = d.c[1] - d.c[0];
+    let tail: f64 =
+        d.c.iter()
+            .zip(&d.x.density)
+            .filter(|(c, _)| c.abs() > 3.0)
+            .map(|(_, p)| p * w)
+            .sum();
+    assert!(tail > 0.004, "x: {tail} beyond |c| = 3");
+}
