@@ -63,6 +63,9 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) failures: Failures,
     /// The thread that notices output files removed during the run.
     pub(super) watch: Watch,
+    /// The recording's live fields (`output.record_fields`) and the factor by which they forget
+    /// their past at each frame.
+    pub(super) live_fields: Option<(Fields, f64)>,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -87,6 +90,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .flatten()
             .map(Fields::new);
         let velocities = empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every));
+        let live_fields = (s.output.record_fields && sink.is_some())
+            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
+            .flatten()
+            .map(|grid| (Fields::new(grid), forget_factor(scene, stops.frame_dt)));
         Driver {
             sim,
             s,
@@ -97,7 +105,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             now: 0.0,
             snap: Snapshot::default(),
             initial,
-            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
+            stops,
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
@@ -119,6 +127,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             rrd: None,
             failures: Failures::default(),
             watch: Watch::start(Vec::new()),
+            live_fields,
         }
     }
 
@@ -329,13 +338,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .as_ref()
             .map(|p| p.of_instant(snap, d));
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        let sent = sink.frame(&frame_view(
+        if let Some((f, forget)) = self.live_fields.as_mut() {
+            f.decay(*forget);
+            f.add(snap, d);
+        }
+        let mut view = frame_view(
             self.stops.k_frame - 1,
             snap,
             (&radius, &species),
             (series, profile.as_ref()),
             spins.as_deref(),
-        ));
+        );
+        view.fields = self.live_fields.as_ref().map(|(f, _)| f);
+        let sent = sink.frame(&view);
         if let Err(e) = sent {
             self.drop_recording(e, false);
         }
@@ -606,6 +621,17 @@ fn frame_view<'a>(
         series,
         profile,
         spins,
+        fields: None,
+    }
+}
+
+/// The factor by which the recording's live fields forget their past at each frame, `frame_dt`
+/// apart: e^(−frame_dt / period), an exponential running average over one floor period; 0 (the
+/// frame alone) without a vibrating floor.
+fn forget_factor(scene: &Scene, frame_dt: f64) -> f64 {
+    match &scene.floor {
+        Some(f) if !f.is_static() => (-frame_dt / f.period_or_one()).exp(),
+        _ => 0.0,
     }
 }
 

@@ -351,6 +351,7 @@ fn validate_fields(s: &Scenario) -> Result<()> {
     let named = [
         ("output.field_bins", o.field_bins.is_some()),
         ("output.field_height", o.field_height.is_some()),
+        ("output.record_fields", o.record_fields),
     ];
     if let Some((field, _)) = named.iter().find(|(_, set)| *set) {
         if s.gravity.is_none() {

@@ -357,6 +357,10 @@ pub struct Output {
     /// Height of the top of the 2D fields' grid (default: the profiles' top).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field_height: Option<f64>,
+    /// Draw the live 2D fields in the recording beside the disks: packing fraction as a heat map,
+    /// mean velocity as arrows, a running average over one floor period (gravity scenes).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub record_fields: bool,
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
@@ -388,6 +392,7 @@ impl Default for Output {
             profile_height: None,
             field_bins: None,
             field_height: None,
+            record_fields: false,
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,

@@ -712,6 +712,12 @@ fn fields_without_gravity_are_refused() {
         &["output.field_bins=[4,4]"],
         &["output.field_bins"],
     );
+    check_refuses(
+        "record-fields-no-gravity",
+        "box_walls.json",
+        &["output.record_fields=true"],
+        &["output.record_fields"],
+    );
     run_refuses(
         "fields-no-gravity",
         "box_walls.json",
