@@ -12,7 +12,7 @@ pub(crate) fn area_below(z: f64, a: f64) -> f64 {
 /// Area of a disk of radius `a` in the quadrant `x < X, y < Y` (relative to its centre):
 /// the columns left of `X` are whole chords `2s(x)` (s = √(a² − x²)) where `Y` lies above the
 /// chord's top, `Y + s(x)` where it cuts the chord (|x| < c = √(a² − Y²)), nothing below.
-fn area_below_left(x: f64, y: f64, a: f64) -> f64 {
+pub(crate) fn area_below_left(x: f64, y: f64, a: f64) -> f64 {
     // ∫_{-a}^{u} s(x) dx: half the area of a disk left of a vertical line at u.
     let half = |u: f64| 0.5 * area_below(u, a);
     let c = (a * a - y * y).max(0.0).sqrt();
@@ -29,7 +29,9 @@ fn area_below_left(x: f64, y: f64, a: f64) -> f64 {
     }
 }
 
-/// Area of a disk of radius `a` centred at `(cx, cy)` inside the rectangle `[x0, x1] × [y0, y1]`.
+/// Area of a disk of radius `a` centred at `(cx, cy)` inside the rectangle `[x0, x1] × [y0, y1]`
+/// (the fields split a disk over many rectangles at once from the corners they share).
+#[cfg(test)]
 pub(crate) fn area_in_rectangle(
     (cx, cy): (f64, f64),
     a: f64,

@@ -6,7 +6,7 @@
 //! ([`coverage`](super::coverage)), the same mass-weighted mean velocity and temperature about it.
 //! Cell `(i, j)`: column `i` from the left wall (x = 0), row `j` from the grid's bottom.
 
-use super::coverage::area_in_rectangle;
+use super::coverage::area_below_left;
 use super::States;
 use crate::physics::disks::Disks;
 use serde::{Deserialize, Serialize};
@@ -89,6 +89,9 @@ pub struct Fields {
     ky: Vec<f64>,
     /// Σ I ω² per cell (rough disks; empty for smooth ones).
     krot: Vec<f64>,
+    /// The quadrant areas at the corners of the cells one disk covers (reused).
+    #[serde(skip)]
+    corners: Vec<f64>,
 }
 
 impl Fields {
@@ -106,6 +109,7 @@ impl Fields {
             kx: z.clone(),
             ky: z,
             krot: Vec::new(),
+            corners: Vec::new(),
         }
     }
 
@@ -149,7 +153,9 @@ impl Fields {
     }
 
     /// Splits the area of a disk of radius `a` centred at `(x, y)` over the cells it covers
-    /// (wrapped across x in a periodic domain; the parts outside the grid are not counted).
+    /// (wrapped across x in a periodic domain; the parts outside the grid are not counted): a
+    /// cell's part is the inclusion-exclusion of the disk's areas in the quadrants below-left
+    /// of its four corners, each corner computed once for the cells sharing it.
     fn add_area(&mut self, x: f64, y: f64, a: f64) {
         let g = self.grid;
         let [dx, dy] = g.cell();
@@ -159,9 +165,19 @@ impl Fields {
         if !(j_lo <= j_hi && i_lo <= i_hi) {
             return; // Wholly below or above the grid (or not a number).
         }
-        for fj in j_lo as i64..=j_hi as i64 {
-            let ys = [g.bottom + fj as f64 * dy, g.bottom + (fj + 1) as f64 * dy];
-            for fi in i_lo as i64..=i_hi as i64 {
+        let (j_lo, j_hi, i_lo, i_hi) = (j_lo as i64, j_hi as i64, i_lo as i64, i_hi as i64);
+        let columns = (i_hi - i_lo + 2) as usize;
+        self.corners.clear();
+        for fj in j_lo..=j_hi + 1 {
+            let cy = g.bottom + fj as f64 * dy - y;
+            for fi in i_lo..=i_hi + 1 {
+                self.corners
+                    .push(area_below_left(fi as f64 * dx - x, cy, a));
+            }
+        }
+        let corner = |fi: i64, fj: i64| ((fj - j_lo) as usize) * columns + (fi - i_lo) as usize;
+        for fj in j_lo..=j_hi {
+            for fi in i_lo..=i_hi {
                 let column = if g.periodic {
                     fi.rem_euclid(g.nx as i64)
                 } else {
@@ -170,11 +186,14 @@ impl Fields {
                 if !(0..g.nx as i64).contains(&column) {
                     continue;
                 }
-                let xs = [fi as f64 * dx, (fi + 1) as f64 * dx];
-                let part = area_in_rectangle((x, y), a, xs, ys);
-                self.area[g.index(column as usize, fj as usize)] += part;
+                let f = &self.corners;
+                let part =
+                    f[corner(fi + 1, fj + 1)] - f[corner(fi, fj + 1)] - f[corner(fi + 1, fj)]
+                        + f[corner(fi, fj)];
+                self.area[g.index(column as usize, fj as usize)] += part.max(0.0);
             }
         }
+        self.corners.clear(); // Empty between disks: two equal fields compare equal.
     }
 
     /// The fields of one instant alone over the same grid; `self` is left as it is.
