@@ -32,8 +32,9 @@ pub(super) struct Averages {
     pub(super) profiles: Option<Profiles>,
     /// The 2D fields, when asked (`run --fields`).
     pub(super) fields: Option<Fields>,
-    /// The velocities by height band, for their scaled distributions.
-    pub(super) velocities: Velocities,
+    /// The velocities by height band, for their scaled distributions
+    /// (`output.velocity_distribution`).
+    pub(super) velocities: Option<Velocities>,
 }
 
 impl Averages {
@@ -52,7 +53,9 @@ impl Averages {
         if let Some(f) = self.fields.as_mut() {
             f.add(states, disks);
         }
-        self.velocities.add(states);
+        if let Some(v) = self.velocities.as_mut() {
+            v.add(states);
+        }
     }
 
     pub(super) fn temperature(&self) -> Temperature {

@@ -89,7 +89,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
             .flatten()
             .map(Fields::new);
-        let velocities = empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let velocities = s
+            .output
+            .velocity_distribution
+            .then(|| empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks()));
         let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every));
         let live_fields = (s.output.record_fields && sink.is_some())
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
@@ -557,7 +560,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             at_rest_since: self.at_rest_since,
             profiles: avg.profiles.as_ref().map(|p| p.table()),
             fields: avg.fields.clone(),
-            velocity_distribution: avg.velocities.distribution(),
+            velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,

@@ -357,6 +357,11 @@ pub struct Output {
     /// Height of the top of the 2D fields' grid (default: the profiles' top).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field_height: Option<f64>,
+    /// Give the distributions of the scaled velocities c = (v − u)/√T and their kurtosis in the
+    /// summary (`velocity_distribution`; off by default: it costs a few per cent of a run with
+    /// dense samples).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub velocity_distribution: bool,
     /// Draw the live 2D fields in the recording beside the disks: packing fraction as a heat map,
     /// mean velocity as arrows, a running average over one floor period (gravity scenes).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -393,6 +398,7 @@ impl Default for Output {
             field_bins: None,
             field_height: None,
             record_fields: false,
+            velocity_distribution: false,
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,

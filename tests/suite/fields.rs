@@ -191,7 +191,11 @@ fn velocity_distribution(
     name: &str,
     sets: &[&str],
 ) -> vibrobed::measure::velocities::VelocityDistribution {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let sets: Vec<String> = ["output.velocity_distribution=true"]
+        .iter()
+        .chain(sets)
+        .map(|s| s.to_string())
+        .collect();
     let s = vibrobed::Scenario::load(&scenario(name), &sets).expect("scenario");
     let summary = vibrobed::run::run(&s, vibrobed::run::RunOptions::default()).expect("run");
     summary.velocity_distribution.expect("a distribution")
