@@ -36,9 +36,9 @@ test -s "$out/analyse.png"
 
 # The convection rolls' measure (examples/convection.py) on a short run of the convection scene.
 cargo run --release --quiet -- run scenarios/convection.json --quiet \
-  --set run.duration=40 --set run.warmup=10 \
-  --trajectory "$out/convection.xyz" --summary "$out/convection.json"
-"$venv/bin/python" examples/convection.py "$out/convection.xyz" --warmup 10 \
+  --set run.duration=40 --set run.warmup=10 --set 'output.field_bins=[20,20]' \
+  --fields "$out/convection.csv" --summary "$out/convection.json"
+"$venv/bin/python" examples/convection.py "$out/convection.csv" \
   --figure "$out/convection.png" > "$out/convection.txt"
 grep -q "circulation (centre - walls)" "$out/convection.txt"
 test -s "$out/convection.png"

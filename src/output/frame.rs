@@ -2,6 +2,7 @@
 //! moving parts and the scalar time series. Output sinks (the Rerun recorder, tests) read frames;
 //! they never touch the engine.
 
+use crate::measure::fields::Fields;
 use crate::measure::ProfileTable;
 
 /// The fixed geometry of a scene, known before the first frame.
@@ -70,4 +71,6 @@ pub struct FrameView<'a> {
     /// Each rough disk's `(angle, ω)` at `time`: its orientation in [0, 2π) and angular
     /// velocity, anticlockwise positive; `None` for smooth disks.
     pub spins: Option<&'a [(f64, f64)]>,
+    /// The live 2D fields (`output.record_fields`): a running average over one floor period.
+    pub fields: Option<&'a Fields>,
 }

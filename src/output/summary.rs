@@ -161,6 +161,13 @@ pub struct Summary {
     /// Height profiles (gravity scenes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,
+    /// Distributions of the scaled velocities c = (v − u)/√T per axis, with their kurtosis
+    /// (after the warm-up; `output.velocity_distribution` only, absent before any sample).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub velocity_distribution: Option<crate::measure::velocities::VelocityDistribution>,
+    /// The 2D fields (`run --fields`), written to their own file, not into the summary.
+    #[serde(skip)]
+    pub fields: Option<crate::measure::fields::Fields>,
     /// Engine set-up.
     pub engine: EngineSummary,
     /// Steps and errors of an approximate scheme (`engine.scheme` `time-step` or `space-time`).

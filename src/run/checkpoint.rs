@@ -31,8 +31,9 @@ const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// Bumped whenever the payload's layout or meaning changes (11: the calendar's current bucket
 /// is a sorted array, no longer a heap; 12: the calendar may hold an entry waiting to be linked;
 /// 13: the numbering holds its interval; 14: the calendar says whether it keeps events ahead;
-/// 15: rough disks' spins, the rotational energy and temperature; 16: slides on a rough floor).
-const FORMAT_VERSION: u32 = 16;
+/// 15: rough disks' spins, the rotational energy and temperature; 16: slides on a rough floor;
+/// 17: the 2D fields).
+const FORMAT_VERSION: u32 = 17;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

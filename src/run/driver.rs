@@ -1,13 +1,14 @@
 //! One run of an engine from its start to its ending: the stops, the measurements at each, the
 //! frames and checkpoints, and the summary.
 
-use super::averages::{empty_profiles, Averages, Window};
+use super::averages::{empty_profiles, empty_velocities, field_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
+use crate::measure::fields::Fields;
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
@@ -62,6 +63,9 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) failures: Failures,
     /// The thread that notices output files removed during the run.
     pub(super) watch: Watch,
+    /// The recording's live fields (`output.record_fields`) and the factor by which they forget
+    /// their past at each frame.
+    pub(super) live_fields: Option<(Fields, f64)>,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -80,6 +84,20 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let fields = opts
+            .fields
+            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
+            .flatten()
+            .map(Fields::new);
+        let velocities = s
+            .output
+            .velocity_distribution
+            .then(|| empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks()));
+        let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every));
+        let live_fields = (s.output.record_fields && sink.is_some())
+            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
+            .flatten()
+            .map(|grid| (Fields::new(grid), forget_factor(scene, stops.frame_dt)));
         Driver {
             sim,
             s,
@@ -90,7 +108,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             now: 0.0,
             snap: Snapshot::default(),
             initial,
-            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
+            stops,
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
@@ -98,6 +116,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 com_height: 0.0,
                 samples: 0,
                 profiles,
+                fields,
+                velocities,
             },
             last_frame_collisions: 0,
             at_rest_since: None,
@@ -110,6 +130,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             rrd: None,
             failures: Failures::default(),
             watch: Watch::start(Vec::new()),
+            live_fields,
         }
     }
 
@@ -133,8 +154,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 "its profiles do not fit this scene",
             ));
         }
+        let mut d = ck.driver;
+        match (&self.averages.fields, &d.averages.fields) {
+            (Some(_), None) if d.averages.window.is_some() => {
+                return Err(Error::input(
+                    "--fields",
+                    "the checkpointed run did not measure 2D fields after its warm-up: run it \
+                     with --fields to resume with them",
+                ))
+            }
+            (Some(_), None) => d.averages.fields = self.averages.fields.take(),
+            _ => {}
+        }
         self.sim.restore_state(ck.engine)?;
-        let d = ck.driver;
         let duration = self.stops.duration;
         self.stops = Stops {
             duration,
@@ -309,13 +341,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .as_ref()
             .map(|p| p.of_instant(snap, d));
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        let sent = sink.frame(&frame_view(
+        if let Some((f, forget)) = self.live_fields.as_mut() {
+            f.decay(*forget);
+            f.add(snap, d);
+        }
+        let mut view = frame_view(
             self.stops.k_frame - 1,
             snap,
             (&radius, &species),
             (series, profile.as_ref()),
             spins.as_deref(),
-        ));
+        );
+        view.fields = self.live_fields.as_ref().map(|(f, _)| f);
+        let sent = sink.frame(&view);
         if let Err(e) = sent {
             self.drop_recording(e, false);
         }
@@ -521,6 +559,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             },
             at_rest_since: self.at_rest_since,
             profiles: avg.profiles.as_ref().map(|p| p.table()),
+            fields: avg.fields.clone(),
+            velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,
@@ -584,6 +624,17 @@ fn frame_view<'a>(
         series,
         profile,
         spins,
+        fields: None,
+    }
+}
+
+/// The factor by which the recording's live fields forget their past at each frame, `frame_dt`
+/// apart: e^(−frame_dt / period), an exponential running average over one floor period; 0 (the
+/// frame alone) without a vibrating floor.
+fn forget_factor(scene: &Scene, frame_dt: f64) -> f64 {
+    match &scene.floor {
+        Some(f) if !f.is_static() => (-frame_dt / f.period_or_one()).exp(),
+        _ => 0.0,
     }
 }
 

@@ -350,6 +350,22 @@ pub struct Output {
     /// Height of the top of the profiles (default: chosen from the initial bed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile_height: Option<f64>,
+    /// Cells `[nx, ny]` of the 2D fields (`run --fields`) across x and up the height (default:
+    /// square-ish cells about two mean disk diameters wide, at most 200 a side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_bins: Option<[usize; 2]>,
+    /// Height of the top of the 2D fields' grid (default: the profiles' top).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_height: Option<f64>,
+    /// Give the distributions of the scaled velocities c = (v − u)/√T and their kurtosis in the
+    /// summary (`velocity_distribution`; off by default: it costs a few per cent of a run with
+    /// dense samples).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub velocity_distribution: bool,
+    /// Draw the live 2D fields in the recording beside the disks: packing fraction as a heat map,
+    /// mean velocity as arrows, a running average over one floor period (gravity scenes).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub record_fields: bool,
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
@@ -379,6 +395,10 @@ impl Default for Output {
             sample_interval: None,
             profile_bins: default_bins(),
             profile_height: None,
+            field_bins: None,
+            field_height: None,
+            record_fields: false,
+            velocity_distribution: false,
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,

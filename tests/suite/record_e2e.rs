@@ -710,3 +710,30 @@ fn area_between(y: f64, a: f64, lo: f64, hi: f64) -> f64 {
         })
         .sum()
 }
+
+/// `output.record_fields`: the live 2D fields are in every frame (a heat map image and the
+/// arrows of the mean velocity), the run is the run without them, and a recording without the
+/// switch holds none of their entities and the same disks.
+#[test]
+fn live_fields_are_recorded_only_when_asked() {
+    let dir = scratch("fields");
+    let (with, without) = (dir.join("with.rrd"), dir.join("without.rrd"));
+    let mut s = common::scenario(BED);
+    let plain = record(&s, &without);
+    s.output.record_fields = true;
+    let fielded = record(&s, &with);
+    assert_eq!(dynamics_of(&plain), dynamics_of(&fielded));
+    let (a, b) = (read_back(&with).unwrap(), read_back(&without).unwrap());
+    for e in ["fields/packing_fraction", "fields/velocity"] {
+        assert_eq!(a.entity(e).map(|s| s.frames), Some(FRAMES), "{e}");
+        assert!(b.entity(e).is_none(), "{e} without the switch");
+    }
+    assert!(a.static_entities.contains("fields"));
+    assert!(!b.static_entities.iter().any(|e| e.starts_with("fields")));
+    assert_eq!(a.disks, b.disks);
+    assert_eq!(
+        a.view_bounds.len(),
+        b.view_bounds.len() + 1,
+        "the fields' view"
+    );
+}

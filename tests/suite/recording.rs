@@ -83,6 +83,7 @@ fn view(k: u64, s: &State) -> FrameView<'_> {
         series: &s.series,
         profile: None,
         spins: None,
+        fields: None,
     }
 }
 
@@ -416,6 +417,7 @@ fn recording_throughput() {
             series: &series,
             profile: None,
             spins: None,
+            fields: None,
         })
         .unwrap();
     }

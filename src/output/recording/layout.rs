@@ -239,11 +239,24 @@ impl Writer {
         series: &[(&'static str, f64)],
         profile: Option<&ProfileTable>,
         view_top: Option<f64>,
+        fields: bool,
     ) -> Result<(), String> {
         self.blueprint_sent = true;
         let mut bounds: Vec<(String, [f64; 4])> = Vec::new();
         let range = profile.and_then(profile_range);
-        let bed = self.bed_view(view_top, range, &mut bounds)?;
+        let mut bed = self.bed_view(view_top, range, &mut bounds)?;
+        if fields {
+            // Beside the bed, over the same region: the live fields.
+            let (view, path) = view_with_path(
+                Spatial2DView::new("fields: packing fraction, mean velocity")
+                    .with_origin("/")
+                    .with_contents([format!("/{FIELDS_ENTITY}/**")]),
+            );
+            if let Some(fitted) = bounds.last().map(|b| b.1) {
+                bounds.push((path, fitted));
+            }
+            bed = Horizontal::new([bed, view]).into();
+        }
         // Below: profiles, time series, legend and log.
         let mut row: Vec<ContainerLike> = Vec::new();
         let mut shares: Vec<f32> = Vec::new();

@@ -20,6 +20,9 @@
 //! | `profiles/temperature`          | temporal | `LineStrips2D`: ((Tx + Ty)/2, height), bins holding disks |
 //! | `profiles/<name>/axes`          | static   | `LineStrips2D` and labelled `Points2D`: axes, ticks, titles |
 //! | `series/<name>`                 | temporal | `Scalars`: one value per frame (`energy/rotational` for rough disks only) |
+//! | `fields`                        | static   | y-up `Transform3D` (recordings with `output.record_fields` only) |
+//! | `fields/packing_fraction`       | static + temporal | `Image` per frame, one pixel per cell of the live 2D fields, coloured by packing fraction (blue 0 → grey 0.4 → red 0.8 and above); a static `Transform3D` stretches pixel (i, j) over cell (i, j) |
+//! | `fields/velocity`               | temporal | `Arrows2D`: the mean velocity of each cell that holds disks, from the cell's centre, a cell width per 0.3 × the speed scale |
 //! | `legend`                        | static   | `TextDocument` (Markdown): what the colours and views show |
 //! | `log`                           | temporal | `TextLog`: notable events                        |
 //!
@@ -94,11 +97,12 @@ use rerun::external::re_sdk_types::datatypes::{Range1D, Range2D};
 use rerun::log::{Chunk, LogMsg, TimeColumn};
 use rerun::time::{TimeCell, TimelineName};
 use rerun::{
-    AnnotationContext, LineStrips2D, Points2D, RecordingStream, RecordingStreamBuilder, Scalars,
-    TextDocument, TextLog, Transform3D,
+    AnnotationContext, Arrows2D, Image, LineStrips2D, Points2D, RecordingStream,
+    RecordingStreamBuilder, Scalars, TextDocument, TextLog, Transform3D,
 };
 
 use super::frame::{ColorBy, FrameView, SceneLayout};
+use crate::measure::fields::Fields;
 use crate::measure::ProfileTable;
 
 /// Application id written into the recording.
@@ -129,6 +133,12 @@ pub const PACKING_PROFILE_ENTITY: &str = "profiles/packing_fraction";
 pub const TEMPERATURE_PROFILE_ENTITY: &str = "profiles/temperature";
 /// Prefix of the time-series entities: series `name` goes to `series/<name>`.
 pub const SERIES_PREFIX: &str = "series";
+/// Entity of the live 2D fields (`output.record_fields`): a y-up transform over both below.
+pub const FIELDS_ENTITY: &str = "fields";
+/// Entity of the live packing fraction: an image, one pixel per cell (one per frame).
+pub const FIELDS_PACKING_ENTITY: &str = "fields/packing_fraction";
+/// Entity of the live mean velocity: one arrow per cell that holds disks (`Arrows2D`).
+pub const FIELDS_VELOCITY_ENTITY: &str = "fields/velocity";
 /// Entity of the legend (static Markdown text).
 pub const LEGEND_ENTITY: &str = "legend";
 /// Entity of the text log.
@@ -193,6 +203,8 @@ struct FrameBuf {
     floor_height: Option<f64>,
     series: Vec<(&'static str, f64)>,
     profile: Option<ProfileTable>,
+    /// The live 2D fields (`output.record_fields`).
+    fields: Option<Fields>,
 }
 
 impl FrameBuf {
@@ -213,6 +225,10 @@ impl FrameBuf {
         self.floor_height = f.floor_height;
         copy(&mut self.series, f.series);
         self.profile = f.profile.cloned();
+        match (&mut self.fields, f.fields) {
+            (Some(mine), Some(theirs)) => mine.clone_from(theirs),
+            (mine, theirs) => *mine = theirs.cloned(),
+        }
     }
 }
 
@@ -299,6 +315,7 @@ impl RerunRecorder {
             last_time: None,
             step: None,
             batch: Batch::default(),
+            field_cells: [0, 0],
         };
         if let Err(e) = writer.log_static_scene() {
             return Err(writer.complete().err().unwrap_or(e));

@@ -54,6 +54,44 @@ pub(super) struct Batch {
     pub(super) series: BTreeMap<&'static str, Column<f64>>,
     /// The clock's label of each frame.
     pub(super) clock: Column<String>,
+    /// The live fields of each frame: the heat map (frame, time, RGB bytes, one pixel per cell)
+    /// and the arrows of all frames (`values`: each frame's count; origins, vectors).
+    pub(super) field_images: Vec<(i64, f64, Vec<u8>)>,
+    pub(super) field_arrows: Column<usize>,
+    pub(super) arrow_origins: Vec<[f32; 2]>,
+    pub(super) arrow_vectors: Vec<[f32; 2]>,
+}
+
+/// Packing fraction drawn full red in the live fields' heat map.
+const FIELDS_PHI_RED: f64 = 0.8;
+/// Mean speed drawn as an arrow one cell wide, as a fraction of the speed scale.
+const FIELDS_ARROW_SPEED: f64 = 0.3;
+
+impl Batch {
+    /// The live fields of one frame (at `time`): a pixel per cell coloured by the packing
+    /// fraction, an arrow per cell that holds disks.
+    fn gather_fields(&mut self, f: &Fields, (index, time): (i64, f64), speed_scale: f64) {
+        let g = *f.grid();
+        let arrow = g.cell()[0] / (FIELDS_ARROW_SPEED * speed_scale);
+        let mut arrows = 0;
+        let mut pixels = Vec::with_capacity(3 * g.len());
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let [x, y] = g.centre(i, j);
+                let centre = [x as f32, y as f32];
+                let phi = f.packing_fraction(i, j);
+                pixels.extend_from_slice(&speed_color(phi / FIELDS_PHI_RED).to_array()[..3]);
+                if let (Some([ux, uy]), true) = (f.mean_velocity(i, j), phi > 0.01) {
+                    self.arrow_origins.push(centre);
+                    self.arrow_vectors
+                        .push([(ux * arrow) as f32, (uy * arrow) as f32]);
+                    arrows += 1;
+                }
+            }
+        }
+        self.field_images.push((index, time, pixels));
+        self.field_arrows.push(index, nanos(time), arrows);
+    }
 }
 
 /// The writer thread's side: the stream and what has been logged so far.
@@ -83,6 +121,8 @@ pub(super) struct Writer {
     /// Simulated time between the first two frames.
     pub(super) step: Option<f64>,
     pub(super) batch: Batch,
+    /// The live fields' grid `[nx, ny]` (the heat map's resolution).
+    pub(super) field_cells: [u32; 2],
 }
 
 impl Writer {
@@ -128,7 +168,7 @@ impl Writer {
     fn close(&mut self) -> Result<(), String> {
         let flushed = self.flush_batch();
         if !self.blueprint_sent {
-            self.send_blueprint(&[], None, None)?;
+            self.send_blueprint(&[], None, None, false)?;
         }
         if let Some(has_profiles) = self.legend_pending.take() {
             self.log_legend(has_profiles, None)?;
@@ -242,8 +282,16 @@ impl Writer {
             if self.rough {
                 self.log_orientation_style(f)?;
             }
+            if let Some(fields) = &f.fields {
+                self.log_fields_style(fields)?;
+            }
             let view_top = self.view_top(f);
-            self.send_blueprint(&f.series, f.profile.as_ref(), Some(view_top))?;
+            self.send_blueprint(
+                &f.series,
+                f.profile.as_ref(),
+                Some(view_top),
+                f.fields.is_some(),
+            )?;
         }
         self.last_frame = Some(index);
         let step = self.last_time.map(|t0| f.time - t0);
@@ -263,6 +311,48 @@ impl Writer {
             self.flush_batch()?;
         }
         Ok(())
+    }
+
+    /// The live fields' heat maps gathered, one image per frame (an image is not logged by
+    /// columns).
+    fn flush_field_images(&mut self) -> Result<(), String> {
+        let images = std::mem::take(&mut self.batch.field_images);
+        for (index, time, pixels) in images {
+            self.set_time(Some(index), time);
+            let [nx, ny] = self.field_cells;
+            self.rec
+                .log(FIELDS_PACKING_ENTITY, &Image::from_rgb24(pixels, [nx, ny]))
+                .map_err(|e| err("fields", e))?;
+        }
+        Ok(())
+    }
+
+    /// The live fields' static part: y up (as the bed); the heat map's pixels stretched to the
+    /// cells (pixel (i, j) over cell (i, j)); arrows dark (Rerun draws images under lines and arrows).
+    fn log_fields_style(&mut self, f: &Fields) -> Result<(), String> {
+        let g = *f.grid();
+        let [dx, dy] = g.cell();
+        self.field_cells = [g.nx as u32, g.ny as u32];
+        self.rec
+            .log_static(FIELDS_ENTITY, &Transform3D::from_scale((1.0, -1.0, 1.0)))
+            .map_err(|e| err("fields", e))?;
+        self.rec
+            .log_static(
+                FIELDS_PACKING_ENTITY,
+                &Transform3D::from_translation_scale(
+                    (0.0, g.bottom as f32, 0.0),
+                    (dx as f32, dy as f32, 1.0),
+                ),
+            )
+            .map_err(|e| err("fields", e))?;
+        self.rec
+            .log_static(
+                FIELDS_VELOCITY_ENTITY,
+                &Arrows2D::update_fields()
+                    .with_colors([Color::from_rgb(20, 20, 20)])
+                    .with_radii([Radius::new_ui_points(1.0)]),
+            )
+            .map_err(|e| err("fields", e))
     }
 
     /// The radius lines' look, static: dark, a fixed fraction of the smallest disk's radius
@@ -399,6 +489,9 @@ impl Writer {
         for &(name, value) in &f.series {
             b.series.entry(name).or_default().push(index, t, value);
         }
+        if let Some(fields) = &f.fields {
+            b.gather_fields(fields, (index, f.time), self.layout.speed_scale);
+        }
     }
 
     /// Logs the gathered frames column-wise: one chunk per entity.
@@ -449,6 +542,18 @@ impl Writer {
                 .send_columns(entity, column.take_times(), columns)
                 .map_err(|e| err(entity, e))?;
         }
+        if !b.field_arrows.values.is_empty() {
+            let lengths: Vec<usize> = b.field_arrows.values.drain(..).collect();
+            let columns = Arrows2D::from_vectors(b.arrow_vectors.drain(..))
+                .with_origins(b.arrow_origins.drain(..))
+                .columns(lengths)
+                .map_err(|e| err("fields", e))?;
+            self.rec
+                .send_columns(FIELDS_VELOCITY_ENTITY, b.field_arrows.take_times(), columns)
+                .map_err(|e| err("fields", e))?;
+        }
+        self.flush_field_images()?;
+        let b = &mut self.batch;
         if !b.clock.values.is_empty() {
             let labels = Points2D::update_fields().with_labels(b.clock.values.drain(..));
             let columns = labels
