@@ -1,6 +1,9 @@
 //! Measurements (output plugins): energies, granular temperature, centre of mass, height
 //! profiles, sampled at exact times and averaged after the warm-up.
 
+pub mod phase;
+pub mod state;
+
 use crate::engine::Snapshot;
 use crate::physics::disks::Disks;
 use serde::Serialize;

@@ -2,6 +2,7 @@
 //! profiles.
 
 use crate::engine::Scene;
+use crate::measure::phase::PhaseBins;
 use crate::measure::{Observables, Profiles, States};
 use crate::output::summary::Temperature;
 use crate::physics::disks::Disks;
@@ -28,6 +29,13 @@ pub(super) struct Averages {
     pub(super) com_height: f64,
     pub(super) samples: usize,
     pub(super) profiles: Option<Profiles>,
+    /// The motion against the floor's phase (a vibrating floor under gravity), from the window's
+    /// start.
+    #[serde(default)]
+    pub(super) phase: Option<PhaseBins>,
+    /// Σ of the fraction of disks at rest over the samples.
+    #[serde(default)]
+    pub(super) at_rest: f64,
 }
 
 impl Averages {

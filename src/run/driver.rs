@@ -8,6 +8,8 @@ use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
+use crate::measure::phase::{com_and_lower_edge, FloorTally, PhaseBins, PhaseClock, PhaseTable};
+use crate::measure::state::{BedState, Indicators};
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
@@ -80,6 +82,12 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let phase = match (&scene.floor, scene.gravity) {
+            (Some(f), Some(_)) => {
+                PhaseClock::of(f, s.output.phase_bins, s.run.duration - s.run.warmup)
+            }
+            _ => None,
+        };
         Driver {
             sim,
             s,
@@ -90,7 +98,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             now: 0.0,
             snap: Snapshot::default(),
             initial,
-            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every)),
+            stops: Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every), phase),
             averages: Averages {
                 window: None,
                 temperature: [0.0; 2],
@@ -98,6 +106,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 com_height: 0.0,
                 samples: 0,
                 profiles,
+                phase: None,
+                at_rest: 0.0,
             },
             last_frame_collisions: 0,
             at_rest_since: None,
@@ -219,6 +229,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             if stop.sample {
                 self.sample()?;
             }
+            if stop.phase {
+                self.phase_stop();
+            }
             if stop.frame {
                 self.frame();
             }
@@ -245,16 +258,44 @@ impl<'a, E: Integrator> Driver<'a, E> {
             floor_impacts: self.sim.counts().floor,
             floor_impulse: self.sim.energy_flow_at(t).floor_impulse,
         });
+        if let Some(clock) = self.stops.phase {
+            let k = clock.first_edge_from(t);
+            self.stops.k_phase = k;
+            let mut bins = PhaseBins::new(clock);
+            bins.open(floor_tally(&self.sim, t), k);
+            self.averages.phase = Some(bins);
+        }
         if self.stops.warmup > 0.0 {
             self.log_text(t, "INFO", "warm-up over: averaging starts");
         }
         Ok(())
     }
 
+    /// A bin edge of the floor's phase: the floor's impacts since the last edge booked, the
+    /// centre of mass and the lower edge sampled.
+    fn phase_stop(&mut self) {
+        let Some(clock) = self.stops.phase else {
+            return;
+        };
+        let k = self.stops.k_phase;
+        self.stops.k_phase = clock.next_edge(k);
+        let Some(bins) = self.averages.phase.as_mut() else {
+            return;
+        };
+        bins.book(k, floor_tally(&self.sim, self.now));
+        let floor = self.sim.floor_height_at(self.now).unwrap_or(0.0);
+        let states = StatesAt(&self.sim, self.now);
+        bins.sample(
+            clock.bin_from(k),
+            com_and_lower_edge(&states, self.sim.disks(), floor),
+        );
+    }
+
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
-        self.at_rest_since = if self.sim.disks_at_rest() == self.sim.disks().len() {
+        let at_rest = self.sim.disks_at_rest();
+        self.at_rest_since = if at_rest == self.sim.disks().len() {
             self.at_rest_since.or(Some(self.now))
         } else {
             None
@@ -263,6 +304,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             let states = StatesAt(&self.sim, self.now);
             let o = Observables::of(&states, self.sim.disks(), self.g);
             self.averages.add(&states, self.sim.disks(), &o);
+            self.averages.at_rest += at_rest as f64 / self.sim.disks().len() as f64;
         }
         if self.scene.check_invariants {
             check_sample(&self.sim, self.now, &self.initial, self.g)?;
@@ -482,6 +524,22 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         let counts = sim.counts();
         let setup = sim.setup();
+        let profiles = avg.profiles.as_ref().map(|p| p.table());
+        let phase = match (&scene.floor, &avg.phase) {
+            (Some(floor), Some(bins)) => {
+                // The piece of a bin from the last edge to the end.
+                let mut bins = bins.clone();
+                bins.book(self.stops.k_phase, floor_tally(sim, end_time));
+                Some(bins.table(floor, s.domain.width))
+            }
+            _ => None,
+        };
+        let state = bed_state(
+            scene,
+            avg,
+            self.at_rest_since.is_some(),
+            (profiles.as_ref(), phase.as_ref()),
+        );
         Summary {
             scenario: s.name.clone(),
             seed: s.seed,
@@ -520,7 +578,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 _ => None,
             },
             at_rest_since: self.at_rest_since,
-            profiles: avg.profiles.as_ref().map(|p| p.table()),
+            profiles,
+            phase,
+            state,
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,
@@ -536,6 +596,48 @@ impl<'a, E: Integrator> Driver<'a, E> {
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
         }
+    }
+}
+
+/// The bed's state (a floor under gravity, once samples were averaged), from the indicators of
+/// the window: Γ, the disks at rest, the phase-resolved centre of mass, the height profiles.
+fn bed_state(
+    scene: &Scene,
+    avg: &Averages,
+    at_rest_at_end: bool,
+    (profiles, phase): (Option<&ProfileTable>, Option<&PhaseTable>),
+) -> Option<BedState> {
+    let (floor, g) = (scene.floor.as_ref()?, scene.gravity?);
+    if avg.samples == 0 {
+        return None;
+    }
+    let indicators = Indicators {
+        gamma: if floor.is_static() {
+            0.0
+        } else {
+            floor.amplitude * floor.omega * floor.omega / g
+        },
+        at_rest: avg.at_rest / avg.samples as f64,
+        at_rest_at_end,
+        com_locking: phase.map(|p| p.com_locking),
+        density_dip: None,
+        max_packing: None,
+        max_packing_height: None,
+        circulation: None,
+        lateral_modulation: None,
+    };
+    Some(BedState::of(match profiles {
+        Some(p) => indicators.with_profiles(p, floor.amplitude),
+        None => indicators,
+    }))
+}
+
+/// The floor's impacts and the momentum it has given so far, at time `t`.
+fn floor_tally<E: Integrator>(sim: &E, t: f64) -> FloorTally {
+    FloorTally {
+        time: t,
+        impacts: sim.counts().floor,
+        impulse: sim.energy_flow_at(t).floor_impulse,
     }
 }
 

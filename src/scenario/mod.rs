@@ -350,6 +350,9 @@ pub struct Output {
     /// Height of the top of the profiles (default: chosen from the initial bed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile_height: Option<f64>,
+    /// Bins per period of the phase-resolved motion (a vibrating floor under gravity).
+    #[serde(default = "default_phase_bins")]
+    pub phase_bins: usize,
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
@@ -379,6 +382,7 @@ impl Default for Output {
             sample_interval: None,
             profile_bins: default_bins(),
             profile_height: None,
+            phase_bins: default_phase_bins(),
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,
@@ -601,6 +605,10 @@ fn one() -> f64 {
 
 fn default_bins() -> usize {
     40
+}
+
+fn default_phase_bins() -> usize {
+    20
 }
 
 impl Scenario {
