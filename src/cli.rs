@@ -46,6 +46,10 @@ pub enum Command {
         /// Write the height profiles as CSV here (gravity scenes).
         #[arg(long)]
         profiles: Option<PathBuf>,
+        /// Write the time-averaged 2D fields here (gravity scenes): CSV, or VTK image data
+        /// for a file named *.vti; the grid is output.field_bins and output.field_height.
+        #[arg(long)]
+        fields: Option<PathBuf>,
         /// Write a trajectory in extended XYZ here (OVITO, ASE), a frame every
         /// output.trajectory_interval (default: the frame interval).
         #[arg(long)]
@@ -82,6 +86,10 @@ pub enum Command {
         /// Write the height profiles as CSV here (gravity scenes).
         #[arg(long)]
         profiles: Option<PathBuf>,
+        /// Write the 2D fields here (CSV, or VTK image data for *.vti); the checkpointed run
+        /// must have measured them (run --fields).
+        #[arg(long)]
+        fields: Option<PathBuf>,
         /// Write the resumed part's trajectory in extended XYZ here.
         #[arg(long)]
         trajectory: Option<PathBuf>,
@@ -148,6 +156,7 @@ struct OutputArgs<'a> {
     rrd: Option<&'a Path>,
     summary: Option<&'a Path>,
     profiles: Option<&'a Path>,
+    fields: Option<&'a Path>,
     trajectory: Option<&'a Path>,
     checkpoint: Option<&'a Path>,
 }
@@ -163,6 +172,7 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         ("output.rrd", scenario_rrd.filter(|_| args.rrd.is_none())),
         ("--summary", args.summary),
         ("--profiles", args.profiles),
+        ("--fields", args.fields),
         ("--trajectory", args.trajectory),
         (
             "output.trajectory",
@@ -185,6 +195,12 @@ fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         return Err(Error::input(
             "--profiles",
             "this scene has no height profiles (they need gravity)",
+        ));
+    }
+    if args.fields.is_some() && s.gravity.is_none() {
+        return Err(Error::input(
+            "--fields",
+            "this scene has no 2D fields (they are over x and height: they need gravity)",
         ));
     }
     if !cfg!(feature = "record") && (args.rrd.is_some() || scenario_rrd.is_some()) {
@@ -255,6 +271,7 @@ fn execute(cli: Cli) -> Result<i32> {
             rrd,
             summary,
             profiles,
+            fields,
             trajectory,
             sets,
             checkpoint,
@@ -265,6 +282,7 @@ fn execute(cli: Cli) -> Result<i32> {
                 rrd,
                 summary,
                 profiles,
+                fields,
                 trajectory,
                 checkpoint,
             };
@@ -276,6 +294,7 @@ fn execute(cli: Cli) -> Result<i32> {
             rrd,
             summary,
             profiles,
+            fields,
             trajectory,
             checkpoint,
             checkpoint_every,
@@ -285,6 +304,7 @@ fn execute(cli: Cli) -> Result<i32> {
                 rrd,
                 summary,
                 profiles,
+                fields,
                 trajectory,
                 checkpoint,
             };
@@ -347,6 +367,7 @@ struct RunFiles {
     rrd: Option<PathBuf>,
     summary: Option<PathBuf>,
     profiles: Option<PathBuf>,
+    fields: Option<PathBuf>,
     trajectory: Option<PathBuf>,
     checkpoint: Option<PathBuf>,
 }
@@ -358,6 +379,7 @@ impl RunFiles {
             rrd: self.rrd.as_deref(),
             summary: self.summary.as_deref(),
             profiles: self.profiles.as_deref(),
+            fields: self.fields.as_deref(),
             trajectory: self.trajectory.as_deref(),
             checkpoint: self.checkpoint.as_deref(),
         }
@@ -460,10 +482,14 @@ fn simulate(
     quiet: bool,
 ) -> Result<i32> {
     signals::install();
-    let written_after = [("profiles", &files.profiles), ("summary", &files.summary)]
-        .into_iter()
-        .filter_map(|(output, path)| Some((output, path.clone()?)))
-        .collect();
+    let written_after = [
+        ("profiles", &files.profiles),
+        ("fields", &files.fields),
+        ("summary", &files.summary),
+    ]
+    .into_iter()
+    .filter_map(|(output, path)| Some((output, path.clone()?)))
+    .collect();
     let result = run(
         s,
         RunOptions {
@@ -475,9 +501,22 @@ fn simulate(
             checkpoint,
             resume,
             written_after,
+            fields: files.fields.is_some(),
         },
     )?;
-    write_results(&result, files.profiles.as_deref(), files.summary.as_deref())
+    let written = Written {
+        profiles: files.profiles.as_deref(),
+        fields: files.fields.as_deref(),
+        summary: files.summary.as_deref(),
+    };
+    write_results(&result, written)
+}
+
+/// The files written once a run has ended.
+struct Written<'a> {
+    profiles: Option<&'a Path>,
+    fields: Option<&'a Path>,
+    summary: Option<&'a Path>,
 }
 
 /// `true` when `a` and `b` name the same file (compared canonically when both exist).
@@ -488,15 +527,16 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Writes a run's profiles and summary, each whatever becomes of the other; a summary that
+/// Writes a run's profiles, fields and summary, each whatever becomes of the other; a summary that
 /// cannot be written goes to stdout instead (a batch job's log keeps it). Returns the exit code:
 /// 1 when one of them could not be written, else 128 + the signal that stopped the run, else
 /// [`EXIT_OUTPUT_FAILED`] when an output failed during the run, else 0.
-fn write_results(
-    result: &crate::output::summary::Summary,
-    profiles: Option<&Path>,
-    summary: Option<&Path>,
-) -> Result<i32> {
+fn write_results(result: &crate::output::summary::Summary, files: Written) -> Result<i32> {
+    let Written {
+        profiles,
+        fields,
+        summary,
+    } = files;
     let mut lost = false;
     if let Some(path) = profiles {
         let Some(p) = &result.profiles else {
@@ -506,6 +546,18 @@ fn write_results(
             ));
         };
         if let Err(e) = crate::output::write_atomic(path, &p.to_csv()) {
+            eprintln!("vibrobed: {e}");
+            lost = true;
+        }
+    }
+    if let Some(path) = fields {
+        let Some(f) = &result.fields else {
+            return Err(Error::input(
+                "--fields",
+                "this scene has no 2D fields (they need gravity)",
+            ));
+        };
+        if let Err(e) = crate::output::fields::write(path, f) {
             eprintln!("vibrobed: {e}");
             lost = true;
         }

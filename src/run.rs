@@ -57,6 +57,8 @@ pub struct RunOptions {
     pub resume: Option<Box<Checkpoint>>,
     /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
     pub progress: bool,
+    /// Measure the 2D fields after the warm-up (`run --fields`; gravity scenes).
+    pub fields: bool,
     /// Files written once the run has ended (`summary`, `profiles`: the output and its path),
     /// whose directories are watched while it runs.
     pub written_after: Vec<(&'static str, PathBuf)>,

@@ -1,11 +1,15 @@
 //! Measurements (output plugins): energies, granular temperature, centre of mass, height
 //! profiles, sampled at exact times and averaged after the warm-up.
 
+pub mod coverage;
+pub mod fields;
 pub mod phase;
 pub mod state;
+pub mod velocities;
 
 use crate::engine::Snapshot;
 use crate::physics::disks::Disks;
+use coverage::area_below;
 use serde::Serialize;
 
 /// The disks' states at one instant, as a measurement reads them: from a snapshot, or from an
@@ -298,13 +302,6 @@ impl ProfileTable {
         }
         out
     }
-}
-
-/// Area of a disk of radius `a` below a horizontal line at height `z` above its centre:
-/// `a² (u √(1 − u²) + asin u + π/2)` with `u = z/a` clamped to [−1, 1].
-fn area_below(z: f64, a: f64) -> f64 {
-    let u = (z / a).clamp(-1.0, 1.0);
-    a * a * (u * (1.0 - u * u).sqrt() + u.asin() + std::f64::consts::FRAC_PI_2)
 }
 
 #[cfg(test)]

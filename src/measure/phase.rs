@@ -6,9 +6,9 @@
 //! the period sees one phase only). At each edge the centre of mass and the lower edge are sampled,
 //! and the floor's impacts and impulse since the previous edge are booked into the bin just left;
 //! the pieces of bins cut by the window's start and the run's end are booked too, so the bins sum
-//! to the whole window. A window of more than [`MAX_PERIODS`] periods is resolved in every
-//! `stride`-th period only (the bins then sum to those periods), so that a long run at a high
-//! frequency does not stop millions of times.
+//! to the whole window. The phase stops cost what samples cost (a pass over the disks): they are
+//! kept no more than the window's samples by resolving every `stride`-th period only when there
+//! are more (the bins then sum to those periods), and at most [`MAX_PERIODS`] periods.
 
 use crate::measure::States;
 use crate::physics::disks::Disks;
@@ -42,8 +42,10 @@ pub struct PhaseClock {
 
 impl PhaseClock {
     /// The clock of a vibrating floor (`None` for a static one), `bins` bins per period, over a
-    /// window of length `window`.
-    pub fn of(floor: &Floor, bins: usize, window: f64) -> Option<PhaseClock> {
+    /// window of length `window` holding `samples` samples: every stride-th period is resolved so
+    /// that the phase stops are no more than the samples (at least one period's, at most
+    /// [`MAX_PERIODS`] periods').
+    pub fn of(floor: &Floor, bins: usize, window: f64, samples: f64) -> Option<PhaseClock> {
         if floor.is_static() || bins == 0 {
             return None;
         }
@@ -54,7 +56,9 @@ impl PhaseClock {
             period,
             origin,
             first: (origin * bins as f64).ceil() as u64,
-            stride: (window / period / MAX_PERIODS).ceil().max(1.0) as u64,
+            stride: (window / period / (samples / bins as f64).clamp(1.0, MAX_PERIODS))
+                .ceil()
+                .max(1.0) as u64,
         })
     }
 
@@ -293,7 +297,7 @@ mod tests {
     #[test]
     fn edges_fall_on_the_floor_phase() {
         let f = floor(1.0);
-        let c = PhaseClock::of(&f, 8, 100.0).unwrap();
+        let c = PhaseClock::of(&f, 8, 100.0, 1000.0).unwrap();
         assert_eq!(c.stride, 1);
         assert_eq!(c.period, 2.0);
         for k in 0..20 {
@@ -314,7 +318,7 @@ mod tests {
 
     #[test]
     fn bookings_sum_to_the_whole_and_locking_sees_a_locked_height() {
-        let c = PhaseClock::of(&floor(0.0), 4, 4.0).unwrap();
+        let c = PhaseClock::of(&floor(0.0), 4, 4.0, 100.0).unwrap();
         let mut p = PhaseBins::new(c);
         let tally = |time: f64| FloorTally {
             time,
@@ -337,9 +341,14 @@ mod tests {
 
     #[test]
     fn a_long_window_is_resolved_in_every_stride_th_period() {
-        // 10⁵ periods of length 2 with 4 bins: every 10th period, all four of its edges.
-        let c = PhaseClock::of(&floor(0.3), 4, 2e5).unwrap();
+        // 10⁵ periods of length 2 with 4 bins: every 10th period, all four of its edges (at most
+        // 10⁴ periods); with 4 × 10³ samples, every 100th.
+        let c = PhaseClock::of(&floor(0.3), 4, 2e5, 1e9).unwrap();
         assert_eq!(c.stride, 10);
+        assert_eq!(
+            PhaseClock::of(&floor(0.3), 4, 2e5, 4e3).unwrap().stride,
+            100
+        );
         let mut k = c.first_edge_from(0.0);
         let mut edges = Vec::new();
         for _ in 0..12 {

@@ -3,6 +3,7 @@
 //! Fluids 19, 123301 (2007)) — decided from indicators measured over the window, each against a
 //! stated threshold.
 
+use crate::measure::fields::Fields;
 use crate::measure::ProfileTable;
 use serde::Serialize;
 
@@ -23,12 +24,18 @@ pub const LEIDENFROST_DIP: f64 = 0.8;
 /// gas: half the area covered (a time-averaged profile smears a moving cluster, so its crystal's
 /// 0.8–0.9 is not asked for).
 pub const LEIDENFROST_DENSE: f64 = 0.5;
-/// Kinetic energy of the mean flow over the thermal energy (see [`Indicators::circulation`]) above
-/// which the bed convects.
-pub const CONVECTION_CIRCULATION: f64 = 0.05;
+/// Coherence of the vertical mean flow through the bed (see [`Indicators::circulation`]) above
+/// which the bed convects: the same columns rise and sink through the bed.
+pub const CONVECTION_CIRCULATION: f64 = 0.7;
+/// Rows of cells apart that the circulation correlates.
+pub const ROW_LAG: usize = 2;
 /// Relative lateral modulation of the bed (see [`Indicators::lateral_modulation`]) above which it
 /// undulates.
 pub const UNDULATION_MODULATION: f64 = 0.2;
+
+/// Rows of the coarse fields whose mean packing fraction reaches this are part of the bed (for
+/// the lateral modulation): a dense gas, not the dilute layers above and below.
+pub const BED_ROW_PACKING: f64 = 0.3;
 
 /// The states a vibrated bed can be in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -70,11 +77,20 @@ pub struct Indicators {
     /// The height of that maximum.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_packing_height: Option<f64>,
-    /// Kinetic energy of the time-averaged velocity field over the granular temperature's
-    /// (mass-weighted over the field's cells): a circulating mean flow (2D fields).
+    /// How coherent the time-averaged vertical flow is through the bed: on a coarse grid (cells
+    /// of about three diameters) the vertical mean velocity of each row of the bed, less the
+    /// row's mean (a bed moving up and down as a whole does not circulate), correlated across x
+    /// with the row's [`ROW_LAG`] rows up, averaged over such pairs. Rolls rise and sink in the
+    /// same columns through the bed (near 1); noise does not (near 0; neighbouring cells' noise
+    /// is correlated through collisions, hence rows two apart). In a steady state a
+    /// time-averaged vertical flow that varies across x and carries no net mass is a
+    /// circulation. Absent for beds of fewer than three rows of cells (about six layers).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub circulation: Option<f64>,
-    /// Relative modulation of the bed along x (2D fields).
+    /// Root-mean-square variation of the time-averaged packing fraction (number density × mean
+    /// disk area) across x over its row's mean, averaged over the rows of the bed (row means ≥
+    /// [`BED_ROW_PACKING`]), on the same grid; columns next to side walls are left out (the
+    /// walls order the disks).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lateral_modulation: Option<f64>,
 }
@@ -139,6 +155,63 @@ impl Indicators {
     }
 }
 
+impl Indicators {
+    /// The indicators with the circulation and the lateral modulation read from the coarse 2D
+    /// fields of the disks' centres `f`, above the floor's highest point `floor_top`, for disks of
+    /// mean area `area` (a cell's packing fraction is taken as its number density × `area`).
+    pub fn with_fields(mut self, f: &Fields, floor_top: f64, area: f64) -> Indicators {
+        let g = *f.grid();
+        if f.samples() == 0 {
+            return self;
+        }
+        let inner: Vec<usize> = if g.periodic || g.nx < 3 {
+            (0..g.nx).collect()
+        } else {
+            (1..g.nx - 1).collect()
+        };
+        // The bed's rows, bottom to top: each row's vertical mean velocity less its mean across x.
+        let mut flows: Vec<Vec<f64>> = Vec::new();
+        let (mut modulation, mut bed_rows) = (0.0, 0.0);
+        for j in (0..g.ny).filter(|&j| g.centre(0, j)[1] >= floor_top) {
+            let phi: Vec<f64> = inner
+                .iter()
+                .map(|&i| f.number_density(i, j) * area)
+                .collect();
+            let mean = phi.iter().sum::<f64>() / phi.len() as f64;
+            if mean < BED_ROW_PACKING {
+                continue;
+            }
+            let var = phi.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / phi.len() as f64;
+            modulation += var.sqrt() / mean;
+            bed_rows += 1.0;
+            let uy: Vec<f64> = (0..g.nx)
+                .map(|i| f.mean_velocity(i, j).map_or(0.0, |u| u[1]))
+                .collect();
+            let mean = uy.iter().sum::<f64>() / uy.len() as f64;
+            flows.push(uy.iter().map(|u| u - mean).collect());
+        }
+        if bed_rows > 0.0 {
+            self.lateral_modulation = Some(modulation / bed_rows);
+        }
+        let pairs: Vec<f64> = flows
+            .windows(ROW_LAG + 1)
+            .filter_map(|w| correlation(&w[0], &w[ROW_LAG]))
+            .collect();
+        if !pairs.is_empty() {
+            self.circulation = Some(pairs.iter().sum::<f64>() / pairs.len() as f64);
+        }
+        self
+    }
+}
+
+/// Pearson correlation of `a` and `b` (about zero means: they are deviations from their rows'
+/// means); `None` when either is flat.
+fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+    let norm = (dot(a, a) * dot(b, b)).sqrt();
+    (norm > 0.0).then(|| dot(a, b) / norm)
+}
+
 impl BedState {
     /// The state the indicators decide.
     pub fn of(indicators: Indicators) -> BedState {
@@ -152,6 +225,69 @@ impl BedState {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::measure::fields::FieldGrid;
+    use crate::measure::States;
+    use crate::physics::disks::Disks;
+
+    /// Disks given as `[x, y, vx, vy]`.
+    struct Given(Vec<[f64; 4]>);
+    impl States for Given {
+        fn each(&self, mut f: impl FnMut(usize, [f64; 4])) {
+            self.0.iter().enumerate().for_each(|(i, s)| f(i, *s));
+        }
+    }
+
+    /// A disk at the centre of every cell of a 4 × 6 grid of unit cells between walls, moving
+    /// up with `vy(column, row)`.
+    fn fields_of(vy: impl Fn(usize, usize) -> f64) -> Fields {
+        let grid = FieldGrid {
+            nx: 4,
+            ny: 6,
+            width: 4.0,
+            bottom: 0.0,
+            top: 6.0,
+            periodic: false,
+        };
+        let states: Vec<[f64; 4]> = (0..24)
+            .map(|k| {
+                let (i, j) = (k % 4, k / 4);
+                [i as f64 + 0.5, j as f64 + 0.5, 0.0, vy(i, j)]
+            })
+            .collect();
+        let disks = Disks::new(
+            &vec![[0.0; 2]; 24],
+            vec![0.5; 24],
+            vec![1.0; 24],
+            vec![0; 24],
+        );
+        let mut f = Fields::new(grid);
+        f.add_centres(&Given(states), &disks);
+        f
+    }
+
+    #[test]
+    fn rolls_circulate_and_a_rising_bed_does_not() {
+        // Up on the left, down on the right, through the whole bed: two rolls' worth of flow.
+        let rolls = base().with_fields(
+            &fields_of(|i, _| if i < 2 { 1.0 } else { -1.0 }),
+            0.0,
+            0.785,
+        );
+        assert_eq!(rolls.circulation, Some(1.0));
+        assert_eq!(rolls.state(), StateName::Convection);
+        // The whole bed rising: no flow left once each row's mean is taken off.
+        let rising = base().with_fields(&fields_of(|_, _| 1.0), 0.0, 0.785);
+        assert_eq!(rising.circulation, None);
+        // Up and down in columns that change from row to row (noise): no coherence two rows up.
+        let noise = base().with_fields(
+            &fields_of(|i, j| if (i + j / 2) % 2 == 0 { 1.0 } else { -1.0 }),
+            0.0,
+            0.785,
+        );
+        assert_eq!(noise.circulation, Some(-1.0));
+        // A uniform bed is not modulated across x.
+        assert_eq!(rolls.lateral_modulation, Some(0.0));
+    }
 
     fn base() -> Indicators {
         Indicators {
@@ -204,7 +340,7 @@ mod tests {
         };
         assert_eq!(bump.state(), StateName::Gas);
         let rolls = Indicators {
-            circulation: Some(0.2),
+            circulation: Some(0.9),
             ..floating
         };
         assert_eq!(rolls.state(), StateName::Convection);

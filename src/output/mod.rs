@@ -1,4 +1,5 @@
 //! Output plugins: what the simulation writes out.
+pub mod fields;
 pub mod frame;
 pub mod partial;
 pub mod progress;

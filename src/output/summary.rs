@@ -167,6 +167,13 @@ pub struct Summary {
     /// The bed's state and the indicators that decided it: a floor under gravity.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub state: Option<crate::measure::state::BedState>,
+    /// Distributions of the scaled velocities c = (v − u)/√T per axis, with their kurtosis
+    /// (after the warm-up; absent before any sample).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub velocity_distribution: Option<crate::measure::velocities::VelocityDistribution>,
+    /// The 2D fields (`run --fields`), written to their own file, not into the summary.
+    #[serde(skip)]
+    pub fields: Option<crate::measure::fields::Fields>,
     /// Engine set-up.
     pub engine: EngineSummary,
     /// Steps and errors of an approximate scheme (`engine.scheme` `time-step` or `space-time`).

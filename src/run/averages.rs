@@ -2,11 +2,13 @@
 //! profiles.
 
 use crate::engine::Scene;
+use crate::measure::fields::{FieldGrid, Fields};
 use crate::measure::phase::PhaseBins;
+use crate::measure::velocities::Velocities;
 use crate::measure::{Observables, Profiles, States};
 use crate::output::summary::Temperature;
 use crate::physics::disks::Disks;
-use crate::scenario::Scenario;
+use crate::scenario::{checks::mean_disk_area, Scenario, XBoundary};
 use serde::{Deserialize, Serialize};
 
 /// The window over which averages are taken (from the end of the warm-up).
@@ -36,6 +38,14 @@ pub(super) struct Averages {
     /// Σ of the fraction of disks at rest over the samples.
     #[serde(default)]
     pub(super) at_rest: f64,
+    /// Coarse 2D fields of the disks' centres for the bed's state (a floor under gravity):
+    /// always measured, at every sample (no area split: cheap).
+    #[serde(default)]
+    pub(super) state_fields: Option<Fields>,
+    /// The 2D fields, when asked (`run --fields`).
+    pub(super) fields: Option<Fields>,
+    /// The velocities by height band, for their scaled distributions.
+    pub(super) velocities: Velocities,
 }
 
 impl Averages {
@@ -51,6 +61,13 @@ impl Averages {
         if let Some(p) = self.profiles.as_mut() {
             p.add(states, disks);
         }
+        if let Some(f) = self.fields.as_mut() {
+            f.add(states, disks);
+        }
+        if let Some(f) = self.state_fields.as_mut() {
+            f.add_centres(states, disks);
+        }
+        self.velocities.add(states);
     }
 
     pub(super) fn temperature(&self) -> Temperature {
@@ -72,6 +89,23 @@ pub(super) fn empty_profiles(
     states: &impl States,
     disks: &Disks,
 ) -> Option<Profiles> {
+    let (bottom, top) = profile_range(s, scene, states, disks)?;
+    Some(Profiles::new(
+        s.output.profile_bins,
+        bottom,
+        top,
+        s.domain.width,
+    ))
+}
+
+/// The heights the profiles span in a gravity scene: from the floor's lowest point to
+/// `output.profile_height` (default: twice the highest disk top at the start).
+fn profile_range(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<(f64, f64)> {
     scene.gravity?;
     let bottom = scene.floor.as_ref().map_or(0.0, |f| f.lowest());
     let top = s.output.profile_height.unwrap_or_else(|| {
@@ -79,10 +113,82 @@ pub(super) fn empty_profiles(
         states.each(|i, [_, y, _, _]| highest = highest.max(y + disks.radius[i]));
         2.0 * highest.max(bottom + 1.0)
     });
-    Some(Profiles::new(
-        s.output.profile_bins,
+    Some((bottom, top))
+}
+
+/// Empty velocity distributions: by the profiles' height bins in a gravity scene, else one band
+/// (the whole box); the finest raw resolution is set from the initial rms speed (or 1).
+pub(super) fn empty_velocities(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Velocities {
+    let bands = profile_range(s, scene, states, disks)
+        .map(|(bottom, top)| (bottom, top, s.output.profile_bins));
+    let (mut v2, mut n) = (0.0, 0.0f64);
+    states.each(|_, [_, _, vx, vy]| {
+        v2 += vx * vx + vy * vy;
+        n += 1.0;
+    });
+    let rms = (v2 / n.max(1.0)).sqrt();
+    Velocities::new(bands, if rms > 0.0 { rms } else { 1.0 })
+}
+
+/// Side of the cells of the state's coarse fields, in mean disk diameters, and most cells a side.
+const STATE_CELL_DIAMETERS: f64 = 3.0;
+const STATE_BINS_MAX: usize = 40;
+
+/// The coarse grid of the fields the bed's state reads (a floor under gravity): over the
+/// profiles' range, cells of about three mean diameters (at most 40 a side): coarse enough that
+/// every cell of the bed holds several disks per sample, fine enough for rolls a few diameters
+/// across.
+pub(super) fn state_grid(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<FieldGrid> {
+    scene.floor.as_ref()?;
+    let (bottom, top) = profile_range(s, scene, states, disks)?;
+    let cell = STATE_CELL_DIAMETERS * 2.0 * (mean_disk_area(s) / std::f64::consts::PI).sqrt();
+    let bins = |length: f64| ((length / cell).round() as usize).clamp(1, STATE_BINS_MAX);
+    Some(FieldGrid {
+        nx: bins(s.domain.width),
+        ny: bins(top - bottom),
+        width: s.domain.width,
         bottom,
         top,
-        s.domain.width,
-    ))
+        periodic: s.domain.x_boundary == XBoundary::Periodic,
+    })
+}
+
+/// Most cells a side of the default fields' grid.
+const DEFAULT_FIELD_BINS_MAX: usize = 200;
+
+/// The 2D fields' grid of a gravity scene: across the width, from the profiles' bottom to
+/// `output.field_height` (default: the profiles' top), in `output.field_bins` cells (default:
+/// square-ish cells about two mean disk diameters wide, at most 200 a side).
+pub(super) fn field_grid(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<FieldGrid> {
+    let (bottom, profile_top) = profile_range(s, scene, states, disks)?;
+    let top = s.output.field_height.unwrap_or(profile_top);
+    let [nx, ny] = s.output.field_bins.unwrap_or_else(|| {
+        let cell = 4.0 * (mean_disk_area(s) / std::f64::consts::PI).sqrt();
+        let bins =
+            |length: f64| ((length / cell).round() as usize).clamp(1, DEFAULT_FIELD_BINS_MAX);
+        [bins(s.domain.width), bins(top - bottom)]
+    });
+    Some(FieldGrid {
+        nx,
+        ny,
+        width: s.domain.width,
+        bottom,
+        top,
+        periodic: s.domain.x_boundary == XBoundary::Periodic,
+    })
 }

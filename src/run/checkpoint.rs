@@ -30,8 +30,8 @@ use std::sync::LazyLock;
 const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// Bumped whenever the payload's layout or meaning changes (11: the calendar's current bucket
 /// is a sorted array, no longer a heap; 12: the calendar may hold an entry waiting to be linked;
-/// 13: the numbering holds its interval; 14: the calendar says whether it keeps events ahead; 15: rough disks' spins, the rotational energy and temperature).
-const FORMAT_VERSION: u32 = 15;
+/// 13: the numbering holds its interval; 14: the calendar says whether it keeps events ahead; 15: rough disks' spins, the rotational energy and temperature; 16: the 2D fields).
+const FORMAT_VERSION: u32 = 16;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

@@ -1,13 +1,14 @@
 //! One run of an engine from its start to its ending: the stops, the measurements at each, the
 //! frames and checkpoints, and the summary.
 
-use super::averages::{empty_profiles, Averages, Window};
+use super::averages::{empty_profiles, empty_velocities, field_grid, state_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
 use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
+use crate::measure::fields::Fields;
 use crate::measure::phase::{com_and_lower_edge, FloorTally, PhaseBins, PhaseClock, PhaseTable};
 use crate::measure::state::{BedState, Indicators};
 use crate::measure::{Observables, ProfileTable, States};
@@ -83,11 +84,21 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
         let phase = match (&scene.floor, scene.gravity) {
-            (Some(f), Some(_)) => {
-                PhaseClock::of(f, s.output.phase_bins, s.run.duration - s.run.warmup)
-            }
+            (Some(f), Some(_)) => PhaseClock::of(
+                f,
+                s.output.phase_bins,
+                s.run.duration - s.run.warmup,
+                window_samples(s),
+            ),
             _ => None,
         };
+        let fields = opts
+            .fields
+            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
+            .flatten()
+            .map(Fields::new);
+        let velocities = empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let state_fields = state_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()).map(Fields::new);
         Driver {
             sim,
             s,
@@ -108,6 +119,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 profiles,
                 phase: None,
                 at_rest: 0.0,
+                state_fields,
+                fields,
+                velocities,
             },
             last_frame_collisions: 0,
             at_rest_since: None,
@@ -143,8 +157,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 "its profiles do not fit this scene",
             ));
         }
+        let mut d = ck.driver;
+        match (&self.averages.fields, &d.averages.fields) {
+            (Some(_), None) if d.averages.window.is_some() => {
+                return Err(Error::input(
+                    "--fields",
+                    "the checkpointed run did not measure 2D fields after its warm-up: run it \
+                     with --fields to resume with them",
+                ))
+            }
+            (Some(_), None) => d.averages.fields = self.averages.fields.take(),
+            _ => {}
+        }
         self.sim.restore_state(ck.engine)?;
-        let d = ck.driver;
         let duration = self.stops.duration;
         self.stops = Stops {
             duration,
@@ -536,6 +561,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         let state = bed_state(
             scene,
+            mean_disk_area(s),
             avg,
             self.at_rest_since.is_some(),
             (profiles.as_ref(), phase.as_ref()),
@@ -581,6 +607,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             profiles,
             phase,
             state,
+            fields: avg.fields.clone(),
+            velocity_distribution: avg.velocities.distribution(),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),
                 mask: setup.mask,
@@ -603,6 +631,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
 /// the window: Γ, the disks at rest, the phase-resolved centre of mass, the height profiles.
 fn bed_state(
     scene: &Scene,
+    mean_area: f64,
     avg: &Averages,
     at_rest_at_end: bool,
     (profiles, phase): (Option<&ProfileTable>, Option<&PhaseTable>),
@@ -626,10 +655,25 @@ fn bed_state(
         circulation: None,
         lateral_modulation: None,
     };
-    Some(BedState::of(match profiles {
+    let indicators = match profiles {
         Some(p) => indicators.with_profiles(p, floor.amplitude),
         None => indicators,
+    };
+    Some(BedState::of(match &avg.state_fields {
+        Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
+        None => indicators,
     }))
+}
+
+/// The number of samples in the window after the warm-up (the default sample interval when none
+/// is set).
+fn window_samples(s: &Scenario) -> f64 {
+    let dt = s
+        .output
+        .sample_interval
+        .or(s.output.frame_interval)
+        .unwrap_or(s.run.duration / 200.0);
+    ((s.run.duration - s.run.warmup) / dt).max(1.0)
 }
 
 /// The floor's impacts and the momentum it has given so far, at time `t`.

@@ -19,6 +19,8 @@ pub const MAX_LENGTH_RATIO: f64 = 1e9;
 pub const MAX_PROFILE_BINS: usize = 1_000_000;
 /// Most bins per period of the phase-resolved motion (each is a stop of the run).
 pub const MAX_PHASE_BINS: usize = 1000;
+/// Most cells of the 2D fields along either axis.
+pub const MAX_FIELD_BINS: usize = 100_000;
 /// Most frames, samples or trajectory frames a run may ask for.
 pub const MAX_OUTPUT_TIMES: f64 = 1e7;
 /// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
@@ -320,6 +322,7 @@ fn validate_output(s: &Scenario) -> Result<()> {
             ));
         }
     }
+    validate_fields(s)?;
     if !(1..=MAX_PROFILE_BINS).contains(&o.profile_bins) {
         return Err(Error::input(
             "output.profile_bins",
@@ -336,6 +339,36 @@ fn validate_output(s: &Scenario) -> Result<()> {
         ));
     }
     validate_output_counts(s)
+}
+
+/// The 2D fields' grid: at least one cell a side, at most [`MAX_FIELD_BINS`], a positive top,
+/// and only under gravity (their vertical axis is the height above the floor).
+fn validate_fields(s: &Scenario) -> Result<()> {
+    let o = &s.output;
+    if let Some(h) = o.field_height {
+        positive("output.field_height", h)?;
+    }
+    if let Some(bins) = o.field_bins {
+        if let Some(n) = bins.into_iter().find(|n| !(1..=MAX_FIELD_BINS).contains(n)) {
+            return Err(Error::input(
+                "output.field_bins",
+                format!("[nx, ny]: each must lie in [1, {MAX_FIELD_BINS}] (got {n})"),
+            ));
+        }
+    }
+    let named = [
+        ("output.field_bins", o.field_bins.is_some()),
+        ("output.field_height", o.field_height.is_some()),
+    ];
+    if let Some((field, _)) = named.iter().find(|(_, set)| *set) {
+        if s.gravity.is_none() {
+            return Err(Error::input(
+                *field,
+                "2D fields are over x and height: they need gravity, and this scene has none",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The engine's knobs: a dense grid only under a lid or period, a positive skin, the schemes'

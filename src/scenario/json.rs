@@ -9,7 +9,8 @@ use serde_json::Value;
 use std::cell::RefCell;
 
 /// The fields that hold lists (dotted paths).
-const LIST_FIELDS: [&str; 3] = [
+const LIST_FIELDS: [&str; 4] = [
+    "output.field_bins",
     "particles.placement.positions",
     "particles.placement.velocities",
     "particles.radius.species",

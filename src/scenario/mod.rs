@@ -353,6 +353,13 @@ pub struct Output {
     /// Bins per period of the phase-resolved motion (a vibrating floor under gravity).
     #[serde(default = "default_phase_bins")]
     pub phase_bins: usize,
+    /// Cells `[nx, ny]` of the 2D fields (`run --fields`) across x and up the height (default:
+    /// square-ish cells about two mean disk diameters wide, at most 200 a side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_bins: Option<[usize; 2]>,
+    /// Height of the top of the 2D fields' grid (default: the profiles' top).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_height: Option<f64>,
     /// Record frames to this Rerun file (.rrd). Absent: nothing recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rrd: Option<String>,
@@ -383,6 +390,8 @@ impl Default for Output {
             profile_bins: default_bins(),
             profile_height: None,
             phase_bins: default_phase_bins(),
+            field_bins: None,
+            field_height: None,
             rrd: None,
             color_by: ColorChoice::Speed,
             speed_scale: None,

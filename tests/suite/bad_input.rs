@@ -665,3 +665,69 @@ fn rough_fields_out_of_range_are_refused_by_name() {
         check_refuses(&format!("rough-{k}"), "vibrated_bed.json", &[set], &[field]);
     }
 }
+
+// --- The 2D fields (`run --fields`, `output.field_bins`, `output.field_height`). ---
+
+#[test]
+fn field_bins_that_are_not_two_positive_integers_are_refused() {
+    for (k, bins) in [
+        "[0,3]",
+        "[4,0]",
+        "[-1,3]",
+        "[1.5,3]",
+        "[4]",
+        "[4,3,2]",
+        "7",
+        "[100001,2]",
+    ]
+    .iter()
+    .enumerate()
+    {
+        check_refuses(
+            &format!("field-bins-{k}"),
+            "vibrated_bed.json",
+            &[&format!("output.field_bins={bins}")],
+            &["output.field_bins"],
+        );
+    }
+}
+
+#[test]
+fn a_field_height_that_is_not_positive_is_refused() {
+    for (k, h) in ["0", "-1", "1e300"].iter().enumerate() {
+        check_refuses(
+            &format!("field-height-{k}"),
+            "vibrated_bed.json",
+            &[&format!("output.field_height={h}")],
+            &["output.field_height"],
+        );
+    }
+}
+
+#[test]
+fn fields_without_gravity_are_refused() {
+    check_refuses(
+        "field-bins-no-gravity",
+        "box_walls.json",
+        &["output.field_bins=[4,4]"],
+        &["output.field_bins"],
+    );
+    run_refuses(
+        "fields-no-gravity",
+        "box_walls.json",
+        &["--fields", "f.csv", "--summary", "s.json"],
+        LONG,
+        &["--fields"],
+    );
+}
+
+#[test]
+fn fields_in_a_missing_directory_are_refused() {
+    run_refuses(
+        "fields-nodir",
+        "vibrated_bed.json",
+        &["--fields", "nodir/f.vti", "--summary", "s.json"],
+        LONG,
+        &["--fields"],
+    );
+}

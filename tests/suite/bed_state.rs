@@ -42,6 +42,16 @@ fn the_dilute_vibrofluidized_bed_is_a_gas() {
 }
 
 #[test]
+fn the_bed_between_rough_walls_convects() {
+    // The same columns rise and sink through the bed: downflow along the rough walls.
+    let sets = ["run.duration=150", "run.warmup=50"];
+    assert_eq!(
+        state_of("scenarios/convection.json", &sets),
+        StateName::Convection
+    );
+}
+
+#[test]
 fn beds_below_gamma_one_are_solid() {
     // Six layers riding a floor at Γ = 0.5, and the shipped bed of 1000 disks at Γ = 0.8 once
     // it has come to rest (t ≈ 44).
@@ -80,14 +90,14 @@ fn the_same_beds_above_gamma_one_bounce() {
 
 #[test]
 fn phase_bins_sum_to_the_window() {
-    // A sample interval equal to the period would see one phase only: the phase bins do not
-    // depend on it.
+    // The phase stops fall on every bin edge whatever the samples see (a sample interval of the
+    // period would see one phase only); with 207 samples, all 10.35 periods are resolved.
     let s = summary(
         "scenarios/vibrated_bed.json",
         &[
             "run.duration=31",
             "run.warmup=10.3",
-            "output.sample_interval=2",
+            "output.sample_interval=0.1",
             "output.phase_bins=16",
         ],
     );

@@ -723,6 +723,7 @@ fn a_denied_directory_is_refused_before_the_run() {
     for (flag, file) in [
         ("--summary", "s.json"),
         ("--profiles", "p.csv"),
+        ("--fields", "f.vti"),
         ("--rrd", "a.rrd"),
         ("--trajectory", "a.xyz"),
         ("--checkpoint", "a.ckpt"),
@@ -851,7 +852,8 @@ impl Drop for Tmpfs {
 /// as in the issue. The recording and the trajectory that fill it are dropped and their files
 /// removed, which gives the checkpoint (tried again), the summary and the profiles the room they
 /// need: exit 3, all three written. Then, with the disk
-/// full to the last byte, the profiles cannot be written but the summary elsewhere is (exit 1).
+/// full to the last byte, the profiles and the 2D fields cannot be written but the summary
+/// elsewhere is (exit 1).
 #[test]
 fn a_full_filesystem_keeps_the_summary_and_the_profiles() {
     let dir = scratch("tmpfs");
@@ -893,9 +895,11 @@ fn a_full_filesystem_keeps_the_summary_and_the_profiles() {
     let mut args = bed("20");
     args.extend(["--summary".into(), dir.join("s.json").display().to_string()]);
     args.extend(["--profiles".into(), d.join("q.csv").display().to_string()]);
+    args.extend(["--fields".into(), d.join("q.vti").display().to_string()]);
     let ended = run(&args, &dir, &Under::default());
     ended.assert(1, SHORT_RUN);
     ended.says(&["cannot write", "q.csv", "No space left on device"]);
+    ended.says(&["cannot write", "q.vti", "No space left on device"]);
     assert_eq!(summary(&dir.join("s.json"))["ending"], "completed");
     assert!(names(&d).ends_with(&["filler", "p.csv", "s.json"].map(String::from)));
     drop(disk);

@@ -13,6 +13,7 @@ mod checkpoint;
 mod cli;
 mod equation_of_state;
 mod faults;
+mod fields;
 mod figures;
 mod fuzz_inputs;
 mod gravity;

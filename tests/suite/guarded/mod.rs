@@ -264,5 +264,5 @@ pub fn names(field: &str, expected: &str) -> bool {
     field == expected
         || field
             .strip_prefix(expected)
-            .is_some_and(|rest| rest.starts_with('.'))
+            .is_some_and(|rest| rest.starts_with('.') || rest.starts_with('['))
 }
