@@ -162,7 +162,9 @@ impl SweepCommand {
                 plot,
                 states,
             } => {
-                let drawn = collect_command(&dir, x, y, fit, log, plot)?;
+                // --log with --states alone is the map's (logarithmic x), not a plot's.
+                let plot_log = log && (x.is_some() || states.is_none());
+                let drawn = collect_command(&dir, x, y, fit, plot_log, plot)?;
                 match states {
                     Some(axes) => states_command(&dir, &axes[0], &axes[1], log),
                     None => Ok(drawn),
