@@ -134,22 +134,39 @@ impl Fields {
         states.each(|i, [x, y, vx, vy]| {
             let a = disks.radius[i];
             self.add_area(x, y, a);
-            let Some((ci, cj)) = self.grid.cell_of(x, y) else {
+            let m = disks.mass[i];
+            let Some(k) = self.add_centre([x, y, vx, vy], m) else {
                 return;
             };
-            let k = self.grid.index(ci, cj);
-            let m = disks.mass[i];
-            self.count[k] += 1.0;
-            self.mass[k] += m;
-            self.px[k] += m * vx;
-            self.py[k] += m * vy;
-            self.kx[k] += m * vx * vx;
-            self.ky[k] += m * vy * vy;
             if let Some((q, spins)) = &spins {
                 let w = spins[i].1;
                 self.krot[k] += q * m * a * a * w * w;
             }
         });
+    }
+
+    /// Adds the disks' centres at one instant (count, mass, momentum, kinetic energy) without
+    /// splitting their areas or reading their spins: the cheap coarse fields the bed's state
+    /// reads (their packing fraction stays zero: read the number density).
+    pub fn add_centres(&mut self, states: &impl States, disks: &Disks) {
+        self.samples += 1.0;
+        states.each(|i, s| {
+            self.add_centre(s, disks.mass[i]);
+        });
+    }
+
+    /// Counts a disk of mass `m` with state `[x, y, vx, vy]` in the cell of its centre (the
+    /// cell's flat index; `None` outside the grid).
+    fn add_centre(&mut self, [x, y, vx, vy]: [f64; 4], m: f64) -> Option<usize> {
+        let (ci, cj) = self.grid.cell_of(x, y)?;
+        let k = self.grid.index(ci, cj);
+        self.count[k] += 1.0;
+        self.mass[k] += m;
+        self.px[k] += m * vx;
+        self.py[k] += m * vy;
+        self.kx[k] += m * vx * vx;
+        self.ky[k] += m * vy * vy;
+        Some(k)
     }
 
     /// Splits the area of a disk of radius `a` centred at `(x, y)` over the cells it covers

@@ -3,6 +3,8 @@
 
 pub mod coverage;
 pub mod fields;
+pub mod phase;
+pub mod state;
 pub mod velocities;
 
 use crate::engine::Snapshot;

@@ -161,6 +161,12 @@ pub struct Summary {
     /// Height profiles (gravity scenes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,
+    /// The motion against the floor's phase (after warm-up): a vibrating floor under gravity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phase: Option<crate::measure::phase::PhaseTable>,
+    /// The bed's state and the indicators that decided it: a floor under gravity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state: Option<crate::measure::state::BedState>,
     /// Distributions of the scaled velocities c = (v − u)/√T per axis, with their kurtosis
     /// (after the warm-up; `output.velocity_distribution` only, absent before any sample).
     #[serde(skip_serializing_if = "Option::is_none")]

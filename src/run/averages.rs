@@ -3,6 +3,7 @@
 
 use crate::engine::Scene;
 use crate::measure::fields::{FieldGrid, Fields};
+use crate::measure::phase::PhaseBins;
 use crate::measure::velocities::Velocities;
 use crate::measure::{Observables, Profiles, States};
 use crate::output::summary::Temperature;
@@ -30,6 +31,17 @@ pub(super) struct Averages {
     pub(super) com_height: f64,
     pub(super) samples: usize,
     pub(super) profiles: Option<Profiles>,
+    /// The motion against the floor's phase (a vibrating floor under gravity), from the window's
+    /// start.
+    #[serde(default)]
+    pub(super) phase: Option<PhaseBins>,
+    /// Σ of the fraction of disks at rest over the samples.
+    #[serde(default)]
+    pub(super) at_rest: f64,
+    /// Coarse 2D fields of the disks' centres for the bed's state (a floor under gravity):
+    /// always measured, at every sample (no area split: cheap).
+    #[serde(default)]
+    pub(super) state_fields: Option<Fields>,
     /// The 2D fields, when asked (`run --fields`).
     pub(super) fields: Option<Fields>,
     /// The velocities by height band, for their scaled distributions
@@ -52,6 +64,9 @@ impl Averages {
         }
         if let Some(f) = self.fields.as_mut() {
             f.add(states, disks);
+        }
+        if let Some(f) = self.state_fields.as_mut() {
+            f.add_centres(states, disks);
         }
         if let Some(v) = self.velocities.as_mut() {
             v.add(states);
@@ -121,6 +136,34 @@ pub(super) fn empty_velocities(
     });
     let rms = (v2 / n.max(1.0)).sqrt();
     Velocities::new(bands, if rms > 0.0 { rms } else { 1.0 })
+}
+
+/// Side of the cells of the state's coarse fields, in mean disk diameters, and most cells a side.
+const STATE_CELL_DIAMETERS: f64 = 3.0;
+const STATE_BINS_MAX: usize = 40;
+
+/// The coarse grid of the fields the bed's state reads (a floor under gravity): over the
+/// profiles' range, cells of about three mean diameters (at most 40 a side): coarse enough that
+/// every cell of the bed holds several disks per sample, fine enough for rolls a few diameters
+/// across.
+pub(super) fn state_grid(
+    s: &Scenario,
+    scene: &Scene,
+    states: &impl States,
+    disks: &Disks,
+) -> Option<FieldGrid> {
+    scene.floor.as_ref()?;
+    let (bottom, top) = profile_range(s, scene, states, disks)?;
+    let cell = STATE_CELL_DIAMETERS * 2.0 * (mean_disk_area(s) / std::f64::consts::PI).sqrt();
+    let bins = |length: f64| ((length / cell).round() as usize).clamp(1, STATE_BINS_MAX);
+    Some(FieldGrid {
+        nx: bins(s.domain.width),
+        ny: bins(top - bottom),
+        width: s.domain.width,
+        bottom,
+        top,
+        periodic: s.domain.x_boundary == XBoundary::Periodic,
+    })
 }
 
 /// Most cells a side of the default fields' grid.

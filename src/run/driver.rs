@@ -1,7 +1,7 @@
 //! One run of an engine from its start to its ending: the stops, the measurements at each, the
 //! frames and checkpoints, and the summary.
 
-use super::averages::{empty_profiles, empty_velocities, field_grid, Averages, Window};
+use super::averages::{empty_profiles, empty_velocities, field_grid, state_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
@@ -9,6 +9,8 @@ use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
 use crate::measure::fields::Fields;
+use crate::measure::phase::{com_and_lower_edge, FloorTally, PhaseBins, PhaseClock, PhaseTable};
+use crate::measure::state::{BedState, Indicators};
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
@@ -84,6 +86,15 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let phase = match (&scene.floor, scene.gravity) {
+            (Some(f), Some(_)) => PhaseClock::of(
+                f,
+                s.output.phase_bins,
+                s.run.duration - s.run.warmup,
+                window_samples(s),
+            ),
+            _ => None,
+        };
         let fields = opts
             .fields
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
@@ -93,7 +104,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .output
             .velocity_distribution
             .then(|| empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks()));
-        let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every));
+        let state_fields = state_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()).map(Fields::new);
+        let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every), phase);
         let live_fields = (s.output.record_fields && sink.is_some())
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
             .flatten()
@@ -116,6 +128,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 com_height: 0.0,
                 samples: 0,
                 profiles,
+                phase: None,
+                at_rest: 0.0,
+                state_fields,
                 fields,
                 velocities,
             },
@@ -251,6 +266,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             if stop.sample {
                 self.sample()?;
             }
+            if stop.phase {
+                self.phase_stop();
+            }
             if stop.frame {
                 self.frame();
             }
@@ -277,16 +295,44 @@ impl<'a, E: Integrator> Driver<'a, E> {
             floor_impacts: self.sim.counts().floor,
             floor_impulse: self.sim.energy_flow_at(t).floor_impulse,
         });
+        if let Some(clock) = self.stops.phase {
+            let k = clock.first_edge_from(t);
+            self.stops.k_phase = k;
+            let mut bins = PhaseBins::new(clock);
+            bins.open(floor_tally(&self.sim, t), k);
+            self.averages.phase = Some(bins);
+        }
         if self.stops.warmup > 0.0 {
             self.log_text(t, "INFO", "warm-up over: averaging starts");
         }
         Ok(())
     }
 
+    /// A bin edge of the floor's phase: the floor's impacts since the last edge booked, the
+    /// centre of mass and the lower edge sampled.
+    fn phase_stop(&mut self) {
+        let Some(clock) = self.stops.phase else {
+            return;
+        };
+        let k = self.stops.k_phase;
+        self.stops.k_phase = clock.next_edge(k);
+        let Some(bins) = self.averages.phase.as_mut() else {
+            return;
+        };
+        bins.book(k, floor_tally(&self.sim, self.now));
+        let floor = self.sim.floor_height_at(self.now).unwrap_or(0.0);
+        let states = StatesAt(&self.sim, self.now);
+        bins.sample(
+            clock.bin_from(k),
+            com_and_lower_edge(&states, self.sim.disks(), floor),
+        );
+    }
+
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
-        self.at_rest_since = if self.sim.disks_at_rest() == self.sim.disks().len() {
+        let at_rest = self.sim.disks_at_rest();
+        self.at_rest_since = if at_rest == self.sim.disks().len() {
             self.at_rest_since.or(Some(self.now))
         } else {
             None
@@ -295,6 +341,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             let states = StatesAt(&self.sim, self.now);
             let o = Observables::of(&states, self.sim.disks(), self.g);
             self.averages.add(&states, self.sim.disks(), &o);
+            self.averages.at_rest += at_rest as f64 / self.sim.disks().len() as f64;
         }
         if self.scene.check_invariants {
             check_sample(&self.sim, self.now, &self.initial, self.g)?;
@@ -520,6 +567,23 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         let counts = sim.counts();
         let setup = sim.setup();
+        let profiles = avg.profiles.as_ref().map(|p| p.table());
+        let phase = match (&scene.floor, &avg.phase) {
+            (Some(floor), Some(bins)) => {
+                // The piece of a bin from the last edge to the end.
+                let mut bins = bins.clone();
+                bins.book(self.stops.k_phase, floor_tally(sim, end_time));
+                Some(bins.table(floor, s.domain.width))
+            }
+            _ => None,
+        };
+        let state = bed_state(
+            scene,
+            mean_disk_area(s),
+            avg,
+            self.at_rest_since.is_some(),
+            (profiles.as_ref(), phase.as_ref()),
+        );
         Summary {
             scenario: s.name.clone(),
             seed: s.seed,
@@ -558,7 +622,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 _ => None,
             },
             at_rest_since: self.at_rest_since,
-            profiles: avg.profiles.as_ref().map(|p| p.table()),
+            profiles,
+            phase,
+            state,
             fields: avg.fields.clone(),
             velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
             engine: EngineSummary {
@@ -576,6 +642,64 @@ impl<'a, E: Integrator> Driver<'a, E> {
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
         }
+    }
+}
+
+/// The bed's state (a floor under gravity, once samples were averaged), from the indicators of
+/// the window: Γ, the disks at rest, the phase-resolved centre of mass, the height profiles.
+fn bed_state(
+    scene: &Scene,
+    mean_area: f64,
+    avg: &Averages,
+    at_rest_at_end: bool,
+    (profiles, phase): (Option<&ProfileTable>, Option<&PhaseTable>),
+) -> Option<BedState> {
+    let (floor, g) = (scene.floor.as_ref()?, scene.gravity?);
+    if avg.samples == 0 {
+        return None;
+    }
+    let indicators = Indicators {
+        gamma: if floor.is_static() {
+            0.0
+        } else {
+            floor.amplitude * floor.omega * floor.omega / g
+        },
+        at_rest: avg.at_rest / avg.samples as f64,
+        at_rest_at_end,
+        com_locking: phase.map(|p| p.com_locking),
+        density_dip: None,
+        max_packing: None,
+        max_packing_height: None,
+        circulation: None,
+        lateral_modulation: None,
+    };
+    let indicators = match profiles {
+        Some(p) => indicators.with_profiles(p, floor.amplitude),
+        None => indicators,
+    };
+    Some(BedState::of(match &avg.state_fields {
+        Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
+        None => indicators,
+    }))
+}
+
+/// The number of samples in the window after the warm-up (the default sample interval when none
+/// is set).
+fn window_samples(s: &Scenario) -> f64 {
+    let dt = s
+        .output
+        .sample_interval
+        .or(s.output.frame_interval)
+        .unwrap_or(s.run.duration / 200.0);
+    ((s.run.duration - s.run.warmup) / dt).max(1.0)
+}
+
+/// The floor's impacts and the momentum it has given so far, at time `t`.
+fn floor_tally<E: Integrator>(sim: &E, t: f64) -> FloorTally {
+    FloorTally {
+        time: t,
+        impacts: sim.counts().floor,
+        impulse: sim.energy_flow_at(t).floor_impulse,
     }
 }
 

@@ -1,6 +1,7 @@
 //! The stop schedule of a run: samples, frames, trajectory frames, the end of the warm-up,
 //! checkpoints and the end, each at an exact simulated time.
 
+use crate::measure::phase::PhaseClock;
 use crate::scenario::Scenario;
 use serde::{Deserialize, Serialize};
 
@@ -34,6 +35,12 @@ pub(super) struct Stops {
     pub(super) checkpoint_dt: f64,
     /// The next scheduled checkpoint is the `k_checkpoint`-th (from 1: none at the start).
     pub(super) k_checkpoint: u64,
+    /// The bin edges of the floor's phase (a vibrating floor): stops after the warm-up.
+    #[serde(default)]
+    pub(super) phase: Option<PhaseClock>,
+    /// The next phase stop is at the `k_phase`-th bin edge.
+    #[serde(default)]
+    pub(super) k_phase: u64,
 }
 
 /// The next stop: its time and what is due then.
@@ -45,10 +52,16 @@ pub(super) struct Stop {
     pub(super) trajectory: bool,
     pub(super) window: bool,
     pub(super) checkpoint: bool,
+    /// A bin edge of the floor's phase (after the warm-up).
+    pub(super) phase: bool,
 }
 
 impl Stops {
-    pub(super) fn new(s: &Scenario, checkpoint_every: Option<f64>) -> Stops {
+    pub(super) fn new(
+        s: &Scenario,
+        checkpoint_every: Option<f64>,
+        phase: Option<PhaseClock>,
+    ) -> Stops {
         let duration = s.run.duration;
         let default_dt = duration / 200.0;
         Stops {
@@ -70,6 +83,8 @@ impl Stops {
             k_trajectory: 0,
             checkpoint_dt: checkpoint_every.unwrap_or(f64::INFINITY),
             k_checkpoint: 1,
+            phase,
+            k_phase: 0,
         }
     }
 
@@ -111,11 +126,16 @@ impl Stops {
             self.warmup
         };
         let t_checkpoint = self.k_checkpoint as f64 * self.checkpoint_dt;
+        let t_phase = match self.phase {
+            Some(c) if window_open => c.edge_time(self.k_phase),
+            _ => f64::INFINITY,
+        };
         let time = t_sample
             .min(t_frame)
             .min(t_trajectory)
             .min(t_window)
             .min(t_checkpoint)
+            .min(t_phase)
             .min(self.duration);
         Stop {
             time,
@@ -124,6 +144,7 @@ impl Stops {
             trajectory: time == t_trajectory,
             checkpoint: time == t_checkpoint,
             window: time == t_window,
+            phase: time == t_phase,
         }
     }
 }

@@ -17,6 +17,8 @@ pub const MAX_DISKS: usize = 20_000_000;
 pub const MAX_LENGTH_RATIO: f64 = 1e9;
 /// Most profile bins.
 pub const MAX_PROFILE_BINS: usize = 1_000_000;
+/// Most bins per period of the phase-resolved motion (each is a stop of the run).
+pub const MAX_PHASE_BINS: usize = 1000;
 /// Most cells of the 2D fields along either axis.
 pub const MAX_FIELD_BINS: usize = 100_000;
 /// Most frames, samples or trajectory frames a run may ask for.
@@ -328,6 +330,12 @@ fn validate_output(s: &Scenario) -> Result<()> {
                 "must lie in [1, {MAX_PROFILE_BINS}] (got {})",
                 o.profile_bins
             ),
+        ));
+    }
+    if !(1..=MAX_PHASE_BINS).contains(&o.phase_bins) {
+        return Err(Error::input(
+            "output.phase_bins",
+            format!("must lie in [1, {MAX_PHASE_BINS}] (got {})", o.phase_bins),
         ));
     }
     validate_output_counts(s)

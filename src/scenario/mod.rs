@@ -350,6 +350,9 @@ pub struct Output {
     /// Height of the top of the profiles (default: chosen from the initial bed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile_height: Option<f64>,
+    /// Bins per period of the phase-resolved motion (a vibrating floor under gravity).
+    #[serde(default = "default_phase_bins")]
+    pub phase_bins: usize,
     /// Cells `[nx, ny]` of the 2D fields (`run --fields`) across x and up the height (default:
     /// square-ish cells about two mean disk diameters wide, at most 200 a side).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -395,6 +398,7 @@ impl Default for Output {
             sample_interval: None,
             profile_bins: default_bins(),
             profile_height: None,
+            phase_bins: default_phase_bins(),
             field_bins: None,
             field_height: None,
             record_fields: false,
@@ -621,6 +625,10 @@ fn one() -> f64 {
 
 fn default_bins() -> usize {
     40
+}
+
+fn default_phase_bins() -> usize {
+    20
 }
 
 impl Scenario {

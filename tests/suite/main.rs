@@ -6,6 +6,7 @@ mod guarded;
 
 mod accuracy;
 mod bad_input;
+mod bed_state;
 mod book;
 mod brute_force;
 mod checkpoint;

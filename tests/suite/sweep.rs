@@ -698,3 +698,82 @@ fn json_floats_read_back_bit_for_bit() {
         assert_eq!(serde_json::to_string(&parsed).unwrap(), text);
     }
 }
+
+/// `sweep collect --states X Y`: each point's bed state (the most frequent over its seeds) in
+/// points.csv and as a phase diagram with one marker per point and a legend naming the states.
+#[test]
+fn a_sweep_over_two_axes_draws_the_states() {
+    let dir = scratch("states");
+    let sweep = r#"{
+      "name": "states",
+      "scenario": "bed.json",
+      "set": ["run.duration=12", "run.warmup=4"],
+      "axes": [
+        { "key": "floor.gamma", "values": [1.5, 8.0] },
+        { "key": "particles.count", "values": [20, 60] }
+      ],
+      "seeds": [5, 6]
+    }"#;
+    std::fs::write(dir.join("states.json"), sweep).unwrap();
+    assert_ok(&vibrobed(
+        &dir,
+        &["sweep", "run", "states.json", "--out", "out", "--jobs", "2"],
+    ));
+    let out = dir.join("out");
+    // A bad axis is refused before anything is drawn.
+    let bad = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "collect",
+            "out",
+            "--states",
+            "floor.gamma",
+            "nothing",
+        ],
+    );
+    assert_eq!(bad.status.code(), Some(2), "{}", describe(&bad));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--states"));
+    assert_ok(&vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "collect",
+            "out",
+            "--states",
+            "floor.gamma",
+            "particles.count",
+        ],
+    ));
+    // Every run carries its state; each point's is the most frequent of its two runs'.
+    let (header, rows) = read_csv(&out.join("runs.csv"));
+    let name = header.iter().position(|h| h == "state.name").unwrap();
+    let point = header.iter().position(|h| h == "point").unwrap();
+    let (pheader, points) = read_csv(&out.join("points.csv"));
+    let (state, n) = (
+        pheader.iter().position(|h| h == "state").unwrap(),
+        pheader.iter().position(|h| h == "state:n").unwrap(),
+    );
+    assert_eq!(points.len(), 4);
+    let mut names = Vec::new();
+    for (p, row) in points.iter().enumerate() {
+        let runs: Vec<&str> = rows
+            .iter()
+            .filter(|r| r[point] == p.to_string())
+            .map(|r| r[name].as_str())
+            .collect();
+        assert_eq!(runs.len(), 2);
+        let agree = runs.iter().filter(|s| **s == row[state]).count();
+        assert_eq!(row[n], agree.to_string(), "point {p}: {runs:?}");
+        assert!(agree == 2 || runs[0] == row[state], "point {p}: {runs:?}");
+        names.push(row[state].clone());
+    }
+    let svg = std::fs::read_to_string(out.join("states.svg")).expect("the map");
+    let fig = svg::parse(&svg);
+    let texts: Vec<&str> = fig.texts.iter().map(|t| t.content.trim()).collect();
+    for s in &names {
+        assert!(texts.contains(&s.as_str()), "legend lacks {s}: {texts:?}");
+    }
+    assert!(texts.contains(&"particles.count (count)"), "{texts:?}");
+    assert!(texts.contains(&"floor.gamma (dimensionless)"), "{texts:?}");
+}

@@ -7,6 +7,7 @@
 use crate::error::{Error, Result};
 use crate::studies::sweep::local::{run_dir, write_atomic};
 use crate::studies::sweep::plan::{Plan, RunSpec};
+use crate::studies::sweep::state_map::StatePoint;
 use serde_json::Value;
 use std::path::Path;
 
@@ -70,6 +71,8 @@ pub struct PointRow {
     pub completed: usize,
     /// Statistics per numeric field (same order as [`Collected::numeric`]).
     pub stats: Vec<Option<Stat>>,
+    /// The bed state most of the completed runs ended in (`state.name`), and how many did.
+    pub state: Option<(String, usize)>,
 }
 
 /// Everything `collect` reads: the plan and every run's summary.
@@ -203,7 +206,25 @@ fn point_row(p: usize, runs: &[RunRow], numeric: &[String]) -> PointRow {
         point: p,
         completed: done.len(),
         stats,
+        state: most_frequent_state(&done),
     }
+}
+
+/// The `state.name` most of `runs` ended in (the first to reach the most, in run order), and
+/// how many did; `None` if none has a state.
+fn most_frequent_state(runs: &[&RunRow]) -> Option<(String, usize)> {
+    let names: Vec<&str> = runs
+        .iter()
+        .filter_map(|r| r.fields.iter().find(|(k, _)| k == "state.name"))
+        .filter_map(|(_, v)| v.as_str())
+        .collect();
+    let count = |n: &str| names.iter().filter(|m| **m == n).count();
+    let best = names.iter().copied().max_by_key(|n| {
+        // Ties go to the earliest run: a larger key for an earlier first appearance.
+        let first = names.iter().position(|m| m == n).unwrap_or(0);
+        (count(n), usize::MAX - first)
+    })?;
+    Some((best.to_string(), count(best)))
 }
 
 /// One CSV cell: quoted when it holds a comma, a quote or a line break.
@@ -330,6 +351,10 @@ impl Collected {
             header.extend(DRIVE_COLUMNS.iter().map(|c| c.to_string()));
         }
         header.push("completed".into());
+        let states = self.points.iter().any(|p| p.state.is_some());
+        if states {
+            header.extend(["state".into(), "state:n".into()]);
+        }
         for f in &self.numeric {
             for stat in ["mean", "se", "n"] {
                 header.push(cell(&format!("{f}:{stat}")));
@@ -345,6 +370,10 @@ impl Collected {
                 row.extend(self.drive_cells(p.point));
             }
             row.push(p.completed.to_string());
+            if states {
+                let (name, n) = p.state.clone().unwrap_or_default();
+                row.extend([cell(&name), n.to_string()]);
+            }
             for s in &p.stats {
                 row.push(float_cell(s.map(|s| s.mean)));
                 row.push(float_cell(s.and_then(|s| s.se)));
@@ -393,6 +422,34 @@ impl Collected {
             .collect();
         out.sort_by(|a, b| a.0.total_cmp(&b.0));
         Ok(out)
+    }
+
+    /// Each point's state over the axes `x` and `y` (the map `sweep collect --states` draws);
+    /// points with no state or no value on an axis are left out.
+    pub fn state_points(&self, x: &str, y: &str) -> Result<Vec<StatePoint>> {
+        for (flag, axis) in [("--states", x), ("--states", y)] {
+            if !self.is_point_column(axis) {
+                return Err(Error::input(
+                    flag,
+                    format!(
+                        "`{axis}` is not an axis of this sweep (choose from: {})",
+                        self.point_columns().join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(self
+            .points
+            .iter()
+            .filter_map(|p| {
+                let (state, n) = p.state.clone()?;
+                Some(StatePoint {
+                    at: (self.point_value(x, p.point)?, self.point_value(y, p.point)?),
+                    state,
+                    agree: (n, p.completed),
+                })
+            })
+            .collect())
     }
 
     /// Writes `runs.csv` and `points.csv` into `dir`.

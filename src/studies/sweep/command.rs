@@ -11,6 +11,7 @@ use crate::studies::sweep::local::{
 use crate::studies::sweep::plan::{expand, point_label, Expanded, Plan};
 use crate::studies::sweep::plot::{draw, Panel};
 use crate::studies::sweep::slurm::{script, submit, SlurmOptions};
+use crate::studies::sweep::state_map::draw_states;
 use clap::{Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -98,6 +99,10 @@ pub enum SweepCommand {
         /// Where to write the plot (default DIR/plot.svg).
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Draw the phase diagram of the bed's states over two axes (each point's most frequent
+        /// `state.name`) into DIR/states.svg, e.g. --states floor.gamma particles.count.
+        #[arg(long, num_args = 2, value_names = ["X", "Y"])]
+        states: Option<Vec<String>>,
     },
 }
 
@@ -155,7 +160,16 @@ impl SweepCommand {
                 fit,
                 log,
                 plot,
-            } => collect_command(&dir, x, y, fit, log, plot),
+                states,
+            } => {
+                // --log with --states alone is the map's (logarithmic x), not a plot's.
+                let plot_log = log && (x.is_some() || states.is_none());
+                let drawn = collect_command(&dir, x, y, fit, plot_log, plot)?;
+                match states {
+                    Some(axes) => states_command(&dir, &axes[0], &axes[1], log),
+                    None => Ok(drawn),
+                }
+            }
         }
     }
 }
@@ -403,6 +417,28 @@ fn collect_command(
         c.plan.seeds_per_point()
     );
     draw(&path, &title, &x, &panels, log, log)?;
+    eprintln!("wrote {}", path.display());
+    Ok(0)
+}
+
+/// `sweep collect --states X Y`: the map of the points' bed states over X and Y into
+/// `DIR/states.svg` (logarithmic x with `--log`).
+fn states_command(dir: &Path, x: &str, y: &str, log: bool) -> Result<i32> {
+    let c = collect(dir)?;
+    let points = c.state_points(x, y)?;
+    if points.is_empty() {
+        return Err(Error::input(
+            "--states",
+            "no completed run of this sweep has a bed state (a floor under gravity)",
+        ));
+    }
+    let path = dir.join("states.svg");
+    let title = format!(
+        "sweep {}: bed states ({} seeds per point)",
+        c.plan.name,
+        c.plan.seeds_per_point()
+    );
+    draw_states(&path, &title, (x, y), &points, log)?;
     eprintln!("wrote {}", path.display());
     Ok(0)
 }

@@ -5,7 +5,7 @@
 //! - [`local`]: one run into its folder, and the pool of worker threads (`sweep run`);
 //! - [`slurm`]: the job-array script and its submission (`sweep slurm`, `sweep task`);
 //! - [`collect`]: `runs.csv` and `points.csv` (`sweep collect`), with [`fit`] (power law) and
-//!   [`plot`] (SVG with error bars);
+//!   [`plot`] (SVG with error bars) and [`state_map`] (the phase diagram of the bed's states);
 //! - [`command`]: the `vibrobed sweep …` subcommands.
 
 pub mod collect;
@@ -15,3 +15,4 @@ pub mod local;
 pub mod plan;
 pub mod plot;
 pub mod slurm;
+pub mod state_map;

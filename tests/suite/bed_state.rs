@@ -1,0 +1,137 @@
+//! The bed's state and its phase-resolved motion on shipped scenes, in shortened runs: the state
+//! each scene is shipped to show, and phase bins that add up to the window's impacts and impulse.
+
+use crate::common::crate_path;
+use vibrobed::measure::state::StateName;
+use vibrobed::output::summary::Summary;
+use vibrobed::run::{run, RunOptions};
+use vibrobed::Scenario;
+
+/// Runs `file` (relative to the crate) with the `--set` overrides `sets`.
+fn summary(file: &str, sets: &[&str]) -> Summary {
+    let text = std::fs::read_to_string(crate_path(file)).unwrap();
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let s =
+        Scenario::from_json_with_overrides(&text, &sets).unwrap_or_else(|e| panic!("{file}: {e}"));
+    run(&s, RunOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+fn state_of(file: &str, sets: &[&str]) -> StateName {
+    let s = summary(file, sets);
+    let state = s.state.expect("a floor under gravity has a state");
+    eprintln!("{file}: {:?} {:?}", state.name, state.indicators);
+    state.name
+}
+
+#[test]
+fn the_leidenfrost_scene_floats_a_dense_cluster() {
+    let sets = ["run.duration=40", "run.warmup=20"];
+    assert_eq!(
+        state_of("scenarios/leidenfrost.json", &sets),
+        StateName::Leidenfrost
+    );
+}
+
+#[test]
+fn the_dilute_vibrofluidized_bed_is_a_gas() {
+    let sets = ["run.duration=60", "run.warmup=20"];
+    assert_eq!(
+        state_of("scenarios/vibrofluidized_dilute.json", &sets),
+        StateName::Gas
+    );
+}
+
+#[test]
+fn the_bed_between_rough_walls_convects() {
+    // The same columns rise and sink through the bed: downflow along the rough walls.
+    let sets = ["run.duration=150", "run.warmup=50"];
+    assert_eq!(
+        state_of("scenarios/convection.json", &sets),
+        StateName::Convection
+    );
+}
+
+#[test]
+fn beds_below_gamma_one_are_solid() {
+    // Six layers riding a floor at Γ = 0.5, and the shipped bed of 1000 disks at Γ = 0.8 once
+    // it has come to rest (t ≈ 44).
+    assert_eq!(
+        state_of("scenarios/hard/bed_riding_gamma_0.5.json", &[]),
+        StateName::Solid
+    );
+    assert_eq!(
+        state_of(
+            "scenarios/hard/bed_1000_gamma_0.8_tc.json",
+            &["run.warmup=45"]
+        ),
+        StateName::Solid
+    );
+}
+
+#[test]
+fn the_same_beds_above_gamma_one_bounce() {
+    // The six layers at Γ = 1.5, thrown off and landing once per period; the shipped bed of
+    // five layers at Γ = 3.
+    assert_eq!(
+        state_of(
+            "scenarios/hard/bouncing_bed_gamma_1.5.json",
+            &["run.warmup=20"]
+        ),
+        StateName::BouncingBed
+    );
+    assert_eq!(
+        state_of(
+            "scenarios/vibrated_bed.json",
+            &["run.duration=60", "run.warmup=20"]
+        ),
+        StateName::BouncingBed
+    );
+}
+
+#[test]
+fn phase_bins_sum_to_the_window() {
+    // The phase stops fall on every bin edge whatever the samples see (a sample interval of the
+    // period would see one phase only); with 207 samples, all 10.35 periods are resolved.
+    let s = summary(
+        "scenarios/vibrated_bed.json",
+        &[
+            "run.duration=31",
+            "run.warmup=10.3",
+            "output.sample_interval=0.1",
+            "output.phase_bins=16",
+        ],
+    );
+    let p = s.phase.expect("a vibrating floor has a phase table");
+    let window = 31.0 - 10.3;
+    assert_eq!(p.phase.len(), 16);
+    let impacts: u64 = p.impacts.iter().sum();
+    let expected = s.impacts_per_unit_time.unwrap() * window;
+    assert_eq!(impacts, expected.round() as u64);
+    assert!((p.exposure.iter().sum::<f64>() - window).abs() < 1e-9);
+    // Every bin sampled once per period (the window holds 10.35 periods).
+    assert!(
+        p.samples.iter().all(|&n| n == 10 || n == 11),
+        "{:?}",
+        p.samples
+    );
+    // The exposure-weighted mean pressure is the floor's pressure over the window.
+    let mean: f64 = p
+        .pressure
+        .iter()
+        .zip(&p.exposure)
+        .map(|(q, t)| q * t)
+        .sum::<f64>()
+        / window;
+    let measured = s.floor_pressure.unwrap().measured;
+    assert!(
+        (mean - measured).abs() < 1e-9 * measured,
+        "{mean} {measured}"
+    );
+    // The bed lands (the most impacts) while its lower edge is lowest.
+    let most = (0..16).max_by_key(|&k| p.impacts[k]).unwrap();
+    let lowest = (0..16)
+        .min_by(|&i, &j| p.lower_edge[i].total_cmp(&p.lower_edge[j]))
+        .unwrap();
+    let apart = (most as i64 - lowest as i64).rem_euclid(16);
+    assert!(apart.min(16 - apart) <= 2, "{most} {lowest}");
+}
