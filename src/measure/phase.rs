@@ -7,8 +7,8 @@
 //! and the floor's impacts and impulse since the previous edge are booked into the bin just left;
 //! the pieces of bins cut by the window's start and the run's end are booked too, so the bins sum
 //! to the whole window. The phase stops cost what samples cost (a pass over the disks): they are
-//! kept no more than the window's samples by resolving every `stride`-th period only when there
-//! are more (the bins then sum to those periods), and at most [`MAX_PERIODS`] periods.
+//! kept no more frequent than the samples by resolving every `stride`-th period only (the bins
+//! then sum to those periods).
 
 use crate::measure::States;
 use crate::physics::disks::Disks;
@@ -21,9 +21,6 @@ use std::f64::consts::TAU;
 /// bed (or a gas's fastest disks) does not hide the bed's flight; 5 % stays inside the bottom layer
 /// of beds up to 20 layers deep.
 pub const LOWER_EDGE_FRACTION: f64 = 0.05;
-
-/// Most periods resolved in a window: beyond, every `stride`-th period is.
-pub const MAX_PERIODS: f64 = 1e4;
 
 /// Where the bin edges of the floor's phase fall in time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -41,11 +38,11 @@ pub struct PhaseClock {
 }
 
 impl PhaseClock {
-    /// The clock of a vibrating floor (`None` for a static one), `bins` bins per period, over a
-    /// window of length `window` holding `samples` samples: every stride-th period is resolved so
-    /// that the phase stops are no more than the samples (at least one period's, at most
-    /// [`MAX_PERIODS`] periods').
-    pub fn of(floor: &Floor, bins: usize, window: f64, samples: f64) -> Option<PhaseClock> {
+    /// The clock of a vibrating floor (`None` for a static one), `bins` bins per period, in a run
+    /// sampled every `sample_dt`: every stride-th period is resolved so that the phase stops are
+    /// no more frequent than the samples (the stride does not depend on the run's length, so a
+    /// resumed run resolves the same periods as an uninterrupted one).
+    pub fn of(floor: &Floor, bins: usize, sample_dt: f64) -> Option<PhaseClock> {
         if floor.is_static() || bins == 0 {
             return None;
         }
@@ -56,9 +53,7 @@ impl PhaseClock {
             period,
             origin,
             first: (origin * bins as f64).ceil() as u64,
-            stride: (window / period / (samples / bins as f64).clamp(1.0, MAX_PERIODS))
-                .ceil()
-                .max(1.0) as u64,
+            stride: (bins as f64 * sample_dt / period).ceil().max(1.0) as u64,
         })
     }
 
@@ -297,7 +292,7 @@ mod tests {
     #[test]
     fn edges_fall_on_the_floor_phase() {
         let f = floor(1.0);
-        let c = PhaseClock::of(&f, 8, 100.0, 1000.0).unwrap();
+        let c = PhaseClock::of(&f, 8, 0.1).unwrap();
         assert_eq!(c.stride, 1);
         assert_eq!(c.period, 2.0);
         for k in 0..20 {
@@ -318,7 +313,7 @@ mod tests {
 
     #[test]
     fn bookings_sum_to_the_whole_and_locking_sees_a_locked_height() {
-        let c = PhaseClock::of(&floor(0.0), 4, 4.0, 100.0).unwrap();
+        let c = PhaseClock::of(&floor(0.0), 4, 0.1).unwrap();
         let mut p = PhaseBins::new(c);
         let tally = |time: f64| FloorTally {
             time,
@@ -340,15 +335,13 @@ mod tests {
     }
 
     #[test]
-    fn a_long_window_is_resolved_in_every_stride_th_period() {
-        // 10⁵ periods of length 2 with 4 bins: every 10th period, all four of its edges (at most
-        // 10⁴ periods); with 4 × 10³ samples, every 100th.
-        let c = PhaseClock::of(&floor(0.3), 4, 2e5, 1e9).unwrap();
+    fn sparse_samples_resolve_every_stride_th_period() {
+        // Periods of length 2 with 4 bins sampled every 5: every 10th period, all four of its
+        // edges (4 phase stops per 20 time units, as many as the samples); sampled every 0.5,
+        // every period.
+        let c = PhaseClock::of(&floor(0.3), 4, 5.0).unwrap();
         assert_eq!(c.stride, 10);
-        assert_eq!(
-            PhaseClock::of(&floor(0.3), 4, 2e5, 4e3).unwrap().stride,
-            100
-        );
+        assert_eq!(PhaseClock::of(&floor(0.3), 4, 0.5).unwrap().stride, 1);
         let mut k = c.first_edge_from(0.0);
         let mut edges = Vec::new();
         for _ in 0..12 {

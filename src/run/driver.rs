@@ -87,12 +87,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
         let phase = match (&scene.floor, scene.gravity) {
-            (Some(f), Some(_)) => PhaseClock::of(
-                f,
-                s.output.phase_bins,
-                s.run.duration - s.run.warmup,
-                window_samples(s),
-            ),
+            (Some(f), Some(_)) => PhaseClock::of(f, s.output.phase_bins, sample_interval(s)),
             _ => None,
         };
         let fields = opts
@@ -683,15 +678,13 @@ fn bed_state(
     }))
 }
 
-/// The number of samples in the window after the warm-up (the default sample interval when none
-/// is set).
-fn window_samples(s: &Scenario) -> f64 {
-    let dt = s
-        .output
+/// The interval between samples (the stops' rule: the sample interval, else the frame interval,
+/// else a 200th of the duration).
+fn sample_interval(s: &Scenario) -> f64 {
+    s.output
         .sample_interval
         .or(s.output.frame_interval)
-        .unwrap_or(s.run.duration / 200.0);
-    ((s.run.duration - s.run.warmup) / dt).max(1.0)
+        .unwrap_or(s.run.duration / 200.0)
 }
 
 /// The floor's impacts and the momentum it has given so far, at time `t`.

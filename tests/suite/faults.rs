@@ -814,7 +814,7 @@ fn a_directory_made_read_only_during_the_run() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A mounted tmpfs of 200 kB, removed when dropped.
+/// A mounted tmpfs of 256 kB (the checkpoint, about 190 kB with the bed state's coarse fields, and the summary, about 17 kB, fit once the recording and trajectory gave their room back), removed when dropped.
 struct Tmpfs(PathBuf);
 
 impl Tmpfs {
@@ -822,7 +822,7 @@ impl Tmpfs {
     fn mount(at: &Path) -> Option<Tmpfs> {
         std::fs::create_dir_all(at).ok()?;
         let mounted = Command::new("mount")
-            .args(["-t", "tmpfs", "-o", "size=200k", "tmpfs"])
+            .args(["-t", "tmpfs", "-o", "size=256k", "tmpfs"])
             .arg(at)
             .output();
         match mounted {
@@ -848,7 +848,7 @@ impl Drop for Tmpfs {
     }
 }
 
-/// A real full filesystem (a 200 kB tmpfs, where the test may mount one): every output on it,
+/// A real full filesystem (a 256 kB tmpfs, where the test may mount one): every output on it,
 /// as in the issue. The recording and the trajectory that fill it are dropped and their files
 /// removed, which gives the checkpoint (tried again), the summary and the profiles the room they
 /// need: exit 3, all three written. Then, with the disk
