@@ -289,13 +289,7 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    /// Disks given as `[x, y, vx, vy]`.
-    struct Given(Vec<[f64; 4]>);
-    impl States for Given {
-        fn each(&self, mut f: impl FnMut(usize, [f64; 4])) {
-            self.0.iter().enumerate().for_each(|(i, s)| f(i, *s));
-        }
-    }
+    use crate::measure::Given;
 
     fn disks(n: usize) -> Disks {
         Disks::new(&vec![[0.0; 2]; n], vec![0.5; n], vec![1.0; n], vec![0; n])

@@ -38,6 +38,17 @@ impl States for Snapshot {
     }
 }
 
+/// Disks given as `[x, y, vx, vy]`: the states the measurements' unit tests read.
+#[cfg(test)]
+pub(crate) struct Given(pub(crate) Vec<[f64; 4]>);
+
+#[cfg(test)]
+impl States for Given {
+    fn each(&self, mut f: impl FnMut(usize, [f64; 4])) {
+        self.0.iter().enumerate().for_each(|(i, s)| f(i, *s));
+    }
+}
+
 /// Instantaneous observables of the disks at one instant.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, serde::Deserialize)]
 pub struct Observables {

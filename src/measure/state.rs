@@ -226,16 +226,9 @@ impl BedState {
 mod tests {
     use super::*;
     use crate::measure::fields::FieldGrid;
-    use crate::measure::States;
     use crate::physics::disks::Disks;
 
-    /// Disks given as `[x, y, vx, vy]`.
-    struct Given(Vec<[f64; 4]>);
-    impl States for Given {
-        fn each(&self, mut f: impl FnMut(usize, [f64; 4])) {
-            self.0.iter().enumerate().for_each(|(i, s)| f(i, *s));
-        }
-    }
+    use crate::measure::Given;
 
     /// A disk at the centre of every cell of a 4 × 6 grid of unit cells between walls, moving
     /// up with `vy(column, row)`.
