@@ -29,12 +29,13 @@ pub const LEIDENFROST_DENSE: f64 = 0.5;
 pub const CONVECTION_CIRCULATION: f64 = 0.7;
 /// Rows of cells apart that the circulation correlates.
 pub const ROW_LAG: usize = 2;
-/// Relative lateral modulation of the bed (see [`Indicators::lateral_modulation`]) above which it
-/// undulates.
-pub const UNDULATION_MODULATION: f64 = 0.2;
+/// The period-doubled part of the bed's shape (see [`Indicators::undulation`]), in mean disk
+/// diameters, above which the bed undulates: standing waves whose crests rise a diameter and more
+/// above their nodes, far above what noise leaves in it (a few hundredths in bouncing beds).
+pub const UNDULATION_AMPLITUDE: f64 = 1.0;
 
 /// Rows of the coarse fields whose mean packing fraction reaches this are part of the bed (for
-/// the lateral modulation): a dense gas, not the dilute layers above and below.
+/// the circulation): a dense gas, not the dilute layers above and below.
 pub const BED_ROW_PACKING: f64 = 0.3;
 
 /// The states a vibrated bed can be in.
@@ -67,6 +68,15 @@ pub struct Indicators {
     /// The phase table's `com_locking` (a vibrating floor).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_locking: Option<f64>,
+    /// The phase table's `com_locking_two_periods`: the bed's motion repeats every second period
+    /// (period doubling) when it is well above `com_locking`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub com_locking_two_periods: Option<f64>,
+    /// The phase table's `undulation` in mean disk diameters: the root mean square over the phase
+    /// and the columns of the bed (about three diameters wide) of the part of the columns'
+    /// heights that alternates from one period to the next.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub undulation: Option<f64>,
     /// The packing fraction's lowest value between the floor's highest point and the height of
     /// its maximum, over that maximum (1 when the maximum is next to the floor).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -87,12 +97,6 @@ pub struct Indicators {
     /// circulation. Absent for beds of fewer than three rows of cells (about six layers).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub circulation: Option<f64>,
-    /// Root-mean-square variation of the time-averaged packing fraction (number density × mean
-    /// disk area) across x over its row's mean, averaged over the rows of the bed (row means ≥
-    /// [`BED_ROW_PACKING`]), on the same grid; columns next to side walls are left out (the
-    /// walls order the disks).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lateral_modulation: Option<f64>,
 }
 
 /// The summary's `state`: the name and the indicators that decided it.
@@ -106,8 +110,8 @@ pub struct BedState {
 
 impl Indicators {
     /// The state, tried in this order: solid (Γ < 1, mostly at rest or all at rest at the end),
-    /// undulations (a lateral
-    /// modulation), bouncing bed (locked to the period), convection (a circulating mean flow),
+    /// undulations (a bed's shape alternating between periods), convection (a circulating mean
+    /// flow, in a bouncing bed or not), bouncing bed (locked to the period or to two periods),
     /// Leidenfrost (a dense region over a dilute layer), and gas otherwise. An indicator not
     /// measured decides nothing.
     pub fn state(&self) -> StateName {
@@ -115,12 +119,14 @@ impl Indicators {
         let resting = self.at_rest >= SOLID_AT_REST || self.at_rest_at_end;
         if self.gamma < SOLID_GAMMA && resting {
             StateName::Solid
-        } else if above(self.lateral_modulation, UNDULATION_MODULATION) {
+        } else if above(self.undulation, UNDULATION_AMPLITUDE) {
             StateName::Undulations
-        } else if above(self.com_locking, BOUNCING_LOCKING) {
-            StateName::BouncingBed
         } else if above(self.circulation, CONVECTION_CIRCULATION) {
             StateName::Convection
+        } else if above(self.com_locking, BOUNCING_LOCKING)
+            || above(self.com_locking_two_periods, BOUNCING_LOCKING)
+        {
+            StateName::BouncingBed
         } else if self.density_dip.is_some_and(|d| d <= LEIDENFROST_DIP)
             && self.max_packing.is_some_and(|m| m >= LEIDENFROST_DENSE)
         {
@@ -156,7 +162,7 @@ impl Indicators {
 }
 
 impl Indicators {
-    /// The indicators with the circulation and the lateral modulation read from the coarse 2D
+    /// The indicators with the circulation read from the coarse 2D
     /// fields of the disks' centres `f`, above the floor's highest point `floor_top`, for disks of
     /// mean area `area` (a cell's packing fraction is taken as its number density × `area`).
     pub fn with_fields(mut self, f: &Fields, floor_top: f64, area: f64) -> Indicators {
@@ -171,7 +177,6 @@ impl Indicators {
         };
         // The bed's rows, bottom to top: each row's vertical mean velocity less its mean across x.
         let mut flows: Vec<Vec<f64>> = Vec::new();
-        let (mut modulation, mut bed_rows) = (0.0, 0.0);
         for j in (0..g.ny).filter(|&j| g.centre(0, j)[1] >= floor_top) {
             let phi: Vec<f64> = inner
                 .iter()
@@ -181,17 +186,11 @@ impl Indicators {
             if mean < BED_ROW_PACKING {
                 continue;
             }
-            let var = phi.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / phi.len() as f64;
-            modulation += var.sqrt() / mean;
-            bed_rows += 1.0;
             let uy: Vec<f64> = (0..g.nx)
                 .map(|i| f.mean_velocity(i, j).map_or(0.0, |u| u[1]))
                 .collect();
             let mean = uy.iter().sum::<f64>() / uy.len() as f64;
             flows.push(uy.iter().map(|u| u - mean).collect());
-        }
-        if bed_rows > 0.0 {
-            self.lateral_modulation = Some(modulation / bed_rows);
         }
         let pairs: Vec<f64> = flows
             .windows(ROW_LAG + 1)
@@ -278,8 +277,6 @@ mod tests {
             0.785,
         );
         assert_eq!(noise.circulation, Some(-1.0));
-        // A uniform bed is not modulated across x.
-        assert_eq!(rolls.lateral_modulation, Some(0.0));
     }
 
     fn base() -> Indicators {
@@ -288,11 +285,12 @@ mod tests {
             at_rest: 0.0,
             at_rest_at_end: false,
             com_locking: Some(0.1),
+            com_locking_two_periods: Some(0.2),
+            undulation: Some(0.1),
             density_dip: Some(1.0),
             max_packing: None,
             max_packing_height: None,
             circulation: None,
-            lateral_modulation: None,
         }
     }
 
@@ -320,6 +318,12 @@ mod tests {
             ..base()
         };
         assert_eq!(riding.state(), StateName::BouncingBed);
+        // Landing every second period: a bouncing bed too.
+        let doubled = Indicators {
+            com_locking_two_periods: Some(0.9),
+            ..base()
+        };
+        assert_eq!(doubled.state(), StateName::BouncingBed);
         let floating = Indicators {
             density_dip: Some(0.2),
             max_packing: Some(0.8),
@@ -337,9 +341,15 @@ mod tests {
             ..floating
         };
         assert_eq!(rolls.state(), StateName::Convection);
+        // Rolls in a bed that lands every second period: the rolls name it.
+        let bouncing_rolls = Indicators {
+            com_locking_two_periods: Some(0.9),
+            ..rolls
+        };
+        assert_eq!(bouncing_rolls.state(), StateName::Convection);
         let waves = Indicators {
-            lateral_modulation: Some(0.5),
-            com_locking: Some(0.9),
+            undulation: Some(1.5),
+            com_locking_two_periods: Some(0.9),
             ..base()
         };
         assert_eq!(waves.state(), StateName::Undulations);

@@ -9,7 +9,7 @@ use super::{CheckpointPlan, FrameSink, RunOptions};
 use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
 use crate::measure::fields::Fields;
-use crate::measure::phase::{com_and_lower_edge, FloorTally, PhaseBins, PhaseClock, PhaseTable};
+use crate::measure::phase::{FloorTally, PhaseBins, PhaseClock, PhaseTable};
 use crate::measure::state::{BedState, Indicators};
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
@@ -293,7 +293,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
         if let Some(clock) = self.stops.phase {
             let k = clock.first_edge_from(t);
             self.stops.k_phase = k;
-            let mut bins = PhaseBins::new(clock);
+            // The bed's shape in the columns of the state's coarse grid.
+            let columns = self
+                .averages
+                .state_fields
+                .as_ref()
+                .map_or(1, |f| f.grid().nx);
+            let mut bins = PhaseBins::new(clock, columns, self.s.domain.width);
             bins.open(floor_tally(&self.sim, t), k);
             self.averages.phase = Some(bins);
         }
@@ -316,11 +322,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         bins.book(k, floor_tally(&self.sim, self.now));
         let floor = self.sim.floor_height_at(self.now).unwrap_or(0.0);
-        let states = StatesAt(&self.sim, self.now);
-        bins.sample(
-            clock.bin_from(k),
-            com_and_lower_edge(&states, self.sim.disks(), floor),
-        );
+        bins.sample(k, &StatesAt(&self.sim, self.now), self.sim.disks(), floor);
     }
 
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
@@ -661,12 +663,13 @@ fn bed_state(
         },
         at_rest: avg.at_rest / avg.samples as f64,
         at_rest_at_end,
-        com_locking: phase.map(|p| p.com_locking),
+        com_locking: phase.and_then(|p| p.com_locking),
+        com_locking_two_periods: phase.and_then(|p| p.com_locking_two_periods),
+        undulation: phase.map(|p| p.undulation / (2.0 * (mean_area / std::f64::consts::PI).sqrt())),
         density_dip: None,
         max_packing: None,
         max_packing_height: None,
         circulation: None,
-        lateral_modulation: None,
     };
     let indicators = match profiles {
         Some(p) => indicators.with_profiles(p, floor.amplitude),

@@ -89,6 +89,31 @@ fn the_same_beds_above_gamma_one_bounce() {
 }
 
 #[test]
+fn a_bed_landing_every_second_period_bounces() {
+    // Ten layers of rough disks (e = 0.7, TC) at Γ = 4.5, beyond the bouncing ball's period
+    // doubling (Γ ≈ 3.7): at one phase the centre of mass differs between even and odd periods
+    // (by 1 at phase 0), so the floor's period alone explains nothing and two periods explain
+    // all; the bed stays flat (no undulations).
+    let sets = [
+        "domain.width=50",
+        "particles.count=500",
+        "floor.gamma=4.5",
+        "collisions.restitution=0.7",
+        "collisions.tc=0.001",
+        "run.duration=100",
+        "run.warmup=40",
+    ];
+    let s = summary("scenarios/convection.json", &sets);
+    let state = s.state.expect("a floor under gravity has a state");
+    eprintln!("{:?} {:?}", state.name, state.indicators);
+    assert_eq!(state.name, StateName::BouncingBed);
+    let i = state.indicators;
+    assert!(i.com_locking.unwrap() < 0.2, "{i:?}");
+    assert!(i.com_locking_two_periods.unwrap() > 0.9, "{i:?}");
+    assert!(i.undulation.unwrap() < 0.3, "{i:?}");
+}
+
+#[test]
 fn phase_bins_sum_to_the_window() {
     // The phase stops fall on every bin edge whatever the samples see (a sample interval of the
     // period would see one phase only); with 207 samples, all 10.35 periods are resolved.
