@@ -1,7 +1,8 @@
 //! Motion against the floor's phase: the centre of mass, the bed's lower edge and the floor's
 //! impacts and impulse in bins over one vibration period, after the warm-up; and, split by the
-//! parity of the period, the centre of mass and the heights of the bed's columns over two periods
-//! (period doubling and undulations: standing waves that alternate from one period to the next).
+//! period's place in a group of four, the centre of mass and the heights of the bed's columns
+//! (period doubling, and undulations: standing waves whose crests and troughs swap every period or
+//! every second period).
 //!
 //! The run stops at every bin edge `k/B` of the floor's phase (B stops per period, whatever the
 //! sample interval: samples at a fixed interval alias with the period — a sample interval equal to
@@ -10,8 +11,8 @@
 //! the pieces of bins cut by the window's start and the run's end are booked too, so the bins sum
 //! to the whole window. The phase stops cost what samples cost (a pass over the disks): they are
 //! kept no more frequent than the samples by resolving every `stride`-th period only (the bins
-//! then sum to those periods). The resolved periods come in pairs (an even one and the odd one
-//! after it), so that both parities are seen whatever the stride.
+//! then sum to those periods). The resolved periods come in groups of four consecutive ones, so
+//! that motion over two and four periods is seen whatever the stride.
 
 use crate::measure::States;
 use crate::physics::disks::Disks;
@@ -36,14 +37,14 @@ pub struct PhaseClock {
     origin: f64,
     /// Index of the first bin edge at or after time 0 (counted from phase 0 of period 0).
     first: u64,
-    /// Every `stride`-th pair of periods is resolved (1: all periods).
+    /// Every `stride`-th group of four periods is resolved (1: all periods).
     pub stride: u64,
 }
 
 impl PhaseClock {
     /// The clock of a vibrating floor (`None` for a static one), `bins` bins per period, in a run
-    /// sampled every `sample_dt`: every stride-th pair of periods is resolved so that the phase
-    /// stops are no more frequent than the samples (the stride does not depend on the run's
+    /// sampled every `sample_dt`: every stride-th group of four periods is resolved so that the
+    /// phase stops are no more frequent than the samples (the stride does not depend on the run's
     /// length, so a resumed run resolves the same periods as an uninterrupted one).
     pub fn of(floor: &Floor, bins: usize, sample_dt: f64) -> Option<PhaseClock> {
         if floor.is_static() || bins == 0 {
@@ -56,24 +57,24 @@ impl PhaseClock {
             period,
             origin,
             first: (origin * bins as f64).ceil() as u64,
-            stride: (bins as f64 * sample_dt / period).ceil().max(1.0) as u64,
+            stride: stride(bins, sample_dt, period),
         })
     }
 
     /// The edge after edge `k` at which the run stops: the next one, or the first of the next
-    /// resolved pair of periods.
+    /// resolved group of periods.
     pub fn next_edge(&self, k: u64) -> u64 {
         let (b, next) = (self.bins as u64, self.first + k + 1);
-        let pair = next / b / 2;
-        if next % b != 0 || pair % self.stride == 0 {
+        let group = next / b / GROUP as u64;
+        if next % b != 0 || group % self.stride == 0 {
             return k + 1;
         }
-        pair.div_ceil(self.stride) * self.stride * 2 * b - self.first
+        group.div_ceil(self.stride) * self.stride * GROUP as u64 * b - self.first
     }
 
-    /// The parity of the period the `k`-th edge starts a bin of (0: even, 1: odd).
-    pub fn parity(&self, k: u64) -> usize {
-        ((self.first + k) / self.bins as u64 % 2) as usize
+    /// The place, 0 to 3, in its group of four of the period the `k`-th edge starts a bin of.
+    pub fn place(&self, k: u64) -> usize {
+        ((self.first + k) / self.bins as u64 % GROUP as u64) as usize
     }
 
     /// Time of the `k`-th bin edge at or after time 0.
@@ -129,22 +130,39 @@ pub struct PhaseBins {
     /// The floor's tally at the last booking, and the edge it was taken at (the edge before the
     /// first when the window opened between edges).
     mark: Option<(FloorTally, u64)>,
-    /// The same samples over two periods: per bin and parity of the period.
-    twice: TwoPeriods,
+    /// The same samples per bin and place of the period in its group of four.
+    places: Places,
 }
 
-/// Sums per bin of the floor's phase and parity of the period (index `2·bin + parity`): the
-/// centre of mass, and each column's height less the mean over the columns.
+/// Periods in a group: motion that repeats every period, every second or every fourth period
+/// (a period-doubled bed whose shape swaps at each landing) is told apart.
+pub const GROUP: usize = 4;
+
+/// Every how many groups of periods of length `period` the phase stops resolve, `bins` a
+/// period, in a run sampled every `sample_dt`: no more phase stops than samples.
+pub fn stride(bins: usize, sample_dt: f64, period: f64) -> u64 {
+    (bins as f64 * sample_dt / period).ceil().max(1.0) as u64
+}
+
+/// The three ways of halving a group of four periods that a shape can swap between: every period
+/// (places 0, 2 against 1, 3), and every second period starting at an even or an odd place.
+const SWAPS: [([usize; 2], [usize; 2]); 3] = [([0, 2], [1, 3]), ([0, 1], [2, 3]), ([1, 2], [3, 0])];
+
+/// Sums per bin of the floor's phase and place of the period in its group (index
+/// `GROUP·bin + place`): the centre of mass, and each column's height less the mean over the
+/// columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-struct TwoPeriods {
+struct Places {
     /// Columns across the width.
     columns: usize,
     /// The domain's width.
     width: f64,
     samples: Vec<u64>,
     com: Vec<f64>,
-    /// Index `(2·bin + parity)·columns + column`.
+    /// Index `(GROUP·bin + place)·columns + column`.
     column_height: Vec<f64>,
+    /// Their squares, for the noise of the means.
+    column_height_sq: Vec<f64>,
 }
 
 /// The phase-resolved motion (the summary's `phase`): one entry per bin of the floor's phase.
@@ -181,11 +199,14 @@ pub struct PhaseTable {
     /// whose motion repeats every second period (period doubling) as well as every period.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_locking_two_periods: Option<f64>,
-    /// The period-doubled part of the bed's shape: the root mean square, over the bins and the
-    /// columns, of half the difference between even and odd periods of a column's height less
-    /// the mean over the columns (a length). A standing wave that alternates from one period to
-    /// the next (undulations) gives its amplitude over √2; a static heap, noise or a wave that
-    /// repeats every period gives about nothing.
+    /// The part of the bed's shape that swaps between periods: a column's height less the mean
+    /// over the columns, averaged per bin over the periods of each place in their group of four;
+    /// the root mean square, over the bins and the columns, of half the difference between two
+    /// halves of the group — places 0, 2 against 1, 3 (a swap every period), or 0, 1 against
+    /// 2, 3, or 1, 2 against 3, 0 (a swap every second period: a period-doubled bed whose arches
+    /// swap at each landing) — the largest of the three (a length). A standing wave that swaps so
+    /// gives its amplitude over √2; a static heap, noise or a wave that repeats every period
+    /// gives about nothing.
     pub undulation: f64,
 }
 
@@ -195,12 +216,13 @@ impl PhaseBins {
         let (u, f) = (vec![0; clock.bins], vec![0.0; clock.bins]);
         let columns = columns.max(1);
         PhaseBins {
-            twice: TwoPeriods {
+            places: Places {
                 columns,
                 width,
-                samples: vec![0; 2 * clock.bins],
-                com: vec![0.0; 2 * clock.bins],
-                column_height: vec![0.0; 2 * clock.bins * columns],
+                samples: vec![0; GROUP * clock.bins],
+                com: vec![0.0; GROUP * clock.bins],
+                column_height: vec![0.0; GROUP * clock.bins * columns],
+                column_height_sq: vec![0.0; GROUP * clock.bins * columns],
             },
             clock,
             samples: u.clone(),
@@ -242,7 +264,7 @@ impl PhaseBins {
     /// Samples the bed at the `k`-th edge, the floor at height `floor`: the centre of mass, the
     /// lower edge and the columns' heights.
     pub fn sample(&mut self, k: u64, states: &impl States, disks: &Disks, floor: f64) {
-        let t = &self.twice;
+        let t = &self.places;
         let (mut m_sum, mut my) = (0.0, 0.0);
         let mut bottoms = Vec::with_capacity(disks.len());
         let mut columns = vec![(0.0, 0.0); t.columns];
@@ -277,12 +299,17 @@ impl PhaseBins {
         self.com[bin] += com;
         self.com_sq[bin] += com * com;
         self.lower[bin] += lower;
-        let t = &mut self.twice;
-        let half = 2 * bin + self.clock.parity(k);
-        t.samples[half] += 1;
-        t.com[half] += com;
-        let row = &mut t.column_height[half * t.columns..(half + 1) * t.columns];
-        row.iter_mut().zip(deviations).for_each(|(h, d)| *h += d);
+        let t = &mut self.places;
+        let at = GROUP * bin + self.clock.place(k);
+        t.samples[at] += 1;
+        t.com[at] += com;
+        let row = at * t.columns..(at + 1) * t.columns;
+        let sums = t.column_height[row.clone()].iter_mut();
+        let squares = t.column_height_sq[row].iter_mut();
+        for ((h, h_sq), d) in sums.zip(squares).zip(deviations) {
+            *h += d;
+            *h_sq += d * d;
+        }
     }
 
     /// The table, with the floor's height from `floor` and pressures per unit `width`.
@@ -321,28 +348,61 @@ impl PhaseBins {
         locking(&self.samples, &self.com, &self.com_sq)
     }
 
-    /// The same with the bins over two periods.
+    /// The same with the bins over two periods (the places of a group merged by parity).
     fn com_locking_two_periods(&self) -> Option<f64> {
-        locking(&self.twice.samples, &self.twice.com, &self.com_sq)
+        let t = &self.places;
+        let by_parity = |bin: usize, parity: usize| {
+            let (a, b) = (GROUP * bin + parity, GROUP * bin + parity + 2);
+            (t.samples[a] + t.samples[b], t.com[a] + t.com[b])
+        };
+        let (samples, com): (Vec<u64>, Vec<f64>) = (0..self.clock.bins)
+            .flat_map(|bin| [by_parity(bin, 0), by_parity(bin, 1)])
+            .unzip();
+        locking(&samples, &com, &self.com_sq)
     }
 
-    /// See [`PhaseTable::undulation`]: over the bins sampled in both parities.
+    /// See [`PhaseTable::undulation`]: the largest of the three ways a shape can swap within a
+    /// group of four periods, over the bins sampled in every place.
     fn undulation(&self) -> f64 {
-        let t = &self.twice;
+        SWAPS
+            .iter()
+            .map(|&swap| self.swapping_shape(swap))
+            .fold(0.0, f64::max)
+    }
+
+    /// The root mean square, over the bins sampled in every place and the columns, of half the
+    /// difference between a column's mean height deviation in places `a` and in places `b`, less
+    /// the part the samples' own scatter puts in it (the squared standard error of that half
+    /// difference): noise, a gas's busy columns included, gives about nothing on average.
+    fn swapping_shape(&self, (a, b): ([usize; 2], [usize; 2])) -> f64 {
+        let t = &self.places;
         let (mut sum, mut n) = (0.0, 0);
         for bin in 0..self.clock.bins {
-            let (even, odd) = (2 * bin, 2 * bin + 1);
-            if t.samples[even] == 0 || t.samples[odd] == 0 {
+            let at = |place: usize| GROUP * bin + place;
+            if (0..GROUP).any(|place| t.samples[at(place)] == 0) {
                 continue;
             }
+            // Mean and squared standard error of column `c`'s deviation over `places`.
+            let half = |places: [usize; 2], c: usize| {
+                let of = |v: &[f64]| {
+                    places
+                        .iter()
+                        .map(|&p| v[at(p) * t.columns + c])
+                        .sum::<f64>()
+                };
+                let m = places.iter().map(|&p| t.samples[at(p)]).sum::<u64>() as f64;
+                let mean = of(&t.column_height) / m;
+                let var = (of(&t.column_height_sq) - m * mean * mean).max(0.0) / (m - 1.0);
+                (mean, var / m)
+            };
             for c in 0..t.columns {
-                let mean = |h: usize| t.column_height[h * t.columns + c] / t.samples[h] as f64;
-                sum += ((mean(even) - mean(odd)) / 2.0).powi(2);
+                let ((mean_a, err_a), (mean_b, err_b)) = (half(a, c), half(b, c));
+                sum += ((mean_a - mean_b) / 2.0).powi(2) - (err_a + err_b) / 4.0;
                 n += 1;
             }
         }
         if n > 0 {
-            (sum / n as f64).sqrt()
+            (sum / n as f64).max(0.0).sqrt()
         } else {
             0.0
         }
@@ -457,22 +517,23 @@ mod tests {
 
     #[test]
     fn sparse_samples_resolve_every_stride_th_period() {
-        // Periods of length 2 with 4 bins sampled every 5: every 10th pair of periods, all the
-        // edges of both (8 phase stops per 40 time units, as many as the samples); sampled every
+        // Periods of length 2 with 4 bins sampled every 5: every 10th group of four periods, all
+        // their edges (16 phase stops per 80 time units, as many as the samples); sampled every
         // 0.5, every period.
         let c = PhaseClock::of(&floor(0.3), 4, 5.0).unwrap();
         assert_eq!(c.stride, 10);
         assert_eq!(PhaseClock::of(&floor(0.3), 4, 0.5).unwrap().stride, 1);
         let mut k = c.first_edge_from(0.0);
         let mut edges = Vec::new();
-        for _ in 0..12 {
+        for _ in 0..20 {
             edges.push(c.edge_time(k) / c.period);
             k = c.next_edge(k);
         }
-        // Periods 0 (from its first edge after t = 0) and 1, then 20 and 21 (edges at 1/4 turn).
+        // Periods 0 (from its first edge after t = 0) to 3, then 40 (edges at 1/4 turn).
         let turns: Vec<f64> = edges.iter().map(|e| e + 0.3 / TAU).collect();
         let want = [
-            0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 20.0, 20.25, 20.5, 20.75, 21.0,
+            0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 3.75,
+            40.0, 40.25, 40.5, 40.75, 41.0,
         ];
         for (t, w) in turns.iter().zip(want) {
             assert!((t - w).abs() < 1e-9, "{turns:?}");
@@ -489,9 +550,9 @@ mod tests {
         assert_eq!(p.exposure.iter().sum::<f64>(), 0.0);
     }
 
-    /// Two periods of 4 bins each, every period sampled, 6 pairs: the centre of mass at `com(k)`
-    /// and the columns' deviations `shape(k, column)` at edge `k`.
-    fn two_periods(com: impl Fn(u64) -> f64, shape: impl Fn(u64, usize) -> f64) -> PhaseTable {
+    /// Periods of 4 bins each, every period sampled, 12 periods (3 groups): the centre of mass
+    /// at `com(k)` and the columns' deviations `shape(k, column)` at edge `k`.
+    fn periods(com: impl Fn(u64) -> f64, shape: impl Fn(u64, usize) -> f64) -> PhaseTable {
         let c = PhaseClock::of(&floor(0.0), 4, 0.1).unwrap();
         let mut p = PhaseBins::new(c, 4, 8.0);
         for k in 0..48 {
@@ -504,7 +565,7 @@ mod tests {
     fn a_period_doubled_bed_locks_over_two_periods_only() {
         let c = PhaseClock::of(&floor(0.0), 4, 0.1).unwrap();
         // Up by one every other period at the same phase: the phase alone explains nothing.
-        let t = two_periods(|k| c.parity(k) as f64, |_, _| 0.0);
+        let t = periods(|k| (c.place(k) % 2) as f64, |_, _| 0.0);
         assert_eq!(t.com_locking, Some(0.0));
         assert!((t.com_locking_two_periods.unwrap() - 1.0).abs() < 1e-12);
         assert_eq!(t.undulation, 0.0);
@@ -540,19 +601,27 @@ mod tests {
     fn undulations_are_the_shape_that_alternates_between_periods() {
         let c = PhaseClock::of(&floor(0.0), 4, 0.1).unwrap();
         let sign = |column: usize| if column % 2 == 0 { 1.0 } else { -1.0 };
-        // Arches of amplitude 0.7 that swap every period (half the bins) and a static heap.
-        let arches = |k: u64, column: usize| {
-            let flip = if c.parity(k) == 0 { 1.0 } else { -1.0 };
-            let on = if c.bin_from(k) < 2 { 0.7 } else { 0.0 };
-            on * flip * sign(column)
+        // Arches of amplitude 0.7 (in half the bins) that swap every period, or every second
+        // period from an even or an odd place; and a static heap.
+        let arches = |flips: [f64; 4]| {
+            move |k: u64, column: usize| {
+                let on = if c.bin_from(k) < 2 { 0.7 } else { 0.0 };
+                on * flips[c.place(k)] * sign(column)
+            }
         };
-        let t = two_periods(|_| 0.0, arches);
-        assert!(
-            (t.undulation - 0.7 / 2f64.sqrt()).abs() < 1e-12,
-            "{}",
-            t.undulation
-        );
-        let heap = two_periods(|_| 0.0, |_, column| 0.7 * sign(column));
+        for flips in [
+            [1.0, -1.0, 1.0, -1.0],
+            [1.0, 1.0, -1.0, -1.0],
+            [-1.0, 1.0, 1.0, -1.0],
+        ] {
+            let t = periods(|_| 0.0, arches(flips));
+            assert!(
+                (t.undulation - 0.7 / 2f64.sqrt()).abs() < 1e-12,
+                "{}",
+                t.undulation
+            );
+        }
+        let heap = periods(|_| 0.0, |_, column| 0.7 * sign(column));
         assert!(heap.undulation < 1e-12);
     }
 
@@ -569,7 +638,7 @@ mod tests {
         ]);
         let disks = Disks::new(&[[0.0; 2]; 3], vec![0.5; 3], vec![1.0; 3], vec![0; 3]);
         p.sample(0, &states, &disks, 0.0);
-        assert_eq!(p.twice.column_height[..2], [-1.5, 1.5]);
+        assert_eq!(p.places.column_height[..2], [-1.5, 1.5]);
         assert_eq!(p.com[0], 3.0);
         assert_eq!(p.lower[0], 0.5);
     }

@@ -29,10 +29,11 @@ pub const LEIDENFROST_DENSE: f64 = 0.5;
 pub const CONVECTION_CIRCULATION: f64 = 0.7;
 /// Rows of cells apart that the circulation correlates.
 pub const ROW_LAG: usize = 2;
-/// The period-doubled part of the bed's shape (see [`Indicators::undulation`]), in mean disk
-/// diameters, above which the bed undulates: standing waves whose crests rise a diameter and more
-/// above their nodes, far above what noise leaves in it (a few hundredths in bouncing beds).
-pub const UNDULATION_AMPLITUDE: f64 = 1.0;
+/// The part of the bed's shape that swaps between periods (see [`Indicators::undulation`]), in
+/// mean disk diameters, above which the bed undulates: 0.74–1.12 in the undulating beds we ran
+/// (ten layers, arches 40 diameters apart swapping at each landing of a period-doubled bed),
+/// 0–0.37 in 19 flat bouncing, period-doubled and convecting beds.
+pub const UNDULATION_AMPLITUDE: f64 = 0.5;
 
 /// Rows of the coarse fields whose mean packing fraction reaches this are part of the bed (for
 /// the circulation): a dense gas, not the dilute layers above and below.
@@ -74,7 +75,7 @@ pub struct Indicators {
     pub com_locking_two_periods: Option<f64>,
     /// The phase table's `undulation` in mean disk diameters: the root mean square over the phase
     /// and the columns of the bed (about three diameters wide) of the part of the columns'
-    /// heights that alternates from one period to the next.
+    /// heights that swaps every period or every second period.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub undulation: Option<f64>,
     /// The packing fraction's lowest value between the floor's highest point and the height of
@@ -110,7 +111,7 @@ pub struct BedState {
 
 impl Indicators {
     /// The state, tried in this order: solid (Γ < 1, mostly at rest or all at rest at the end),
-    /// undulations (a bed's shape alternating between periods), convection (a circulating mean
+    /// undulations (a bed locked to two periods whose shape swaps between periods), convection (a circulating mean
     /// flow, in a bouncing bed or not), bouncing bed (locked to the period or to two periods),
     /// Leidenfrost (a dense region over a dilute layer), and gas otherwise. An indicator not
     /// measured decides nothing.
@@ -119,7 +120,9 @@ impl Indicators {
         let resting = self.at_rest >= SOLID_AT_REST || self.at_rest_at_end;
         if self.gamma < SOLID_GAMMA && resting {
             StateName::Solid
-        } else if above(self.undulation, UNDULATION_AMPLITUDE) {
+        } else if above(self.undulation, UNDULATION_AMPLITUDE)
+            && above(self.com_locking_two_periods, BOUNCING_LOCKING)
+        {
             StateName::Undulations
         } else if above(self.circulation, CONVECTION_CIRCULATION) {
             StateName::Convection
@@ -353,6 +356,13 @@ mod tests {
             ..base()
         };
         assert_eq!(waves.state(), StateName::Undulations);
+        // Busy columns in a bed not locked to two periods (a gas): no undulations.
+        let busy = Indicators {
+            undulation: Some(1.5),
+            com_locking_two_periods: Some(0.0),
+            ..base()
+        };
+        assert_eq!(busy.state(), StateName::Gas);
     }
 
     #[test]

@@ -10,7 +10,7 @@ use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
 use crate::measure::fields::Fields;
 use crate::measure::phase::{FloorTally, PhaseBins, PhaseClock, PhaseTable};
-use crate::measure::state::{BedState, Indicators};
+use crate::measure::state::{BedState, Indicators, StateName};
 use crate::measure::{Observables, ProfileTable, States};
 use crate::output::frame::FrameView;
 use crate::output::progress::ProgressReport;
@@ -87,7 +87,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
         let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
         let phase = match (&scene.floor, scene.gravity) {
-            (Some(f), Some(_)) => PhaseClock::of(f, s.output.phase_bins, sample_interval(s)),
+            (Some(f), Some(_)) => PhaseClock::of(f, s.output.phase_bins, s.sample_interval()),
             _ => None,
         };
         let fields = opts
@@ -675,19 +675,16 @@ fn bed_state(
         Some(p) => indicators.with_profiles(p, floor.amplitude),
         None => indicators,
     };
-    Some(BedState::of(match &avg.state_fields {
+    let state = BedState::of(match &avg.state_fields {
         Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
         None => indicators,
-    }))
-}
-
-/// The interval between samples (the stops' rule: the sample interval, else the frame interval,
-/// else a 200th of the duration).
-fn sample_interval(s: &Scenario) -> f64 {
-    s.output
-        .sample_interval
-        .or(s.output.frame_interval)
-        .unwrap_or(s.run.duration / 200.0)
+    });
+    // A shaken bed whose motion against the floor's phase was not resolved (too few periods in
+    // the window) could be bouncing or not: no state but a solid one.
+    let unresolved = !floor.is_static()
+        && (state.indicators.com_locking.is_none()
+            || state.indicators.com_locking_two_periods.is_none());
+    (!unresolved || state.name == StateName::Solid).then_some(state)
 }
 
 /// The floor's impacts and the momentum it has given so far, at time `t`.

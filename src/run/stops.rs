@@ -65,11 +65,7 @@ impl Stops {
         let duration = s.run.duration;
         let default_dt = duration / 200.0;
         Stops {
-            sample_dt: s
-                .output
-                .sample_interval
-                .or(s.output.frame_interval)
-                .unwrap_or(default_dt),
+            sample_dt: s.sample_interval(),
             frame_dt: s.output.frame_interval.unwrap_or(default_dt),
             trajectory_dt: s
                 .output

@@ -1,6 +1,7 @@
 //! Physical sense of a typed scenario: every rule names the field it guards.
 
 use super::*;
+use crate::measure::phase::GROUP;
 
 /// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
 pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
@@ -735,7 +736,41 @@ pub fn advisories(s: &Scenario) -> Vec<String> {
     if let Some(note) = cutoff_in_a_deep_pile(s) {
         notes.push(note);
     }
+    if let Some(note) = few_resolved_periods(s) {
+        notes.push(note);
+    }
     notes
+}
+
+/// Groups of four floor periods the window should resolve for the phase-resolved motion and the
+/// bed's state to rest on more than a few periods.
+const FEW_GROUPS: f64 = 2.0;
+
+/// A vibrating floor under gravity whose window after the warm-up resolves fewer than
+/// [`FEW_GROUPS`] groups of four floor periods at the scene's sample interval (the phase stops
+/// are kept no more frequent than the samples).
+fn few_resolved_periods(s: &Scenario) -> Option<String> {
+    let floor = s.floor.as_ref()?;
+    s.gravity?;
+    let shaken = floor.amplitude.or(floor.gamma).is_some_and(|a| a > 0.0);
+    let period = 1.0 / floor.frequency.filter(|f| *f > 0.0)?;
+    let window = s.run.duration - s.run.warmup;
+    if !shaken || window <= 0.0 {
+        return None;
+    }
+    let bins = s.output.phase_bins;
+    let stride = crate::measure::phase::stride(bins, s.sample_interval(), period);
+    let groups = (window / period / (GROUP as f64 * stride as f64)).floor();
+    (groups < FEW_GROUPS).then(|| {
+        format!(
+            "the window after the warm-up ({window} time units) resolves {groups} group(s) of \
+             four floor periods at this sample interval ({}): the phase table and the bed's \
+             state rest on few periods, and with none resolved no state but `solid` is \
+             given; output.sample_interval = {} or less resolves every period",
+            s.sample_interval(),
+            period / bins as f64
+        )
+    })
 }
 
 /// Whether the scene's bed can come to rest: gravity, and a floor that never pulls away

@@ -632,6 +632,15 @@ fn default_phase_bins() -> usize {
 }
 
 impl Scenario {
+    /// The interval between samples: `output.sample_interval`, else the frame interval, else a
+    /// 200th of the duration.
+    pub fn sample_interval(&self) -> f64 {
+        self.output
+            .sample_interval
+            .or(self.output.frame_interval)
+            .unwrap_or(self.run.duration / 200.0)
+    }
+
     /// Parses scenario JSON text, applying `--set` overrides (`KEY=VALUE`) first, then validates.
     pub fn from_json_with_overrides(text: &str, sets: &[String]) -> Result<Scenario> {
         let mut value = json::parse(text)?;

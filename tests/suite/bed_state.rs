@@ -70,12 +70,13 @@ fn beds_below_gamma_one_are_solid() {
 
 #[test]
 fn the_same_beds_above_gamma_one_bounce() {
-    // The six layers at Γ = 1.5, thrown off and landing once per period; the shipped bed of
-    // five layers at Γ = 3.
+    // The six layers at Γ = 1.5, thrown off and landing once per period (every period resolved:
+    // with its sample interval of one period none would be, and no state given); the shipped
+    // bed of five layers at Γ = 3.
     assert_eq!(
         state_of(
             "scenarios/hard/bouncing_bed_gamma_1.5.json",
-            &["run.warmup=20"]
+            &["run.warmup=20", "output.sample_interval=0.05"]
         ),
         StateName::BouncingBed
     );
@@ -111,6 +112,35 @@ fn a_bed_landing_every_second_period_bounces() {
     assert!(i.com_locking.unwrap() < 0.2, "{i:?}");
     assert!(i.com_locking_two_periods.unwrap() > 0.9, "{i:?}");
     assert!(i.undulation.unwrap() < 0.3, "{i:?}");
+}
+
+#[test]
+fn the_undulations_scene_undulates() {
+    // Ten layers at Γ = 6.5, f = 0.25: a period-doubled bed whose arches swap at each landing.
+    let s = summary("scenarios/undulations.json", &[]);
+    let state = s.state.expect("a floor under gravity has a state");
+    eprintln!("{:?} {:?}", state.name, state.indicators);
+    assert_eq!(state.name, StateName::Undulations);
+    assert!(state.indicators.com_locking_two_periods.unwrap() > 0.9);
+}
+
+#[test]
+fn a_shaken_bed_whose_periods_are_not_resolved_has_no_state() {
+    // Samples every period, 20 bins a period: the phase stops resolve one group of four periods
+    // in 80, none of them in the window of 20 periods. The scene says so before the run.
+    let file = "scenarios/hard/bouncing_bed_gamma_1.5.json";
+    let text = std::fs::read_to_string(crate_path(file)).unwrap();
+    let sets = vec!["run.warmup=20".to_string()];
+    let scenario = Scenario::from_json_with_overrides(&text, &sets).unwrap();
+    let notes = scenario.advisories();
+    assert!(
+        notes.iter().any(|n| n.contains("resolves 0 group(s)")),
+        "{notes:?}"
+    );
+    let s = run(&scenario, RunOptions::default()).unwrap();
+    let phase = s.phase.expect("a vibrating floor has a phase table");
+    assert_eq!(phase.com_locking, None);
+    assert!(s.state.is_none(), "{:?}", s.state);
 }
 
 #[test]
