@@ -132,6 +132,9 @@ pub struct PhaseBins {
     mark: Option<(FloorTally, u64)>,
     /// The same samples per bin and place of the period in its group of four.
     places: Places,
+    /// A sample's disk bottoms and column sums, kept so that a sample allocates nothing.
+    #[serde(skip)]
+    scratch: (Vec<f64>, Vec<(f64, f64)>),
 }
 
 /// Periods in a group: motion that repeats every period, every second or every fourth period
@@ -216,6 +219,7 @@ impl PhaseBins {
         let (u, f) = (vec![0; clock.bins], vec![0.0; clock.bins]);
         let columns = columns.max(1);
         PhaseBins {
+            scratch: Default::default(),
             places: Places {
                 columns,
                 width,
@@ -266,8 +270,10 @@ impl PhaseBins {
     pub fn sample(&mut self, k: u64, states: &impl States, disks: &Disks, floor: f64) {
         let t = &self.places;
         let (mut m_sum, mut my) = (0.0, 0.0);
-        let mut bottoms = Vec::with_capacity(disks.len());
-        let mut columns = vec![(0.0, 0.0); t.columns];
+        let (mut bottoms, mut columns) = std::mem::take(&mut self.scratch);
+        bottoms.clear();
+        columns.clear();
+        columns.resize(t.columns, (0.0, 0.0));
         let per_column = t.columns as f64 / t.width;
         states.each(|i, [x, y, _, _]| {
             let m = disks.mass[i];
@@ -278,17 +284,14 @@ impl PhaseBins {
             columns[c].0 += m * y;
             columns[c].1 += m;
         });
-        let heights: Vec<f64> = columns
-            .iter()
-            .filter(|c| c.1 > 0.0)
-            .map(|c| c.0 / c.1)
-            .collect();
-        let mean = heights.iter().sum::<f64>() / heights.len().max(1) as f64;
+        let filled = columns.iter().filter(|c| c.1 > 0.0);
+        let mean = filled.clone().map(|c| c.0 / c.1).sum::<f64>() / filled.count().max(1) as f64;
         let deviations = columns
             .iter()
             .map(|c| if c.1 > 0.0 { c.0 / c.1 - mean } else { 0.0 });
         let lower = lower_edge(&mut bottoms);
         self.add(k, my / m_sum, lower, deviations);
+        self.scratch = (bottoms, columns);
     }
 
     /// Adds the centre-of-mass height, lower edge and columns' height deviations sampled at

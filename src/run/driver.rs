@@ -322,7 +322,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         bins.book(k, floor_tally(&self.sim, self.now));
         let floor = self.sim.floor_height_at(self.now).unwrap_or(0.0);
-        bins.sample(k, &StatesAt(&self.sim, self.now), self.sim.disks(), floor);
+        fill_snapshot(&self.sim, self.now, &mut self.snap);
+        bins.sample(k, &self.snap, self.sim.disks(), floor);
     }
 
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
@@ -335,7 +336,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             None
         };
         if self.averages.window.is_some() {
-            let states = StatesAt(&self.sim, self.now);
+            fill_snapshot(&self.sim, self.now, &mut self.snap);
+            let states = Snapped(&self.snap, &self.sim);
             let o = Observables::of(&states, self.sim.disks(), self.g);
             self.averages.add(&states, self.sim.disks(), &o);
             self.averages.at_rest += at_rest as f64 / self.sim.disks().len() as f64;
@@ -701,6 +703,22 @@ fn floor_tally<E: Integrator>(sim: &E, t: f64) -> FloorTally {
 fn fill_snapshot<E: Integrator>(sim: &E, now: f64, snap: &mut Snapshot) {
     if snap.time != now || snap.x.is_empty() {
         sim.snapshot_into(now, snap);
+    }
+}
+
+/// The states of an engine's disks in a snapshot taken at one time, the spins read from the
+/// engine: one pass over the engine's disks serves every measurement of a sample.
+struct Snapped<'a, E>(&'a Snapshot, &'a E);
+
+impl<E: Integrator> States for Snapped<'_, E> {
+    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
+        self.0.each(f)
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.1.rotational_energy(self.0.time)
+    }
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        Some((self.1.inertia_factor()?, self.1.spins_at(self.0.time)?))
     }
 }
 
