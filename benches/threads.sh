@@ -11,6 +11,8 @@
 # Run from the project root:  benches/threads.sh                 (1 and 2 threads, ~3 min on 2 cores)
 #                             THREADS="1 2 4 8" benches/threads.sh
 #                             REPEATS=5 SCENES="bed1e4 gas" SCHEMES=time-step benches/threads.sh
+#                             STRIPS="bed1e4:25 gas:4" SCHEMES=space-time benches/threads.sh
+# STRIPS gives the space-time scheme's engine.strips per scene (absent: the scenario's, 1).
 # On a shared machine, run it alone: it measures wall time.
 set -euo pipefail
 threads="${THREADS:-1 2}"
@@ -56,11 +58,17 @@ for name in $scenes; do
   read -r -a spec <<< "$(scene "$name")"
   sets=()
   for s in "${spec[@]:1}"; do sets+=(--set "$s"); done
+  strips=()
+  for entry in ${STRIPS:-}; do
+    if [[ "${entry%%:*}" == "$name" ]]; then strips=(--set "engine.strips=${entry#*:}"); fi
+  done
   for rep in $(seq "$repeats"); do
     undisturbed "$work/$name.exact.$rep.json" "${spec[0]}" "${sets[@]}"
     for scheme in $schemes; do
       for t in $threads; do
-        undisturbed "$work/$name.$scheme.$t.$rep.json" "${spec[0]}" "${sets[@]}" \
+        extra=()
+        if [[ "$scheme" == space-time ]]; then extra=("${strips[@]}"); fi
+        undisturbed "$work/$name.$scheme.$t.$rep.json" "${spec[0]}" "${sets[@]}" "${extra[@]}" \
           --set engine.scheme=$scheme --set engine.threads="$t"
       done
     done

@@ -100,6 +100,30 @@ impl Disks {
             + self.spins.as_ref().map_or(0, |s| s.bytes())
     }
 
+    /// Disks `ids` (global numbers, in this order) as a set of their own, numbered from 0: a
+    /// part of the scene that one thread moves on its own.
+    pub fn gather(&self, ids: &[u32]) -> Disks {
+        Disks {
+            motion: ids.iter().map(|&g| self.motion[g as usize]).collect(),
+            radius: self.radius.gather(ids),
+            mass: self.mass.gather(ids),
+            species: self.species.gather(ids),
+            counter: ids.iter().map(|&g| self.counter[g as usize]).collect(),
+            spins: self.spins.as_ref().map(|s| s.gather(ids)),
+        }
+    }
+
+    /// Copies back what moves (motion, counters, spins) from `part`, gathered from `ids`.
+    pub fn scatter(&mut self, part: &Disks, ids: &[u32]) {
+        for (k, &g) in ids.iter().enumerate() {
+            self.motion[g as usize] = part.motion[k];
+            self.counter[g as usize] = part.counter[k];
+        }
+        if let (Some(all), Some(some)) = (self.spins.as_mut(), part.spins.as_ref()) {
+            all.scatter(some, ids);
+        }
+    }
+
     /// Rotational kinetic energy `Σ ½ I ω²` (0 for smooth disks).
     pub fn rotational_energy(&self) -> f64 {
         self.spins
@@ -189,6 +213,19 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
     /// The values as a vector.
     pub fn to_vec(&self) -> Vec<T> {
         self.iter().collect()
+    }
+
+    /// The entries `ids`, in that order.
+    pub fn gather(&self, ids: &[u32]) -> PerDisk<T> {
+        if self.each.is_empty() {
+            PerDisk {
+                len: ids.len(),
+                common: self.common,
+                each: Vec::new(),
+            }
+        } else {
+            PerDisk::new(ids.iter().map(|&g| self.each[g as usize]).collect())
+        }
     }
 
     /// Reordered so that entry `k` is the old entry `from[k]`.

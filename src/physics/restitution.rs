@@ -71,6 +71,36 @@ impl CollisionLaw {
         }
     }
 
+    /// The law's record of disks `ids`, numbered from 0 in that order.
+    pub fn gather(&self, ids: &[u32]) -> CollisionLaw {
+        let pick = |v: &[f64]| ids.iter().map(|&g| v[g as usize]).collect::<Vec<_>>();
+        CollisionLaw {
+            law: self.law,
+            last: if self.last.is_empty() {
+                Vec::new()
+            } else {
+                pick(&self.last)
+            },
+            paired: if self.paired.is_empty() {
+                Vec::new()
+            } else {
+                ids.iter().map(|&g| self.paired[g as usize]).collect()
+            },
+        }
+    }
+
+    /// Copies back the record of `part`, gathered from `ids`.
+    pub fn scatter(&mut self, part: &CollisionLaw, ids: &[u32]) {
+        for (k, &g) in ids.iter().enumerate() {
+            if !self.last.is_empty() {
+                self.last[g as usize] = part.last[k];
+            }
+            if !self.paired.is_empty() {
+                self.paired[g as usize] = part.paired[k];
+            }
+        }
+    }
+
     /// Restitution of a collision of disks `i` and `j` happening at `now`, with separation
     /// `(dx, dy) = r_i − r_j` and relative velocity `(dvx, dvy) = v_i − v_j`; records it.
     #[inline]

@@ -351,6 +351,23 @@ impl Spins {
         }
     }
 
+    /// The spins of disks `ids`, numbered from 0 in that order.
+    pub fn gather(&self, ids: &[u32]) -> Spins {
+        Spins {
+            q: self.q,
+            omega: ids.iter().map(|&g| self.omega[g as usize]).collect(),
+            phase: ids.iter().map(|&g| self.phase[g as usize]).collect(),
+        }
+    }
+
+    /// Copies back the spins of `part`, gathered from `ids`.
+    pub fn scatter(&mut self, part: &Spins, ids: &[u32]) {
+        for (k, &g) in ids.iter().enumerate() {
+            self.omega[g as usize] = part.omega[k];
+            self.phase[g as usize] = part.phase[k];
+        }
+    }
+
     /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         crate::physics::disks::permute_in_place(&mut self.omega, from);

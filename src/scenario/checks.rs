@@ -468,6 +468,10 @@ const APPROXIMATE: &[Scheme] = &[Scheme::TimeStep, Scheme::SpaceTime];
 /// The most threads `engine.threads` may ask for.
 pub const MAX_THREADS: u64 = 4096;
 
+/// The most strips `engine.strips` may ask for (the scene may allow fewer: each strip is at
+/// least four columns of cells wide).
+pub const MAX_STRIPS: u64 = 1 << 16;
+
 /// The approximate schemes' knobs: positive, and only with the scheme they belong to (a knob
 /// that the chosen scheme would ignore is refused rather than silently dropped).
 fn validate_scheme_knobs(e: &Engine) -> Result<()> {
@@ -480,6 +484,11 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
             &[Scheme::SpaceTime][..],
         ),
         ("engine.cell_size", e.cell_size, APPROXIMATE),
+        (
+            "engine.strips",
+            e.strips.map(|k| k as f64),
+            &[Scheme::SpaceTime][..],
+        ),
     ];
     let threads = ("engine.threads", e.threads.map(|t| t as f64), APPROXIMATE);
     if let Some(t) = e.threads {
@@ -489,6 +498,14 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
                 format!(
                     "must be a whole number from 1 to {MAX_THREADS} (got {t}; absent: every core)"
                 ),
+            ));
+        }
+    }
+    if let Some(k) = e.strips {
+        if !(1..=MAX_STRIPS).contains(&k) {
+            return Err(Error::input(
+                "engine.strips",
+                format!("must be a whole number from 1 to {MAX_STRIPS} (got {k}; absent: 1)"),
             ));
         }
     }

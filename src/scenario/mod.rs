@@ -481,6 +481,12 @@ pub struct Engine {
     /// (absent: the Verlet radius for `time-step`; 2 a_max + 3 a_min for `space-time`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_size: Option<f64>,
+    /// `space-time`: vertical strips of cells whose event loops run apart within a
+    /// synchronisation step, on the threads (absent: 1, the whole scene one loop). Pairs across
+    /// a strip's border are left to the next synchronisation. Results do not depend on the
+    /// threads.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strips: Option<u64>,
     /// `time-step` and `space-time`: threads their loops run on (absent: every core this
     /// process may use). Results are the same bit for bit whatever the count.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -502,6 +508,7 @@ impl Default for Engine {
             verlet_skin: None,
             sync_distance: None,
             cell_size: None,
+            strips: None,
             threads: None,
         }
     }

@@ -39,6 +39,18 @@ impl CellList {
         4 * (self.head.capacity() + self.next.capacity() + self.cell_of.capacity())
     }
 
+    /// The columns of cells [`build`](Self::build) makes for `n` disks and cells of side at
+    /// least `size`: at most O(N) (a wide, sparse domain gets fewer, wider cells), and one
+    /// rather than two in a periodic box (a cell would be its own neighbour twice).
+    pub fn columns_for(n: usize, size: f64, sides: SideBounds) -> usize {
+        let nx = ((sides.width() / size).floor().min(1e15) as usize).clamp(1, 2 * n + 3);
+        if matches!(sides, SideBounds::Periodic { .. }) && nx < 3 {
+            1
+        } else {
+            nx
+        }
+    }
+
     /// Maps `n` disks at positions `pos(i)` (wrapped into the box where periodic) into cells of
     /// side at least `size`.
     pub fn build(
@@ -51,11 +63,7 @@ impl CellList {
     ) {
         let width = sides.width();
         let x_periodic = matches!(sides, SideBounds::Periodic { .. });
-        // At most O(N) cells: a wide, sparse domain gets fewer, wider cells (still ≥ `size`).
-        self.nx = ((width / size).floor().min(1e15) as usize).clamp(1, 2 * n + 3);
-        if x_periodic && self.nx < 3 {
-            self.nx = 1;
-        }
+        self.nx = Self::columns_for(n, size, sides);
         self.x_wrap = x_periodic;
         self.cw = width / self.nx as f64;
         match top {
@@ -141,11 +149,49 @@ impl CellList {
         cy * self.nx + cx
     }
 
+    /// Number of columns of cells.
+    pub fn columns(&self) -> usize {
+        self.nx
+    }
+
+    /// Calls `f(i)` for every disk in the cells of `columns`, row by row, the columns in the
+    /// order given.
+    pub fn for_each_disk_in_columns(&self, columns: &[usize], mut f: impl FnMut(usize)) {
+        for row in 0..self.ny {
+            for &col in columns {
+                let mut i = self.head[row * self.nx + col];
+                while i != EMPTY {
+                    f(i as usize);
+                    i = self.next[i as usize];
+                }
+            }
+        }
+    }
+
+    /// Calls `f(i, j, same)` for every pair [`for_each_pair`](Self::for_each_pair) visits from
+    /// the cells of `columns` (row by row, the columns in the order given); `same` tells whether
+    /// the other disk's column has the same `group` as the first's.
+    pub fn for_each_pair_in_columns(
+        &self,
+        columns: &[usize],
+        group: &[u32],
+        mut f: impl FnMut(usize, usize, bool),
+    ) {
+        for row in 0..self.ny {
+            for &col in columns {
+                let c = row * self.nx + col;
+                self.for_each_pair_from_cell(c, |i, j, t| {
+                    f(i, j, group[t % self.nx] == group[col])
+                });
+            }
+        }
+    }
+
     /// Calls `f(i, j)` once for every pair of disks in the same or adjacent cells, cell by cell
     /// in row-major order.
     pub fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
         for c in 0..self.nx * self.ny {
-            self.for_each_pair_from_cell(c, &mut f);
+            self.for_each_pair_from_cell(c, |i, j, _| f(i, j));
         }
     }
 
@@ -161,22 +207,23 @@ impl CellList {
             .into_par_iter()
             .with_min_len((MIN_PIECE / disks_per_cell).max(1))
             .fold(Vec::new, |mut found, c| {
-                self.for_each_pair_from_cell(c, |i, j| found.extend(f(i, j)));
+                self.for_each_pair_from_cell(c, |i, j, _| found.extend(f(i, j)));
                 found
             })
             .collect();
         pieces.into_iter().flatten().collect()
     }
 
-    /// The pairs within cell `c` and between it and the cells its half stencil reaches.
-    fn for_each_pair_from_cell(&self, c: usize, mut f: impl FnMut(usize, usize)) {
+    /// The pairs within cell `c` and between it and the cells its half stencil reaches, with
+    /// the other disk's cell.
+    fn for_each_pair_from_cell(&self, c: usize, mut f: impl FnMut(usize, usize, usize)) {
         let (nx, ny) = (self.nx as isize, self.ny as isize);
         let (cx, cy) = ((c % self.nx) as isize, (c / self.nx) as isize);
         let mut i = self.head[c];
         while i != EMPTY {
             let mut j = self.next[i as usize];
             while j != EMPTY {
-                f(i as usize, j as usize);
+                f(i as usize, j as usize, c);
                 j = self.next[j as usize];
             }
             i = self.next[i as usize];
@@ -198,7 +245,7 @@ impl CellList {
             while i != EMPTY {
                 let mut j = self.head[t];
                 while j != EMPTY {
-                    f(i as usize, j as usize);
+                    f(i as usize, j as usize, t);
                     j = self.next[j as usize];
                 }
                 i = self.next[i as usize];

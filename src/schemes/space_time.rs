@@ -23,6 +23,16 @@
 //! its own disks' predictions; they are queued in the order of the disks). The events between
 //! two synchronisations run one after the other, in time order, on one thread: an event changes
 //! what its disks' neighbours predict next.
+//!
+//! With `engine.strips` = S > 1 the columns of cells are cut into S vertical strips of equal
+//! width (set by the scene, not by the threads), and each strip runs its own event loop through
+//! the step on whichever thread takes it. A pair whose cells lie in two strips is not a
+//! candidate within the step: if its disks meet, they are found overlapping at the next
+//! synchronisation, where the borders have moved by half a strip, so the pair is a candidate
+//! again and collides at once if it approaches (a late collision, counted as missed). The
+//! strips' disks are copies, numbered in the order of their numbers in the scene; their tallies
+//! (counts, energy, virial) are added in the order of the strips, so the results do not depend
+//! on the threads. One strip is the scheme as before, bit for bit.
 
 use super::cells::CellList;
 use super::cores::{Cores, MIN_PIECE};
@@ -101,17 +111,17 @@ pub struct SpaceTime<F: Flight> {
     top: Top,
     floor: Option<Floor>,
     restitution: CollisionLaw,
-    rub: Rub,
     sync_distance: f64,
     cell: f64,
     cells: CellList,
     start: Vec<u32>,
     partners: Vec<u32>,
-    ev_time: Vec<f64>,
-    ev_partner: Vec<u32>,
-    ev_counter: Vec<u32>,
-    seq: Vec<u32>,
-    queue: BinaryHeap<Queued>,
+    /// The event loops, one per strip; strip 0 also carries the tallies of the steps before.
+    strips: Vec<Strip<F>>,
+    /// With one strip: whether it holds the disks and the law (they are moved, not copied).
+    lent: bool,
+    /// Each disk's number within its strip (several strips only).
+    local: Vec<u32>,
     overlapping: HashSet<(u32, u32)>,
     now: f64,
     sync_end: f64,
@@ -125,6 +135,39 @@ pub struct SpaceTime<F: Flight> {
     cores: Cores,
 }
 
+/// One strip's event loop over a synchronisation step: its disks (numbered from 0 in the order
+/// of their numbers in the scene), their candidates, predictions and queue, its clock and its
+/// tallies. With one strip it is the whole scene.
+#[derive(Debug)]
+struct Strip<F: Flight> {
+    flight: F,
+    sides: SideBounds,
+    top: Top,
+    floor: Option<Floor>,
+    rub: Rub,
+    restitution: CollisionLaw,
+    disks: Disks,
+    /// The strip's disks by their numbers in the scene (several strips only).
+    ids: Vec<u32>,
+    start: Vec<u32>,
+    partners: Vec<u32>,
+    ev_time: Vec<f64>,
+    ev_partner: Vec<u32>,
+    ev_counter: Vec<u32>,
+    seq: Vec<u32>,
+    queue: BinaryHeap<Queued>,
+    now: f64,
+    sync_end: f64,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    overlapped_collisions: u64,
+    deep_overlaps: u64,
+    event_limit: u64,
+    interrupt: Option<&'static AtomicBool>,
+}
+
 /// A disk's next event: its time, its partner (a disk's number or one of the codes beyond),
 /// and the partner's collision counter when it was predicted.
 #[derive(Debug, Clone, Copy)]
@@ -134,9 +177,13 @@ struct Next {
     counter: u32,
 }
 
+/// Fewest columns of cells in a strip: a pair across a border is then inside a strip after the
+/// borders shift by half a strip, unless it moved two columns in one step.
+pub const MIN_STRIP_COLUMNS: usize = 4;
+
 impl<F: Flight> SpaceTime<F> {
     /// Sets up the scheme for `scene` with its knobs from `engine` (`sync_distance`,
-    /// `cell_size`, `threads`).
+    /// `cell_size`, `strips`, `threads`).
     pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<SpaceTime<F>> {
         let n = disks.len();
         let (a_min, a_max) = disks.radius_range();
@@ -154,31 +201,72 @@ impl<F: Flight> SpaceTime<F> {
             Some(c) => c * a_min,
             None => 2.0 * a_max + DEFAULT_CELL_MARGIN * a_min,
         };
+        let strips = engine.strips.unwrap_or(1) as usize;
+        if strips > 1 {
+            let columns = CellList::columns_for(n, cell, scene.sides);
+            let most = columns / MIN_STRIP_COLUMNS;
+            if strips > most {
+                return Err(Error::input(
+                    "engine.strips",
+                    format!(
+                        "at most {} for this scene: its {columns} columns of cells, at least \
+                         {MIN_STRIP_COLUMNS} to a strip (got {strips})",
+                        most.max(1)
+                    ),
+                ));
+            }
+        }
+        let restitution = CollisionLaw::new(
+            Restitution {
+                e: scene.restitution,
+                tc: scene.tc,
+                speed_cutoff: scene.speed_cutoff,
+            },
+            n,
+        );
+        let event_limit = scene.max_events.unwrap_or(u64::MAX);
+        let strip = Strip {
+            flight,
+            sides: scene.sides,
+            top: scene.top,
+            floor: scene.floor.clone(),
+            rub: Rub::new(scene.rough),
+            restitution: CollisionLaw::new(restitution.law, 0),
+            disks: Disks::default(),
+            ids: Vec::new(),
+            start: Vec::new(),
+            partners: Vec::new(),
+            ev_time: Vec::new(),
+            ev_partner: Vec::new(),
+            ev_counter: Vec::new(),
+            seq: Vec::new(),
+            queue: BinaryHeap::new(),
+            now: 0.0,
+            sync_end: 0.0,
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            overlapped_collisions: 0,
+            deep_overlaps: 0,
+            event_limit,
+            interrupt: None,
+        };
         let mut st = SpaceTime {
             flight,
             disks,
             sides: scene.sides,
             top: scene.top,
             floor: scene.floor.clone(),
-            restitution: CollisionLaw::new(
-                Restitution {
-                    e: scene.restitution,
-                    tc: scene.tc,
-                    speed_cutoff: scene.speed_cutoff,
-                },
-                n,
-            ),
-            rub: Rub::new(scene.rough),
+            restitution,
             sync_distance,
             cell,
             cells: CellList::default(),
             start: Vec::new(),
             partners: Vec::new(),
-            ev_time: vec![f64::INFINITY; n],
-            ev_partner: vec![NONE; n],
-            ev_counter: vec![0; n],
-            seq: vec![0; n],
-            queue: BinaryHeap::new(),
+            strips: (0..strips).map(|_| strip.clone_empty()).collect(),
+            lent: false,
+            local: Vec::new(),
             overlapping: HashSet::new(),
             now: 0.0,
             sync_end: 0.0,
@@ -187,39 +275,87 @@ impl<F: Flight> SpaceTime<F> {
             virial: 0.0,
             max_overlap: 0.0,
             stats: SchemeStats::default(),
-            event_limit: scene.max_events.unwrap_or(u64::MAX),
+            event_limit,
             interrupt: None,
             cores: Cores::new(engine.threads)?,
         };
+        if strips == 1 {
+            st.strips[0].ev_time = vec![f64::INFINITY; n];
+            st.strips[0].ev_partner = vec![NONE; n];
+            st.strips[0].ev_counter = vec![0; n];
+            st.strips[0].seq = vec![0; n];
+        }
         for m in &mut st.disks.motion {
             m.t = 0.0;
         }
         st.cores.clone().run(|| st.synchronise());
+        st.home();
         st.stats.missed = 0; // overlaps present at the start are the placement's, not missed
         Ok(st)
     }
 
-    /// State of disk `i` at time `t` (on its flight from its own time stamp).
-    #[inline(always)]
-    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
-        let m = &self.disks.motion[i];
-        self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    /// Moves (one strip) or copies (several) the disks and the law's record back from the
+    /// strips.
+    fn home(&mut self) {
+        if self.strips.len() == 1 {
+            if self.lent {
+                let strip = &mut self.strips[0];
+                std::mem::swap(&mut self.disks, &mut strip.disks);
+                std::mem::swap(&mut self.restitution, &mut strip.restitution);
+                self.lent = false;
+            }
+        } else {
+            for strip in &self.strips {
+                self.disks.scatter(&strip.disks, &strip.ids);
+                self.restitution.scatter(&strip.restitution, &strip.ids);
+            }
+        }
     }
 
-    #[inline(always)]
-    fn bring(&mut self, i: usize, t: f64) {
-        let (x, y, vx, vy) = self.state_at(i, t);
-        self.disks.motion[i] = Motion { x, y, vx, vy, t };
+    /// Hands the disks and the law's record to the one strip (several keep their copies).
+    fn lend(&mut self) {
+        if self.strips.len() == 1 && !self.lent {
+            let strip = &mut self.strips[0];
+            std::mem::swap(&mut self.disks, &mut strip.disks);
+            std::mem::swap(&mut self.restitution, &mut strip.restitution);
+            self.lent = true;
+        }
     }
 
-    fn of(&self, i: usize) -> &[u32] {
-        &self.partners[self.start[i] as usize..self.start[i + 1] as usize]
+    /// The totals: strip 0's (which carry those of the steps before) and then each other
+    /// strip's, added in the order of the strips whatever thread ran them.
+    fn tally(&mut self) {
+        let (first, rest) = self.strips.split_first().expect("at least one strip");
+        let mut counts = first.counts;
+        let mut flow = first.flow;
+        let mut virial = first.virial;
+        let mut overlapped = first.overlapped_collisions;
+        let mut deep = first.deep_overlaps;
+        let mut worst = self.max_overlap.max(first.max_overlap);
+        for s in rest {
+            add_counts(&mut counts, &s.counts);
+            flow.injected += s.flow.injected;
+            flow.dissipated += s.flow.dissipated;
+            flow.floor_impulse += s.flow.floor_impulse;
+            virial += s.virial;
+            overlapped += s.overlapped_collisions;
+            deep += s.deep_overlaps;
+            worst = worst.max(s.max_overlap);
+        }
+        self.counts = counts;
+        self.flow = flow;
+        self.virial = virial;
+        self.stats.overlapped_collisions = overlapped;
+        self.stats.deep_overlaps = deep;
+        self.max_overlap = worst;
     }
 
     /// Brings every disk to the synchronisation time, rebuilds the cells and candidate lists,
     /// counts the pairs found overlapping, chooses the next synchronisation time and predicts
     /// every disk.
     fn synchronise(&mut self) {
+        self.home();
+        self.tally();
         let now = self.now;
         let (flight, sides, top) = (self.flight, self.sides, self.top);
         self.disks
@@ -237,24 +373,6 @@ impl<F: Flight> SpaceTime<F> {
                     t: now,
                 };
             });
-        self.candidates();
-        self.sync_end = now + self.sync_step();
-        self.counts.rebuild += 1;
-        self.stats.steps += 1;
-        self.queue.clear();
-        let next: Vec<Option<Next>> = (0..self.disks.len())
-            .into_par_iter()
-            .with_min_len(MIN_PIECE)
-            .map(|i| self.next_event(i))
-            .collect();
-        for (i, next) in next.into_iter().enumerate() {
-            self.schedule(i, next);
-        }
-    }
-
-    /// Rebuilds the cells and, from them, every disk's candidate partners (symmetric lists in
-    /// CSR form); counts the pairs found overlapping that were not at the last synchronisation.
-    fn candidates(&mut self) {
         let n = self.disks.len();
         let motion = &self.disks.motion;
         self.cells.build(
@@ -264,20 +382,123 @@ impl<F: Flight> SpaceTime<F> {
             self.sides,
             self.top,
         );
+        self.sync_end = now + self.sync_step();
+        self.counts.rebuild += 1;
+        self.stats.steps += 1;
+        // Strip 0 carries the totals; the others count from zero and are added after it.
+        let base = self.counts.popped();
+        for (k, strip) in self.strips.iter_mut().enumerate() {
+            strip.now = now;
+            strip.sync_end = self.sync_end;
+            strip.queue.clear();
+            if k == 0 {
+                strip.counts = self.counts;
+                strip.flow = self.flow;
+                strip.virial = self.virial;
+                strip.overlapped_collisions = self.stats.overlapped_collisions;
+                strip.deep_overlaps = self.stats.deep_overlaps;
+                strip.event_limit = self.event_limit;
+            } else {
+                strip.counts = EventCounts::default();
+                strip.flow = EnergyFlow::default();
+                strip.virial = 0.0;
+                strip.overlapped_collisions = 0;
+                strip.deep_overlaps = 0;
+                strip.event_limit = self.event_limit.saturating_sub(base);
+            }
+            strip.max_overlap = 0.0;
+            strip.interrupt = self.interrupt;
+        }
+        if self.strips.len() == 1 {
+            self.candidates();
+            self.lend();
+            let strip = &mut self.strips[0];
+            strip.start = std::mem::take(&mut self.start);
+            strip.partners = std::mem::take(&mut self.partners);
+            let next: Vec<Option<Next>> = (0..n)
+                .into_par_iter()
+                .with_min_len(MIN_PIECE)
+                .map(|i| strip.next_event(i))
+                .collect();
+            for (i, next) in next.into_iter().enumerate() {
+                strip.schedule(i, next);
+            }
+        } else {
+            self.split();
+        }
+    }
+
+    /// Cuts the cells into the strips (shifted by half a strip at every other synchronisation)
+    /// and sets each strip up on the threads: its disks, its candidates (pairs of disks in its
+    /// own cells only) and their predictions; counts the pairs found overlapping, those across
+    /// the borders included.
+    fn split(&mut self) {
+        let s = self.strips.len();
+        let nx = self.cells.columns();
+        let shift = if self.stats.steps % 2 == 0 {
+            nx / (2 * s)
+        } else {
+            0
+        };
+        let columns: Vec<Vec<usize>> = (0..s)
+            .map(|k| {
+                (k * nx / s..(k + 1) * nx / s)
+                    .map(|c| (c + shift) % nx)
+                    .collect()
+            })
+            .collect();
+        let mut group = vec![0u32; nx];
+        for (k, cols) in columns.iter().enumerate() {
+            for &c in cols {
+                group[c] = k as u32;
+            }
+        }
+        let cells = &self.cells;
+        let members: Vec<Vec<u32>> = columns
+            .par_iter()
+            .map(|cols| {
+                let mut ids = Vec::new();
+                cells.for_each_disk_in_columns(cols, |i| ids.push(i as u32));
+                ids.sort_unstable();
+                ids
+            })
+            .collect();
+        self.local.resize(self.disks.len(), 0);
+        for ids in &members {
+            for (k, &g) in ids.iter().enumerate() {
+                self.local[g as usize] = k as u32;
+            }
+        }
+        let (disks, law, local) = (&self.disks, &self.restitution, &self.local);
+        let overlaps: Vec<Vec<(u32, u32, f64)>> = self
+            .strips
+            .par_iter_mut()
+            .zip(members)
+            .zip(&columns)
+            .map(|((strip, ids), cols)| strip.load(ids, cols, &group, local, cells, disks, law))
+            .collect();
+        let mut overlapping = HashSet::new();
+        for &(i, j, overlap) in overlaps.iter().flatten() {
+            self.max_overlap = self.max_overlap.max(overlap);
+            overlapping.insert((i, j));
+        }
+        self.stats.missed += overlapping.difference(&self.overlapping).count() as u64;
+        self.overlapping = overlapping;
+    }
+
+    /// Rebuilds every disk's candidate partners from the cells (symmetric lists in CSR form);
+    /// counts the pairs found overlapping that were not at the last synchronisation.
+    fn candidates(&mut self) {
+        let n = self.disks.len();
+        let motion = &self.disks.motion;
         let (sides, top, radius) = (self.sides, self.top, &self.disks.radius);
         // Every candidate pair, with its overlap where the disks overlap.
         let pairs: Vec<(u32, u32, Option<f64>)> = self.cells.pairs_where(|i, j| {
-            let (dx, dy) = min_image(
-                sides,
-                top,
-                motion[i].x - motion[j].x,
-                motion[i].y - motion[j].y,
-            );
-            let s = radius[i] + radius[j];
-            let d2 = dx * dx + dy * dy;
-            let overlap =
-                (d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s).then(|| s - d2.sqrt());
-            Some((i as u32, j as u32, overlap))
+            Some((
+                i as u32,
+                j as u32,
+                overlap(sides, top, motion, radius, i, j),
+            ))
         });
         let mut start = vec![0u32; n + 1];
         for &(i, j, _) in &pairs {
@@ -328,6 +549,234 @@ impl<F: Flight> SpaceTime<F> {
         } else {
             f64::INFINITY
         }
+    }
+
+    /// Runs events and synchronisations up to absolute time `target`.
+    fn run_to(&mut self, target: f64) -> Result<Progress> {
+        self.lend();
+        let progress = self.steps_to(target);
+        self.home();
+        self.tally();
+        progress
+    }
+
+    fn steps_to(&mut self, target: f64) -> Result<Progress> {
+        loop {
+            // A synchronisation costs O(N): the flag is looked at before each.
+            if self
+                .interrupt
+                .is_some_and(|flag| flag.load(Ordering::Relaxed))
+            {
+                return Ok(Progress::Interrupted);
+            }
+            if self.sync_end <= target {
+                if let Some(p) = self.run_events(self.sync_end)? {
+                    return Ok(p);
+                }
+                self.now = self.sync_end;
+                self.synchronise();
+                self.stats.step = self.now / self.stats.steps.saturating_sub(1).max(1) as f64;
+            } else {
+                if let Some(p) = self.run_events(target)? {
+                    return Ok(p);
+                }
+                self.now = self.now.max(target);
+                for strip in &mut self.strips {
+                    strip.now = strip.now.max(target);
+                }
+                return Ok(Progress::Reached);
+            }
+        }
+    }
+
+    /// Runs every strip's events before `until` (at most the synchronisation time), the strips
+    /// on the threads; the first strip (in their order) that stopped early says why.
+    fn run_events(&mut self, until: f64) -> Result<Option<Progress>> {
+        if let [strip] = &mut self.strips[..] {
+            return strip.run_events(until);
+        }
+        let stops: Vec<Result<Option<Progress>>> = self
+            .strips
+            .par_iter_mut()
+            .map(|strip| strip.run_events(until))
+            .collect();
+        for stop in stops {
+            if let Some(p) = stop? {
+                return Ok(Some(p));
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// The overlap of disks `i` and `j` where they overlap (by more than the tolerance).
+#[inline]
+fn overlap(
+    sides: SideBounds,
+    top: Top,
+    motion: &[Motion],
+    radius: &crate::physics::disks::PerDisk<f64>,
+    i: usize,
+    j: usize,
+) -> Option<f64> {
+    let (dx, dy) = min_image(
+        sides,
+        top,
+        motion[i].x - motion[j].x,
+        motion[i].y - motion[j].y,
+    );
+    let s = radius[i] + radius[j];
+    let d2 = dx * dx + dy * dy;
+    (d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s).then(|| s - d2.sqrt())
+}
+
+/// Adds `b`'s counts to `a`'s.
+fn add_counts(a: &mut EventCounts, b: &EventCounts) {
+    a.pair += b.pair;
+    a.wall += b.wall;
+    a.lid += b.lid;
+    a.floor += b.floor;
+    a.recheck += b.recheck;
+    a.rest += b.rest;
+    a.takeoff += b.takeoff;
+    a.stale += b.stale;
+    a.unmount += b.unmount;
+    a.rebuild += b.rebuild;
+    a.shell += b.shell;
+    a.zeno += b.zeno;
+    a.slide_end += b.slide_end;
+}
+
+impl<F: Flight> Strip<F> {
+    /// A strip of the same scene, without disks.
+    fn clone_empty(&self) -> Strip<F> {
+        Strip {
+            flight: self.flight,
+            sides: self.sides,
+            top: self.top,
+            floor: self.floor.clone(),
+            rub: self.rub,
+            restitution: self.restitution.clone(),
+            disks: Disks::default(),
+            ids: Vec::new(),
+            start: Vec::new(),
+            partners: Vec::new(),
+            ev_time: Vec::new(),
+            ev_partner: Vec::new(),
+            ev_counter: Vec::new(),
+            seq: Vec::new(),
+            queue: BinaryHeap::new(),
+            now: 0.0,
+            sync_end: 0.0,
+            counts: EventCounts::default(),
+            flow: EnergyFlow::default(),
+            virial: 0.0,
+            max_overlap: 0.0,
+            overlapped_collisions: 0,
+            deep_overlaps: 0,
+            event_limit: self.event_limit,
+            interrupt: None,
+        }
+    }
+
+    /// Takes disks `ids` (in the order of their numbers) from `all`, with the law's record of
+    /// them; makes their candidates the pairs in the strip's cells (`columns`, of group
+    /// `group[column]`) and predicts every disk. Returns every pair found overlapping among
+    /// the pairs its cells visit (those across a border included), by the disks' numbers in
+    /// the scene, with its overlap.
+    #[allow(clippy::too_many_arguments)]
+    fn load(
+        &mut self,
+        ids: Vec<u32>,
+        columns: &[usize],
+        group: &[u32],
+        local: &[u32],
+        cells: &CellList,
+        all: &Disks,
+        law: &CollisionLaw,
+    ) -> Vec<(u32, u32, f64)> {
+        let n = ids.len();
+        let (sides, top, motion, radius) = (self.sides, self.top, &all.motion, &all.radius);
+        let mut pairs = Vec::new();
+        let mut overlapping = Vec::new();
+        cells.for_each_pair_in_columns(columns, group, |i, j, same| {
+            if let Some(o) = overlap(sides, top, motion, radius, i, j) {
+                let (i, j) = (i as u32, j as u32);
+                overlapping.push((i.min(j), i.max(j), o));
+            }
+            if same {
+                pairs.push((local[i], local[j]));
+            }
+        });
+        let mut start = std::mem::take(&mut self.start);
+        start.clear();
+        start.resize(n + 1, 0);
+        for &(i, j) in &pairs {
+            start[i as usize + 1] += 1;
+            start[j as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut partners = std::mem::take(&mut self.partners);
+        partners.clear();
+        partners.resize(start[n] as usize, 0);
+        for &(i, j) in &pairs {
+            partners[fill[i as usize] as usize] = j;
+            fill[i as usize] += 1;
+            partners[fill[j as usize] as usize] = i;
+            fill[j as usize] += 1;
+        }
+        self.start = start;
+        self.partners = partners;
+        self.disks = all.gather(&ids);
+        self.restitution = law.gather(&ids);
+        self.ids = ids;
+        self.ev_time.clear();
+        self.ev_time.resize(n, f64::INFINITY);
+        self.ev_partner.clear();
+        self.ev_partner.resize(n, NONE);
+        self.ev_counter.clear();
+        self.ev_counter.resize(n, 0);
+        self.seq.clear();
+        self.seq.resize(n, 0);
+        for i in 0..n {
+            self.predict(i);
+        }
+        overlapping
+    }
+
+    /// Bytes held beyond the disks the scheme holds itself (a strip's copies of them
+    /// included, when there are several).
+    fn bytes(&self) -> usize {
+        let copies = if self.ids.is_empty() {
+            0
+        } else {
+            self.disks.bytes() + self.restitution.bytes()
+        };
+        copies
+            + 4 * (self.ids.capacity() + self.start.capacity() + self.partners.capacity())
+            + 8 * self.ev_time.capacity()
+            + 4 * (self.ev_partner.capacity() + self.ev_counter.capacity() + self.seq.capacity())
+            + 24 * self.queue.capacity()
+    }
+
+    /// State of disk `i` at time `t` (on its flight from its own time stamp).
+    #[inline(always)]
+    fn state_at(&self, i: usize, t: f64) -> (f64, f64, f64, f64) {
+        let m = &self.disks.motion[i];
+        self.flight.advance(m.x, m.y, m.vx, m.vy, t - m.t)
+    }
+
+    #[inline(always)]
+    fn bring(&mut self, i: usize, t: f64) {
+        let (x, y, vx, vy) = self.state_at(i, t);
+        self.disks.motion[i] = Motion { x, y, vx, vy, t };
+    }
+
+    fn of(&self, i: usize) -> &[u32] {
+        &self.partners[self.start[i] as usize..self.start[i + 1] as usize]
     }
 
     /// Finds disk `i`'s earliest event from now (disk `i` is at now) and queues it if it comes
@@ -419,33 +868,6 @@ impl<F: Flight> SpaceTime<F> {
             None => {
                 self.ev_time[i] = f64::INFINITY;
                 self.ev_partner[i] = NONE;
-            }
-        }
-    }
-
-    /// Runs events and synchronisations up to absolute time `target`.
-    fn run_to(&mut self, target: f64) -> Result<Progress> {
-        loop {
-            // A synchronisation costs O(N): the flag is looked at before each.
-            if self
-                .interrupt
-                .is_some_and(|flag| flag.load(Ordering::Relaxed))
-            {
-                return Ok(Progress::Interrupted);
-            }
-            if self.sync_end <= target {
-                if let Some(p) = self.run_events(self.sync_end)? {
-                    return Ok(p);
-                }
-                self.now = self.sync_end;
-                self.synchronise();
-                self.stats.step = self.now / self.stats.steps.saturating_sub(1).max(1) as f64;
-            } else {
-                if let Some(p) = self.run_events(target)? {
-                    return Ok(p);
-                }
-                self.now = self.now.max(target);
-                return Ok(Progress::Reached);
             }
         }
     }
@@ -574,10 +996,10 @@ impl<F: Flight> SpaceTime<F> {
         let imp = collide(dx, dy, dvx, dvy, d.mass[i], d.mass[j], e);
         let overlap = s - imp.distance;
         if overlap > OVERLAP_TOLERANCE * s {
-            self.stats.overlapped_collisions += 1;
+            self.overlapped_collisions += 1;
             self.max_overlap = self.max_overlap.max(overlap);
             if overlap > super::time_step::DEEP_OVERLAP * s {
-                self.stats.deep_overlaps += 1;
+                self.deep_overlaps += 1;
             }
         }
         imp.apply(&mut self.disks.motion, i, j);
@@ -596,6 +1018,9 @@ impl<F: Flight> SpaceTime<F> {
 impl<F: Flight> Integrator for SpaceTime<F> {
     fn set_interrupt(&mut self, flag: &'static AtomicBool) {
         self.interrupt = Some(flag);
+        for strip in &mut self.strips {
+            strip.interrupt = Some(flag);
+        }
     }
     fn disks(&self) -> &Disks {
         &self.disks
@@ -630,19 +1055,21 @@ impl<F: Flight> Integrator for SpaceTime<F> {
     fn setup(&self) -> Setup {
         Setup {
             scheme: "space-time",
-            mask: format!("3×3 linked cells, D = {:.4}", self.sync_distance),
+            mask: match self.strips.len() {
+                1 => format!("3×3 linked cells, D = {:.4}", self.sync_distance),
+                s => format!(
+                    "3×3 linked cells, D = {:.4}, {s} strips",
+                    self.sync_distance
+                ),
+            },
             cell: self.cells.cell(),
             grid: "linked-cells".into(),
             queue: None,
             remap: None,
             bytes: self.disks.bytes()
                 + self.cells.bytes()
-                + 4 * (self.start.capacity() + self.partners.capacity())
-                + 8 * self.ev_time.capacity()
-                + 4 * (self.ev_partner.capacity()
-                    + self.ev_counter.capacity()
-                    + self.seq.capacity())
-                + 24 * self.queue.capacity()
+                + 4 * (self.start.capacity() + self.partners.capacity() + self.local.capacity())
+                + self.strips.iter().map(Strip::bytes).sum::<usize>()
                 + self.restitution.bytes(),
             threads: Some(self.cores.count()),
         }

@@ -243,6 +243,7 @@ pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
         exact: &exact,
         quick: opts.quick,
         cores,
+        strips: scenario.engine.strips,
     };
     for v in &variants::all(&basis) {
         rows.push(variant_row(&runner, &scale, &exact, v));
@@ -280,6 +281,7 @@ fn reference_scenario(scenario: &Scenario, quick: bool) -> Scenario {
         verlet_skin: None,
         sync_distance: None,
         cell_size: None,
+        strips: None,
         threads: None,
         ..scenario.engine.clone()
     };

@@ -180,6 +180,32 @@ fn scheme_knobs_are_validated_with_their_field_names() {
         &["engine.scheme=space-time", "engine.cell_size=0"],
         "engine.cell_size",
     );
+    bad(
+        &["engine.scheme=space-time", "engine.strips=0"],
+        "engine.strips",
+    );
+    bad(
+        &["engine.scheme=space-time", "engine.strips=-1"],
+        "engine.strips",
+    );
+    bad(
+        &["engine.scheme=space-time", "engine.strips=1.5"],
+        "engine.strips",
+    );
+    bad(
+        &["engine.scheme=time-step", "engine.strips=2"],
+        "engine.strips",
+    );
+    bad(&["engine.strips=2"], "engine.strips");
+    // More strips than the scene's columns of cells allow (the small gas: 8 columns, at most 2
+    // strips of 4) are refused when the engine starts.
+    let s = with(
+        GAS,
+        &["engine.scheme=space-time".into(), "engine.strips=3".into()],
+    );
+    let e = run(&s, RunOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("engine.strips"), "{e}");
+    assert_eq!(e.exit_code(), 2);
     // A cell smaller than the Verlet radius is refused when the engine starts.
     let s = with(
         GAS,
@@ -263,8 +289,8 @@ fn space_time_runs_a_vibrated_bed_and_closes_the_energy_budget() {
 
 /// The approximate schemes give the same summary, bit for bit, on 1, 2 and 3 threads: a bed of
 /// 4000 disks (large enough that every parallel loop is split) between periodic sides and
-/// between walls, smooth and rough, and an elastic gas; the summary's engine section names the
-/// threads.
+/// between walls, smooth and rough, and an elastic gas, and the space-time scheme also in
+/// strips; the summary's engine section names the threads.
 #[test]
 fn schemes_give_the_same_results_on_any_number_of_threads() {
     let big_bed = |sides: &str| {
@@ -289,8 +315,25 @@ fn schemes_give_the_same_results_on_any_number_of_threads() {
         ("rough bed between walls", BED, rough_bed),
         ("gas", GAS, big_gas),
     ];
-    for scheme in ["time-step", "space-time"] {
-        for (name, json, sets) in &scenes {
+    // The space-time scheme's strips (four and eight of the bed's 320 columns of cells, four of
+    // the gas's 32) run apart on the threads.
+    let strips =
+        |sets: &Vec<String>, k: u32| [sets.clone(), vec![format!("engine.strips={k}")]].concat();
+    let space_time_strips = [
+        ("bed in 8 strips", BED, strips(&scenes[0].2, 8)),
+        (
+            "rough bed between walls in 4 strips",
+            BED,
+            strips(&scenes[2].2, 4),
+        ),
+        ("gas in 4 strips", GAS, strips(&scenes[3].2, 4)),
+    ];
+    let runs = ["time-step", "space-time"]
+        .iter()
+        .flat_map(|scheme| scenes.iter().map(move |scene| (*scheme, scene)))
+        .chain(space_time_strips.iter().map(|scene| ("space-time", scene)));
+    for (scheme, (name, json, sets)) in runs {
+        {
             let on = |threads: u64| {
                 let mut sets = sets.clone();
                 sets.push(format!("engine.scheme={scheme}"));

@@ -48,6 +48,8 @@ pub(super) struct Basis<'a> {
     pub(super) quick: bool,
     /// Threads the approximate schemes run on.
     pub(super) cores: usize,
+    /// The scenario's `engine.strips`, which the space-time variants keep.
+    pub(super) strips: Option<u64>,
 }
 
 /// Every variant, in table order.
@@ -120,14 +122,16 @@ fn space_time_sweep(b: &Basis) -> Vec<Variant> {
         .into_iter()
         .map(|(f, name)| {
             let d = crate::schemes::space_time::DEFAULT_SYNC_DISTANCE * f;
+            let mut sets = vec![
+                "engine.scheme=space-time".into(),
+                format!("engine.sync_distance={d:e}"),
+                format!("engine.threads={}", b.cores),
+            ];
+            sets.extend(b.strips.map(|k| format!("engine.strips={k}")));
             Variant::new(
                 "space-time",
                 format!("D = {} d ({name})", fmt_g(d * a_min / diameter)),
-                &[
-                    "engine.scheme=space-time".into(),
-                    format!("engine.sync_distance={d:e}"),
-                    format!("engine.threads={}", b.cores),
-                ],
+                &sets,
             )
         })
         .collect()
