@@ -225,33 +225,12 @@ impl<F: Flight> SpaceTime<F> {
             n,
         );
         let event_limit = scene.max_events.unwrap_or(u64::MAX);
-        let strip = Strip {
+        let strip = Strip::empty(
             flight,
-            sides: scene.sides,
-            top: scene.top,
-            floor: scene.floor.clone(),
-            rub: Rub::new(scene.rough),
-            restitution: CollisionLaw::new(restitution.law, 0),
-            disks: Disks::default(),
-            ids: Vec::new(),
-            start: Vec::new(),
-            partners: Vec::new(),
-            ev_time: Vec::new(),
-            ev_partner: Vec::new(),
-            ev_counter: Vec::new(),
-            seq: Vec::new(),
-            queue: BinaryHeap::new(),
-            now: 0.0,
-            sync_end: 0.0,
-            counts: EventCounts::default(),
-            flow: EnergyFlow::default(),
-            virial: 0.0,
-            max_overlap: 0.0,
-            overlapped_collisions: 0,
-            deep_overlaps: 0,
+            (scene.sides, scene.top, scene.floor.clone()),
+            (Rub::new(scene.rough), CollisionLaw::new(restitution.law, 0)),
             event_limit,
-            interrupt: None,
-        };
+        );
         let mut st = SpaceTime {
             flight,
             disks,
@@ -650,13 +629,29 @@ fn add_counts(a: &mut EventCounts, b: &EventCounts) {
 impl<F: Flight> Strip<F> {
     /// A strip of the same scene, without disks.
     fn clone_empty(&self) -> Strip<F> {
+        Strip::empty(
+            self.flight,
+            (self.sides, self.top, self.floor.clone()),
+            (self.rub, self.restitution.clone()),
+            self.event_limit,
+        )
+    }
+
+    /// A strip of a scene's flight, boundaries (sides, top, floor) and contact laws (friction,
+    /// restitution), without disks.
+    fn empty(
+        flight: F,
+        (sides, top, floor): (SideBounds, Top, Option<Floor>),
+        (rub, restitution): (Rub, CollisionLaw),
+        event_limit: u64,
+    ) -> Strip<F> {
         Strip {
-            flight: self.flight,
-            sides: self.sides,
-            top: self.top,
-            floor: self.floor.clone(),
-            rub: self.rub,
-            restitution: self.restitution.clone(),
+            flight,
+            sides,
+            top,
+            floor,
+            rub,
+            restitution,
             disks: Disks::default(),
             ids: Vec::new(),
             start: Vec::new(),
@@ -674,7 +669,7 @@ impl<F: Flight> Strip<F> {
             max_overlap: 0.0,
             overlapped_collisions: 0,
             deep_overlaps: 0,
-            event_limit: self.event_limit,
+            event_limit,
             interrupt: None,
         }
     }
