@@ -14,7 +14,8 @@ impl<F: Flight> Simulation<F> {
     /// `next`: for a rider the end of its ride or the loss of a support; for a flying disk an
     /// impact on the lid or the floor, or a re-check where the floor's search stopped.
     #[inline(always)]
-    pub(super) fn floor_events(&self, i: usize, (_, y, _, vy): State, a: f64, next: &mut Next) {
+    pub(super) fn floor_events(&self, i: usize, state: State, a: f64, next: &mut Next) {
+        let (_, y, _, vy) = state;
         let floor = self
             .bounds
             .floor
@@ -41,6 +42,8 @@ impl<F: Flight> Simulation<F> {
                     next.t = t_off;
                     next.who = code::UNMOUNT;
                 }
+            } else if self.bounds.orifice.is_some() {
+                self.edge_event(state, next);
             }
             return;
         }
@@ -53,12 +56,15 @@ impl<F: Flight> Simulation<F> {
         // Nothing after the re-mapping matters: it re-predicts every disk.
         let limit = next.t.min(self.map.dutc.deadline);
         match floor.next_event(y, vy, a, g, now, limit) {
-            Some(FloorEvent::Impact(tf)) if tf < next.t => {
+            Some(FloorEvent::Impact(tf)) if tf < next.t && !self.lands_in_gap(state, tf) => {
                 next.t = tf;
                 next.who = code::FLOOR;
             }
             Some(FloorEvent::Recheck(tf)) => next.recheck = next.recheck.min(tf),
             _ => {}
+        }
+        if self.bounds.orifice.is_some() {
+            self.orifice_events(state, a, next);
         }
     }
 

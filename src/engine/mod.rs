@@ -33,9 +33,11 @@ mod lanes;
 mod log;
 mod motion;
 mod observe;
+mod outlet;
 mod pair;
 mod parts;
 pub mod placement;
+pub mod pool;
 mod predict;
 pub mod remap;
 pub mod rest;
@@ -99,11 +101,23 @@ pub struct Simulation<F: Flight> {
     rest: Rest,
     tally: Tally,
     control: Control,
+    /// Live and dead disks, in scenes whose disks leave (`None`: every disk stays).
+    pool: Option<pool::Pool>,
 }
 
 impl<F: Flight> Simulation<F> {
     /// Runs events until absolute time `target` (events at exactly `target` are left for later).
     pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        let progress = self.run_to(target);
+        if let Some(pool) = self.pool.as_mut() {
+            pool.refresh();
+        }
+        progress
+    }
+
+    /// The event loop of [`advance_to`](Self::advance_to).
+    #[inline(always)]
+    fn run_to(&mut self, target: f64) -> Result<Progress> {
         // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
         // at the start, so that a run stops within a bounded wall time whatever it is doing.
         let mut turns = 0u32;

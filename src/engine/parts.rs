@@ -75,6 +75,8 @@ pub(super) struct Bounds {
     /// The periodic images of `sides` and `top`, for minimum-image separations.
     pub images: Images,
     pub floor: Option<Floor>,
+    /// The floor's orifice, if any (a static floor).
+    pub orifice: Option<crate::physics::orifice::Orifice>,
 }
 
 /// Disks at rest: on (riding) the floor or on resting disks, and the memory of the rules that

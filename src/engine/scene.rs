@@ -60,6 +60,10 @@ pub struct Scene {
     pub check_invariants: bool,
     /// Event budget.
     pub max_events: Option<u64>,
+    /// The floor's orifice, if any: disks leave through it.
+    pub orifice: Option<crate::physics::orifice::Orifice>,
+    /// The warm-up's end (the flow rate counts exits from then on).
+    pub warmup: f64,
 }
 
 impl Scene {
@@ -133,6 +137,13 @@ impl Scene {
             skin: s.engine.skin,
             check_invariants: s.engine.check_invariants,
             max_events: s.run.max_events,
+            orifice: s.floor.as_ref().and_then(|f| f.orifice).map(|o| {
+                crate::physics::orifice::Orifice {
+                    from: o.from,
+                    to: o.to,
+                }
+            }),
+            warmup: s.run.warmup,
         };
         Ok((scene, disks))
     }

@@ -61,6 +61,16 @@ impl CollisionLaw {
         }
     }
 
+    /// Disk `k` leaves, the last disk taking its number.
+    pub fn swap_remove(&mut self, k: usize) {
+        if !self.last.is_empty() {
+            self.last.swap_remove(k);
+        }
+        if !self.paired.is_empty() {
+            self.paired.swap_remove(k);
+        }
+    }
+
     /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         if !self.last.is_empty() {

@@ -593,7 +593,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 final_: EnergyAt::from(&last),
                 injected: flow.injected,
                 dissipated: flow.dissipated,
-                balance_error: balance_error(&self.initial, &last, &flow),
+                carried_out: sim.flow().map(|f| f.energy_out),
+                balance_error: balance_error(
+                    &self.initial,
+                    &last,
+                    &flow,
+                    sim.flow().map_or(0.0, |f| f.energy_out),
+                ),
             },
             temperature: avg.temperature(),
             compressibility_factor,
@@ -636,6 +642,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             approximation: sim.approximation(),
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
+            flow: sim
+                .flow()
+                .map(|f| crate::output::summary::FlowSummary::of(&f, sim.disks().len())),
         }
     }
 }
@@ -767,15 +776,22 @@ pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
             .is_none_or(|f| f.is_static() && f.restitution == 1.0)
 }
 
-/// |now − initial − injected + dissipated| relative to the largest term of the energy budget.
-pub(super) fn balance_error(initial: &Observables, now: &Observables, flow: &EnergyFlow) -> f64 {
-    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
+/// |now − initial − injected + dissipated + carried out| relative to the largest term of the
+/// energy budget (`out`: the energy disks that left carried out).
+pub(super) fn balance_error(
+    initial: &Observables,
+    now: &Observables,
+    flow: &EnergyFlow,
+    out: f64,
+) -> f64 {
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated + out;
     let scale = initial
         .energy()
         .abs()
         .max(now.energy().abs())
         .max(flow.injected.abs())
         .max(flow.dissipated)
+        .max(out.abs())
         .max(f64::MIN_POSITIVE);
     balance.abs() / scale
 }
@@ -790,11 +806,22 @@ pub(super) fn check_sample<E: Integrator>(
     sim.check_state(t)?;
     let now = Observables::of(&StatesAt(sim, t), sim.disks(), g);
     let flow = sim.energy_flow_at(t);
-    let error = balance_error(initial, &now, &flow);
+    let pool = sim.flow();
+    let error = balance_error(initial, &now, &flow, pool.map_or(0.0, |f| f.energy_out));
     if error > 1e-9 {
         return Err(Error::Runtime(format!(
             "energy budget off by {error:e} (relative) at time {t}"
         )));
+    }
+    if let Some(f) = pool {
+        // Number conservation: in − out = live − initial.
+        let live = sim.disks().len() as u64;
+        if f.initial + f.entered != live + f.left {
+            return Err(Error::Runtime(format!(
+                "disks not conserved at time {t}: {} at the start + {} in − {} out ≠ {live} live",
+                f.initial, f.entered, f.left
+            )));
+        }
     }
     Ok(())
 }

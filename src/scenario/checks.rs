@@ -148,6 +148,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_gravity(s)?;
     validate_floor(s)?;
     validate_particles(s)?;
+    validate_orifice(s)?;
     validate_collisions(&s.collisions)?;
     validate_rough(s)?;
     validate_run(&s.run)?;
@@ -212,6 +213,66 @@ fn validate_floor(s: &Scenario) -> Result<()> {
     if let Some(floor) = &s.floor {
         restitution("floor.restitution", floor.restitution)?;
         validate_vibration(floor, s.gravity)?;
+    }
+    Ok(())
+}
+
+/// The floor's orifice: within the width, wider than the largest disk, in a static, smooth
+/// floor under gravity, with the exact engine (see the physics page on the orifice).
+fn validate_orifice(s: &Scenario) -> Result<()> {
+    let Some(floor) = &s.floor else {
+        return Ok(());
+    };
+    let Some(o) = floor.orifice else {
+        return Ok(());
+    };
+    let width = s.domain.width;
+    for (field, v) in [("floor.orifice.from", o.from), ("floor.orifice.to", o.to)] {
+        if !(v.is_finite() && (0.0..=width).contains(&v)) {
+            return Err(Error::input(
+                field,
+                format!("must lie in [0, domain.width = {width}] (got {v})"),
+            ));
+        }
+    }
+    let (_, a_max) = s.radius_range();
+    if o.to - o.from <= 2.0 * a_max {
+        return Err(Error::input(
+            "floor.orifice.to",
+            format!(
+                "the orifice [{}, {}] must be wider than the largest disk (diameter {}): a disk \
+                 wedged between its two corners could not be held at rest",
+                o.from,
+                o.to,
+                2.0 * a_max
+            ),
+        ));
+    }
+    if s.gravity.is_none() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs gravity: disks leave by falling through it",
+        ));
+    }
+    if floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs a static floor: the corners of a vibrating orifice are not implemented",
+        ));
+    }
+    if floor.friction.is_some() || floor.tangential_restitution.is_some() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs a smooth floor (no floor.friction or floor.tangential_restitution): its \
+             corners are smooth",
+        ));
+    }
+    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
+             the whole run and have no corner contacts",
+        ));
     }
     Ok(())
 }

@@ -128,6 +128,20 @@ pub struct Floor {
     /// Tangential restitution β ∈ [−1, 1] of disk–floor impacts (rough disks).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential_restitution: Option<f64>,
+    /// A gap in a static floor from x = `from` to x = `to`: disks fall through it and leave.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orifice: Option<Orifice>,
+}
+
+/// A gap in the floor whose two edges are corners (points) the disks collide with; a disk that
+/// falls through it wholly below the floor leaves the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Orifice {
+    /// Left edge x0.
+    pub from: f64,
+    /// Right edge x1 > x0.
+    pub to: f64,
 }
 
 /// Shape of the floor vibration.

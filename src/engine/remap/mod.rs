@@ -19,6 +19,11 @@ impl<F: Flight> Simulation<F> {
     pub(in crate::engine) fn remap(&mut self) -> Result<()> {
         let now = self.now;
         let n = self.disks.len();
+        if n == 0 {
+            // Every disk has left: nothing to map, no deadline.
+            self.map.dutc = Dutc::frozen(f64::INFINITY);
+            return Ok(());
+        }
         // Every list is rebuilt below: rows can go now, before renumbering takes memory.
         self.map.lists.release();
         for i in 0..n {

@@ -142,6 +142,11 @@ impl Shells {
         }
     }
 
+    /// Disk `k` leaves, the last disk taking its number.
+    pub fn swap_remove(&mut self, k: usize) {
+        self.anchor.swap_remove(k);
+    }
+
     /// Number of disks.
     pub fn len(&self) -> usize {
         self.anchor.len()
