@@ -375,6 +375,21 @@ impl<'a, E: Integrator> Driver<'a, E> {
         ];
         // Smooth disks have no rotational energy: their series stop before it.
         let series = &series[..series.len() - usize::from(rotational.is_none())];
+        let pool_series;
+        let series = match sim.flow() {
+            Some(f) => {
+                pool_series = [
+                    series,
+                    &[
+                        ("flow/live", snap.x.len() as f64),
+                        ("flow/out", f.left as f64),
+                    ],
+                ]
+                .concat();
+                &pool_series[..]
+            }
+            None => series,
+        };
         let spins = sim.spins_at(self.now);
         let d = sim.disks();
         let profile = self
@@ -387,10 +402,17 @@ impl<'a, E: Integrator> Driver<'a, E> {
             f.decay(*forget);
             f.add(snap, d);
         }
+        // Where disks leave, instance i of the recording stays disk i: every id has an entry,
+        // those not in the scene drawn nowhere (no position, radius 0).
+        let by_id = (!snap.ids.is_empty()).then(|| by_id(snap, &radius, &species, self.s));
+        let (snap, radius, species) = match &by_id {
+            Some((s, r, k)) => (s, r, k),
+            None => (snap, &radius, &species),
+        };
         let mut view = frame_view(
             self.stops.k_frame - 1,
             snap,
-            (&radius, &species),
+            (radius, species),
             (series, profile.as_ref()),
             spins.as_deref(),
         );
@@ -751,7 +773,40 @@ fn frame_view<'a>(
         profile,
         spins,
         fields: None,
+        ids: &snap.ids,
     }
+}
+
+/// A snapshot of the live disks (with their ids), their radii and species, spread over every id
+/// of the scene: entry i is the disk whose id is i, those not in the scene at no position
+/// (NaN) with radius 0.
+fn by_id(
+    snap: &Snapshot,
+    radius: &[f64],
+    species: &[u32],
+    s: &Scenario,
+) -> (Snapshot, Vec<f64>, Vec<u32>) {
+    let ids = (s.disk_count()).max(snap.ids.iter().map(|&i| i as usize + 1).max().unwrap_or(0));
+    let mut out = Snapshot {
+        time: snap.time,
+        x: vec![f64::NAN; ids],
+        y: vec![f64::NAN; ids],
+        vx: vec![0.0; ids],
+        vy: vec![0.0; ids],
+        floor_height: snap.floor_height,
+        ids: Vec::new(),
+    };
+    let (mut r, mut k) = (vec![0.0; ids], vec![0; ids]);
+    for (row, &id) in snap.ids.iter().enumerate() {
+        let id = id as usize;
+        out.x[id] = snap.x[row];
+        out.y[id] = snap.y[row];
+        out.vx[id] = snap.vx[row];
+        out.vy[id] = snap.vy[row];
+        r[id] = radius[row];
+        k[id] = species.get(row).copied().unwrap_or(0);
+    }
+    (out, r, k)
 }
 
 /// The factor by which the recording's live fields forget their past at each frame, `frame_dt`

@@ -267,6 +267,12 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
              corners are smooth",
         ));
     }
+    if s.is_rough() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs smooth disks: rough disks leaving through an orifice are not supported",
+        ));
+    }
     if s.engine.scheme != crate::scenario::Scheme::EventDriven {
         return Err(Error::input(
             "floor.orifice",

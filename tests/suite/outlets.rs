@@ -1,0 +1,147 @@
+//! Disks that leave through a floor orifice: the pool keeps every id once (none lost, none
+//! duplicated), the number of disks is conserved (in − out = live − initial), the energy
+//! budget closes with the energy carried out, a run is deterministic, the corner contact is
+//! exact against an analytic drop, and bad orifices are refused.
+
+use crate::common::{ballistic, crate_path};
+use std::collections::BTreeSet;
+use vibrobed::engine::Progress;
+
+fn silo(sets: &str) -> String {
+    let mut s = std::fs::read_to_string(crate_path("scenarios/silo.json")).unwrap();
+    if !sets.is_empty() {
+        s = s.replacen("\"run\": {", sets, 1);
+    }
+    s
+}
+
+/// Every live disk has a distinct id below the initial count; ids that left never come back
+/// (no inlet); the counts add up at every stop.
+#[test]
+fn ids_are_kept_none_lost_none_duplicated_and_the_count_is_conserved() {
+    let mut sim = ballistic(&silo(""));
+    let mut gone: BTreeSet<u32> = BTreeSet::new();
+    let mut before: BTreeSet<u32> = (0..400).collect();
+    let mut out_seen = 0;
+    for k in 1..=60 {
+        let t = k as f64;
+        assert_eq!(sim.advance_to(t).unwrap(), Progress::Reached);
+        let snap = sim.snapshot(t);
+        let ids: BTreeSet<u32> = snap.ids.iter().copied().collect();
+        assert_eq!(ids.len(), snap.ids.len(), "an id twice at t = {t}");
+        assert_eq!(snap.x.len(), ids.len());
+        assert!(ids.is_subset(&before), "an id came back at t = {t}");
+        for id in before.difference(&ids) {
+            gone.insert(*id);
+        }
+        let flow = sim.pool().unwrap().flow;
+        assert_eq!(flow.initial + flow.entered, ids.len() as u64 + flow.left);
+        assert_eq!(flow.left as usize, gone.len(), "out counts the ids gone");
+        // The ones present are above the floor's underside; those gone left below it.
+        for (i, &y) in snap.y.iter().enumerate() {
+            assert!(y > -0.5 - 1e-9, "disk {} at y = {y}", snap.ids[i]);
+        }
+        out_seen = flow.left;
+        before = ids;
+    }
+    assert!(out_seen > 100, "the silo drains: {out_seen} out");
+}
+
+/// The same scene twice gives the same exits at the same times, bit for bit.
+#[test]
+fn a_draining_silo_is_deterministic() {
+    let run = || {
+        let mut sim = ballistic(&silo(""));
+        sim.advance_to(20.0).unwrap();
+        let f = sim.pool().unwrap().flow;
+        let s = sim.snapshot(20.0);
+        (f.left, f.last_exit.to_bits(), f.sum_gap.to_bits(), s.ids, s.x)
+    };
+    assert_eq!(run(), run());
+}
+
+/// A disk dropped straight onto a corner from rest bounces back up elastically at the time the
+/// parabola puts its centre a radius above the corner, and no energy is lost.
+#[test]
+fn a_disk_dropped_on_a_corner_bounces_at_the_analytic_time() {
+    let json = r#"{
+        "name": "drop on a corner",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 2.0,
+        "floor": { "orifice": { "from": 4.0, "to": 6.0 } },
+        "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[4.0, 3.0]], "velocities": [[0.0, 0.0]] } },
+        "run": { "duration": 10.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    sim.set_logging(true);
+    let t_hit = (2.0f64 * (3.0 - 0.5) / 2.0).sqrt();
+    sim.advance_to(t_hit * 1.5).unwrap();
+    let log = sim.take_log();
+    assert!(!log.is_empty(), "the disk hit something");
+    let first = log[0].time;
+    assert!(
+        (first - t_hit).abs() < 1e-12 * t_hit,
+        "hit at {first}, expected {t_hit}"
+    );
+    let s = sim.snapshot(t_hit * 1.5);
+    // Straight back up: after the elastic bounce at speed g t_hit, it rises.
+    let v = 2.0 * t_hit;
+    let dt = 0.5 * t_hit;
+    assert!((s.vy[0] - (v - 2.0 * dt)).abs() < 1e-12, "vy = {}", s.vy[0]);
+    assert_eq!(sim.pool().unwrap().flow.corner, 1);
+}
+
+/// A disk dropped just inside the gap, farther than a radius from both corners, falls through
+/// and leaves when its centre is a radius below the floor.
+#[test]
+fn a_disk_through_the_gap_leaves_at_the_analytic_time() {
+    let json = r#"{
+        "name": "drop through",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 1.0,
+        "floor": { "orifice": { "from": 4.0, "to": 6.0 } },
+        "particles": { "count": 2, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[5.0, 2.0], [1.0, 0.5]],
+                                      "velocities": [[0.0, 0.0], [0.0, 0.0]] } },
+        "run": { "duration": 10.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    let t_out = (2.0f64 * 2.5).sqrt();
+    sim.advance_to(t_out * (1.0 - 1e-9)).unwrap();
+    assert_eq!(sim.pool().unwrap().flow.left, 0);
+    sim.advance_to(t_out * (1.0 + 1e-9)).unwrap();
+    let f = sim.pool().unwrap().flow;
+    assert_eq!(f.left, 1);
+    assert!((f.last_exit - t_out).abs() < 1e-12, "{}", f.last_exit);
+    let s = sim.snapshot(t_out * 2.0);
+    assert_eq!(s.ids, vec![1], "the disk at rest on the floor stays, by its id");
+    // Energy carried out: m g y at y = −a plus ½ m v², v = g t.
+    assert!((f.energy_out - (-0.5 + 0.5 * t_out * t_out)).abs() < 1e-12);
+}
+
+/// Bad orifices are refused naming the field.
+#[test]
+fn bad_orifices_are_refused_naming_the_field() {
+    let base = std::fs::read_to_string(crate_path("scenarios/silo.json")).unwrap();
+    let cases = [
+        ("\"to\": 17.15", "\"to\": 40.0", "floor.orifice.to"),
+        ("\"from\": 13.15", "\"from\": -1.0", "floor.orifice.from"),
+        ("\"to\": 17.15", "\"to\": 13.9", "floor.orifice.to"),
+        (
+            "\"restitution\": 0.5,",
+            "\"restitution\": 0.5, \"amplitude\": 0.1, \"frequency\": 1.0,",
+            "floor.orifice",
+        ),
+        (
+            "\"run\": {",
+            "\"engine\": { \"scheme\": \"time-step\" }, \"run\": {",
+            "floor.orifice",
+        ),
+    ];
+    for (from, to, field) in cases {
+        let json = base.replacen(from, to, 1);
+        let e = vibrobed::Scenario::from_json(&json).expect_err(to);
+        assert!(e.to_string().contains(field), "{to}: {e}");
+    }
+}
