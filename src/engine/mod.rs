@@ -140,9 +140,15 @@ impl<F: Flight> Simulation<F> {
             self.prefetch_next();
             let te = self.events.time[i];
             let deadline = self.map.dutc.deadline;
-            if deadline <= te && deadline < local_target {
-                self.now = deadline;
-                self.remap()?;
+            // The next entry through an inlet (∞ without inlets) wakes the loop like the DUTC.
+            let wake = deadline.min(self.control.entry);
+            if wake <= te && wake < local_target {
+                self.now = wake;
+                if wake == deadline {
+                    self.remap()?;
+                } else {
+                    self.enter_due()?;
+                }
                 continue;
             }
             if te >= local_target {

@@ -149,6 +149,8 @@ pub(super) struct Control {
     /// report once it has stalled.
     pub clock_mark: ClockMark,
     pub stall_report: Option<String>,
+    /// Local time of the next disk entering through an inlet (∞: none).
+    pub entry: f64,
 }
 
 impl Control {
@@ -163,6 +165,7 @@ impl Control {
             pipelining,
             clock_mark: ClockMark::default(),
             stall_report: None,
+            entry: f64::INFINITY,
         }
     }
 }

@@ -33,6 +33,10 @@ pub struct Flow {
     pub corner: u64,
     /// Disks at rest on the floor that slid over an edge of the orifice and fell.
     pub edge: u64,
+    /// The energy entering disks brought in (kinetic and potential as they entered).
+    pub energy_in: f64,
+    /// Entries that found no free place and waited.
+    pub waits: u64,
     /// Absolute time from which exits count for the rate (the end of the warm-up).
     pub from: f64,
     /// Exits from `from` on, their mass, the first and last exit times, and the sums of the
@@ -84,6 +88,39 @@ impl Flow {
     }
 }
 
+/// One inlet resolved for the engine: the box centres enter in, the schedule of its new disks,
+/// their velocities, and whether it takes leaving disks back.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct InletPlan {
+    /// The box: x from `x0` to `x1`, y from `y0` to `y1`.
+    pub x0: f64,
+    pub x1: f64,
+    pub y0: f64,
+    pub y1: f64,
+    /// New disk j enters at `start + j·period`, for j below `total`.
+    pub start: f64,
+    pub period: f64,
+    pub total: u64,
+    /// Downward speed and temperature of the disks entering.
+    pub speed: f64,
+    pub temperature: f64,
+    /// Leaving disks come back in here.
+    pub recycle: bool,
+    /// The next new disk's j.
+    pub next: u64,
+}
+
+impl InletPlan {
+    /// Absolute time of the next new disk (∞ once all have entered).
+    fn due(&self) -> f64 {
+        if self.next < self.total {
+            self.start + self.next as f64 * self.period
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
 /// Live and dead disks: each id's engine number, the properties of every id, and the view of
 /// the live ones that callers read.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -104,19 +141,41 @@ pub struct Pool {
     stale: bool,
     /// What went out and in.
     pub flow: Flow,
+    /// The inlets.
+    inlets: Vec<InletPlan>,
+    /// Ids that left and wait to come back through the recycling inlet, in order, with the
+    /// time the first of them left.
+    waiting: Vec<u32>,
+    waiting_since: f64,
+    /// No entry is tried before this absolute time (the last found no free place).
+    blocked_until: f64,
+    /// The next id a new disk takes.
+    next_id: u32,
+    /// Random numbers drawn for entries so far, and the scene's seed (positions and velocities
+    /// of entering disks: a counter-based generator, so the state is two numbers).
+    draws: u64,
+    seed: u64,
 }
 
 impl Pool {
     /// A pool holding `disks` (every id live), with room for `capacity` ids; exits count for
     /// the rate from absolute time `from`.
-    pub fn new(disks: &Disks, capacity: usize, from: f64) -> Pool {
+    pub fn new(disks: &Disks, from: f64, inlets: &[InletPlan], seed: u64) -> Pool {
         let n = disks.len();
+        let capacity = n + inlets.iter().map(|p| p.total as usize).sum::<usize>();
         let mut all = disks.clone();
         all.motion = Vec::new();
         all.counter = Vec::new();
         all.spins = None;
+        // Inlets bring equal disks (validated): the new ids share the scene's radius and mass.
+        for _ in n..capacity {
+            all.radius.push(disks.radius[0]);
+            all.mass.push(disks.mass[0]);
+            all.species.push(0);
+        }
         let mut engine_of = Vec::with_capacity(capacity);
         engine_of.extend(0..n as u32);
+        engine_of.resize(capacity, DEAD);
         let mut pool = Pool {
             engine_of,
             view: all.clone(),
@@ -128,6 +187,13 @@ impl Pool {
                 from,
                 ..Flow::default()
             },
+            inlets: inlets.to_vec(),
+            waiting: Vec::with_capacity(capacity),
+            waiting_since: f64::INFINITY,
+            blocked_until: f64::NEG_INFINITY,
+            next_id: n as u32,
+            draws: 0,
+            seed,
         };
         pool.refresh();
         pool
@@ -175,7 +241,7 @@ impl Pool {
 
     /// Number of ids the pool has room for.
     pub fn capacity(&self) -> usize {
-        self.engine_of.capacity()
+        self.engine_of.len()
     }
 
     /// Live disks.
@@ -198,6 +264,43 @@ impl Pool {
     pub fn restored(&mut self) {
         self.stale = true;
         self.refresh();
+    }
+
+    /// Absolute time of the next entry to try (∞: none).
+    pub fn next_entry(&self) -> f64 {
+        let mut t = self
+            .inlets
+            .iter()
+            .map(InletPlan::due)
+            .fold(f64::INFINITY, f64::min);
+        if !self.waiting.is_empty() {
+            t = t.min(self.waiting_since);
+        }
+        t.max(self.blocked_until)
+    }
+
+    /// Ids the pool may ever hold.
+    pub fn ids_capacity(&self) -> usize {
+        self.all.radius.len()
+    }
+
+    /// A uniform number in [0, 1) (SplitMix64 of the seed and the draw's number).
+    fn uniform(&mut self) -> f64 {
+        self.draws += 1;
+        let mut z = self
+            .seed
+            .wrapping_add(self.draws.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// A standard normal number (Box–Muller).
+    fn normal(&mut self) -> f64 {
+        let u = 1.0 - self.uniform();
+        let v = self.uniform();
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
     }
 
     /// Bytes held.
@@ -227,6 +330,12 @@ impl<F: Flight> Simulation<F> {
         pool.stale = true;
         pool.flow.exit(time, mass);
         pool.flow.energy_out += energy;
+        if pool.inlets.iter().any(|p| p.recycle) {
+            if pool.waiting.is_empty() {
+                pool.waiting_since = time;
+            }
+            pool.waiting.push(id as u32);
+        }
         // Everything that holds a disk number between events follows the move of the last disk
         // to `i`; what the re-mapping rebuilds (grid, lists, anchors, queue) is only truncated.
         self.disks.swap_remove(i);
@@ -250,9 +359,148 @@ impl<F: Flight> Simulation<F> {
         if self.disks.is_empty() {
             // Nobody left: no grid to build, no event to file.
             self.events.queue.rebuild(&self.events.time);
+            self.schedule_entry();
             return Ok(());
         }
         self.remap()
+    }
+
+    /// Sets the local time of the next entry from the pool (after the clock was re-based).
+    pub(super) fn schedule_entry(&mut self) {
+        self.control.entry = match &self.pool {
+            Some(p) => {
+                let t = p.next_entry();
+                if t.is_finite() {
+                    self.base.local(t)
+                } else {
+                    f64::INFINITY
+                }
+            }
+            None => f64::INFINITY,
+        };
+    }
+
+    /// The entries due now: recycled disks first, then new disks in the order of their times,
+    /// each at a free place of its inlet; the first that finds none waits (and those behind
+    /// it), to be tried again after a disk could have moved a diameter. Then one re-mapping
+    /// takes every disk that entered into the grid and the lists.
+    pub(super) fn enter_due(&mut self) -> crate::error::Result<()> {
+        let t = self.base.absolute(self.now);
+        let g = self.flight.g();
+        let mut entered = false;
+        loop {
+            let pool = self.pool.as_ref().expect("entries need a pool");
+            // What is due: a recycled disk (its inlet), or the inlet whose new disk is earliest.
+            let recycled = (!pool.waiting.is_empty() && pool.waiting_since <= t)
+                .then(|| pool.inlets.iter().position(|p| p.recycle))
+                .flatten();
+            let due = recycled.map(|k| (k, true)).or_else(|| {
+                let (k, p) = pool
+                    .inlets
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| a.1.due().total_cmp(&b.1.due()))?;
+                (p.due() <= t).then_some((k, false))
+            });
+            let Some((k, recycled)) = due else {
+                break;
+            };
+            let plan = pool.inlets[k];
+            let id = if recycled {
+                pool.waiting[0]
+            } else {
+                pool.next_id
+            };
+            let (a, mass) = (pool.all.radius[id as usize], pool.all.mass[id as usize]);
+            let Some((x, y)) = self.free_place(&plan, a) else {
+                let pool = self.pool.as_mut().expect("a pool");
+                let clear = 2.0 * a / plan.speed.max((g * a).sqrt());
+                pool.blocked_until = t + clear;
+                pool.flow.waits += 1;
+                break;
+            };
+            let pool = self.pool.as_mut().expect("a pool");
+            let sigma = (plan.temperature / mass).sqrt();
+            let vx = sigma * pool.normal();
+            let vy = -plan.speed + sigma * pool.normal();
+            if recycled {
+                pool.waiting.remove(0);
+                if !pool.waiting.is_empty() {
+                    pool.waiting_since = t;
+                }
+            } else {
+                pool.inlets[k].next += 1;
+                pool.next_id += 1;
+            }
+            pool.flow.entered += 1;
+            pool.flow.energy_in += mass * (0.5 * (vx * vx + vy * vy) + g * y);
+            self.insert_disk(id, [x, y, vx, vy], a, mass);
+            entered = true;
+        }
+        if entered {
+            self.remap()?;
+        }
+        self.schedule_entry();
+        Ok(())
+    }
+
+    /// A place in `plan`'s box where a disk of radius `a` overlaps no disk now (up to 64 draws).
+    fn free_place(&mut self, plan: &InletPlan, a: f64) -> Option<(f64, f64)> {
+        let now = self.now;
+        for _ in 0..64 {
+            let pool = self.pool.as_mut().expect("a pool");
+            let x = plan.x0 + (plan.x1 - plan.x0) * pool.uniform();
+            let y = plan.y0 + (plan.y1 - plan.y0) * pool.uniform();
+            let free = (0..self.disks.len()).all(|k| {
+                let (xk, yk, _, _) = self.state_at(k, now);
+                let (dx, dy) = self.wrap(x - xk, y - yk);
+                let s = (a + self.disks.radius[k]) * (1.0 + 1e-6);
+                dx * dx + dy * dy > s * s
+            });
+            if free {
+                return Some((x, y));
+            }
+        }
+        None
+    }
+
+    /// Disk `id` enters now at `[x, y, vx, vy]` as engine disk n (the arrays grow by one within
+    /// the capacity reserved at the start); the re-mapping that follows files it everywhere.
+    fn insert_disk(&mut self, id: u32, [x, y, vx, vy]: [f64; 4], a: f64, mass: f64) {
+        let n = self.disks.len();
+        let now = self.now;
+        let d = &mut self.disks;
+        d.motion.push(crate::physics::disks::Motion {
+            x,
+            y,
+            vx,
+            vy,
+            t: now,
+        });
+        d.radius.push(a);
+        d.mass.push(mass);
+        d.species.push(0);
+        d.counter.push(0);
+        self.map.numbering.push(id);
+        self.restitution.push();
+        self.rest.riders.push();
+        if !self.rest.same_instant.is_empty() {
+            self.rest.same_instant.push((f64::NAN, 0));
+        }
+        if !self.rest.in_cluster.is_empty() {
+            self.rest.in_cluster.push(false);
+        }
+        if let Some(sh) = self.map.shells.as_mut() {
+            sh.push([x, y]);
+        }
+        let ev = &mut self.events;
+        ev.time[n] = f64::INFINITY;
+        ev.time.push(f64::INFINITY);
+        ev.code.push(super::event::code::NONE);
+        ev.counter.push(0);
+        let pool = self.pool.as_mut().expect("a pool");
+        pool.engine_of[id as usize] = n as u32;
+        pool.stale = true;
     }
 
     /// The pool of live and dead disks, in scenes whose disks may leave.

@@ -64,6 +64,10 @@ pub struct Scene {
     pub orifice: Option<crate::physics::orifice::Orifice>,
     /// The warm-up's end (the flow rate counts exits from then on).
     pub warmup: f64,
+    /// The inlets, resolved.
+    pub inlets: Vec<crate::engine::pool::InletPlan>,
+    /// The scenario's seed (entering disks draw from it).
+    pub seed: u64,
 }
 
 impl Scene {
@@ -144,6 +148,12 @@ impl Scene {
                 }
             }),
             warmup: s.run.warmup,
+            inlets: s
+                .inlets
+                .iter()
+                .map(|i| inlet_plan(i, s.run.duration))
+                .collect(),
+            seed: s.seed,
         };
         Ok((scene, disks))
     }
@@ -273,6 +283,31 @@ fn positions(
 }
 
 /// Radii, masses and species of every disk.
+/// An inlet's box and schedule: `count` disks spread evenly over `[start, end)`, or one every
+/// 1/`rate` from `start` while before `end` (the run's end when absent).
+fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool::InletPlan {
+    let end = i.end.unwrap_or(duration);
+    let window = end - i.start;
+    let (period, total) = match (i.rate, i.count) {
+        (Some(r), _) => (1.0 / r, (r * window).ceil() as u64),
+        (None, Some(n)) => (window / n as f64, n),
+        (None, None) => (f64::INFINITY, 0),
+    };
+    crate::engine::pool::InletPlan {
+        x0: i.x.from,
+        x1: i.x.to,
+        y0: i.y.from,
+        y1: i.y.to,
+        start: i.start,
+        period,
+        total,
+        speed: i.speed,
+        temperature: i.temperature,
+        recycle: i.recycle,
+        next: 0,
+    }
+}
+
 fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
     let p = &s.particles;
     let pi = std::f64::consts::PI;

@@ -222,12 +222,23 @@ impl<F: Flight> Simulation<F> {
             control: Control::new(scene, n, pipelining),
             pool: None,
         };
-        if scene.orifice.is_some() {
-            sim.pool = Some(super::pool::Pool::new(&sim.disks, n, scene.warmup));
+        if scene.orifice.is_some() || !scene.inlets.is_empty() {
+            let pool = super::pool::Pool::new(&sim.disks, scene.warmup, &scene.inlets, scene.seed);
+            let cap = pool.capacity();
+            sim.pool = Some(pool);
             sim.map.numbering.keep_ids(n);
+            sim.map.numbering.reserve_to(cap);
+            sim.disks.reserve_to(cap);
+            let ev = &mut sim.events;
+            ev.time.reserve_exact(cap + 1 - ev.time.len().min(cap + 1));
+            ev.code.reserve_exact(cap - ev.code.len().min(cap));
+            ev.counter.reserve_exact(cap - ev.counter.len().min(cap));
         }
         if sim.bounds.floor.is_some() {
             sim.rest.riders = Riders::new(n, riders::carried_room(a_min, a_max));
+            if let Some(pool) = &sim.pool {
+                sim.rest.riders.reserve_to(pool.capacity());
+            }
             if sim.floor_friction().is_some() {
                 sim.rest.riders = std::mem::take(&mut sim.rest.riders).with_slides();
             }

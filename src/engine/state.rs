@@ -177,6 +177,7 @@ impl<F: Flight> Simulation<F> {
         if let Some(pool) = self.pool.as_mut() {
             pool.restored();
         }
+        self.schedule_entry();
         Ok(())
     }
 }

@@ -68,10 +68,14 @@ pub struct EnergySummary {
     pub injected: f64,
     /// Lost in collisions.
     pub dissipated: f64,
-    /// Carried out by disks that left (scenes with an orifice).
+    /// Carried out by disks that left (scenes where disks leave or enter).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub carried_out: Option<f64>,
-    /// |final − initial − injected + dissipated + carried out| relative to the largest term.
+    /// Brought in by disks that entered (scenes where disks leave or enter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carried_in: Option<f64>,
+    /// |final − initial − injected + dissipated + carried out − carried in| relative to the
+    /// largest term.
     pub balance_error: f64,
 }
 
@@ -225,6 +229,10 @@ pub struct FlowSummary {
     pub corner_impacts: u64,
     /// Disks at rest on the floor that slid over an edge of the orifice.
     pub slid_over_edge: u64,
+    /// Energy the entering disks brought in.
+    pub energy_in: f64,
+    /// Entries that found no free place in their inlet and waited.
+    pub waits: u64,
 }
 
 impl FlowSummary {
@@ -244,6 +252,8 @@ impl FlowSummary {
             mass_rate: rate.map(|r| r.0 * flow.exit_mass / flow.exits as f64),
             corner_impacts: flow.corner,
             slid_over_edge: flow.edge,
+            energy_in: flow.energy_in,
+            waits: flow.waits,
         }
     }
 }

@@ -109,6 +109,13 @@ impl Disks {
 }
 
 impl Disks {
+    /// Reserves room for `cap` disks in every array, so that disks entering allocate nothing.
+    pub fn reserve_to(&mut self, cap: usize) {
+        let more = cap.saturating_sub(self.motion.len());
+        self.motion.reserve_exact(more);
+        self.counter.reserve_exact(more);
+    }
+
     /// Removes disk `k`, the last disk taking its number (no allocation).
     pub fn swap_remove(&mut self, k: usize) {
         self.motion.swap_remove(k);
@@ -211,6 +218,20 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
         if !self.each.is_empty() {
             permute_in_place(&mut self.each, from);
         }
+    }
+
+    /// Appends an entry (no allocation while the value is the common one, or within the room
+    /// reserved).
+    pub fn push(&mut self, v: T) {
+        if self.each.is_empty() && (self.len == 0 || v == self.common) {
+            self.common = v;
+        } else {
+            if self.each.is_empty() {
+                self.each = vec![self.common; self.len];
+            }
+            self.each.push(v);
+        }
+        self.len += 1;
     }
 
     /// Removes entry `k`, the last taking its place (no allocation).

@@ -61,6 +61,16 @@ impl CollisionLaw {
         }
     }
 
+    /// A disk enters as the last one, with no collision yet.
+    pub fn push(&mut self) {
+        if self.law.tc.is_some() {
+            self.last.push(f64::NEG_INFINITY);
+        }
+        if self.law.tc.is_some() || self.law.speed_cutoff.is_some() {
+            self.paired.push(false);
+        }
+    }
+
     /// Disk `k` leaves, the last disk taking its number.
     pub fn swap_remove(&mut self, k: usize) {
         if !self.last.is_empty() {

@@ -616,11 +616,12 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 injected: flow.injected,
                 dissipated: flow.dissipated,
                 carried_out: sim.flow().map(|f| f.energy_out),
+                carried_in: sim.flow().map(|f| f.energy_in),
                 balance_error: balance_error(
                     &self.initial,
                     &last,
                     &flow,
-                    sim.flow().map_or(0.0, |f| f.energy_out),
+                    sim.flow().map_or(0.0, |f| f.energy_out - f.energy_in),
                 ),
             },
             temperature: avg.temperature(),
@@ -831,8 +832,9 @@ pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
             .is_none_or(|f| f.is_static() && f.restitution == 1.0)
 }
 
-/// |now − initial − injected + dissipated + carried out| relative to the largest term of the
-/// energy budget (`out`: the energy disks that left carried out).
+/// |now − initial − injected + dissipated + carried out − carried in| relative to the largest
+/// term of the energy budget (`out`: the energy disks that left carried out, less what entering
+/// disks brought in).
 pub(super) fn balance_error(
     initial: &Observables,
     now: &Observables,
@@ -862,7 +864,12 @@ pub(super) fn check_sample<E: Integrator>(
     let now = Observables::of(&StatesAt(sim, t), sim.disks(), g);
     let flow = sim.energy_flow_at(t);
     let pool = sim.flow();
-    let error = balance_error(initial, &now, &flow, pool.map_or(0.0, |f| f.energy_out));
+    let error = balance_error(
+        initial,
+        &now,
+        &flow,
+        pool.map_or(0.0, |f| f.energy_out - f.energy_in),
+    );
     if error > 1e-9 {
         return Err(Error::Runtime(format!(
             "energy budget off by {error:e} (relative) at time {t}"

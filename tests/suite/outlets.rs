@@ -55,7 +55,13 @@ fn a_draining_silo_is_deterministic() {
         sim.advance_to(20.0).unwrap();
         let f = sim.pool().unwrap().flow;
         let s = sim.snapshot(20.0);
-        (f.left, f.last_exit.to_bits(), f.sum_gap.to_bits(), s.ids, s.x)
+        (
+            f.left,
+            f.last_exit.to_bits(),
+            f.sum_gap.to_bits(),
+            s.ids,
+            s.x,
+        )
     };
     assert_eq!(run(), run());
 }
@@ -115,7 +121,11 @@ fn a_disk_through_the_gap_leaves_at_the_analytic_time() {
     assert_eq!(f.left, 1);
     assert!((f.last_exit - t_out).abs() < 1e-12, "{}", f.last_exit);
     let s = sim.snapshot(t_out * 2.0);
-    assert_eq!(s.ids, vec![1], "the disk at rest on the floor stays, by its id");
+    assert_eq!(
+        s.ids,
+        vec![1],
+        "the disk at rest on the floor stays, by its id"
+    );
     // Energy carried out: m g y at y = −a plus ½ m v², v = g t.
     assert!((f.energy_out - (-0.5 + 0.5 * t_out * t_out)).abs() < 1e-12);
 }

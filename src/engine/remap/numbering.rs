@@ -80,6 +80,16 @@ impl Numbering {
         self.id.swap_remove(k);
     }
 
+    /// A disk enters with scenario number `id` as the last engine disk.
+    pub fn push(&mut self, id: u32) {
+        self.id.push(id);
+    }
+
+    /// Room for `cap` disks.
+    pub fn reserve_to(&mut self, cap: usize) {
+        self.id.reserve_exact(cap.saturating_sub(self.id.len()));
+    }
+
     /// Scenario number of engine disk `k`.
     #[inline]
     pub fn id(&self, k: usize) -> usize {

@@ -272,6 +272,29 @@ impl Riders {
         (0..self.riding.len()).filter(|&i| self.riding[i])
     }
 
+    /// A flying disk enters as the last one.
+    pub fn push(&mut self) {
+        if self.riding.is_empty() && self.room == 0 {
+            return;
+        }
+        self.riding.push(false);
+        self.lift.push(0.0);
+        self.support.push([NO_DISK; 2]);
+        if !self.slides.is_empty() {
+            self.slides.push(Slide::NONE);
+        }
+        self.carries.extend(std::iter::repeat_n(NO_DISK, self.room));
+    }
+
+    /// Room for `cap` disks.
+    pub fn reserve_to(&mut self, cap: usize) {
+        let more = cap.saturating_sub(self.riding.len());
+        self.riding.reserve_exact(more);
+        self.lift.reserve_exact(more);
+        self.support.reserve_exact(more);
+        self.carries.reserve_exact(more * self.room);
+    }
+
     /// Flying disk `k` leaves, the last disk taking its number (no allocation): references to
     /// the last disk follow it, any to `k` are cleared.
     pub fn swap_remove(&mut self, k: usize) {
