@@ -102,7 +102,7 @@ pub struct Simulation<F: Flight> {
     tally: Tally,
     control: Control,
     /// Live and dead disks, in scenes whose disks leave (`None`: every disk stays).
-    pool: Option<pool::Pool>,
+    pool: Option<Box<pool::Pool>>,
 }
 
 impl<F: Flight> Simulation<F> {
@@ -115,9 +115,18 @@ impl<F: Flight> Simulation<F> {
         progress
     }
 
-    /// The event loop of [`advance_to`](Self::advance_to).
-    #[inline(always)]
+    /// The event loop of [`advance_to`](Self::advance_to): a scene whose disks enter (a pool)
+    /// runs a loop that also wakes at the next entry; any other runs the loop without it.
     fn run_to(&mut self, target: f64) -> Result<Progress> {
+        if self.pool.is_some() {
+            self.event_loop::<true>(target)
+        } else {
+            self.event_loop::<false>(target)
+        }
+    }
+
+    /// The event loop, waking at entries through inlets if `POOL`.
+    fn event_loop<const POOL: bool>(&mut self, target: f64) -> Result<Progress> {
         // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
         // at the start, so that a run stops within a bounded wall time whatever it is doing.
         let mut turns = 0u32;
@@ -141,13 +150,17 @@ impl<F: Flight> Simulation<F> {
             let te = self.events.time[i];
             let deadline = self.map.dutc.deadline;
             // The next entry through an inlet (∞ without inlets) wakes the loop like the DUTC.
-            let wake = deadline.min(self.control.entry);
+            let wake = if POOL {
+                deadline.min(self.control.entry)
+            } else {
+                deadline
+            };
             if wake <= te && wake < local_target {
                 self.now = wake;
-                if wake == deadline {
-                    self.remap()?;
-                } else {
+                if POOL && wake != deadline {
                     self.enter_due()?;
+                } else {
+                    self.remap()?;
                 }
                 continue;
             }

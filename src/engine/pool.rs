@@ -505,6 +505,6 @@ impl<F: Flight> Simulation<F> {
 
     /// The pool of live and dead disks, in scenes whose disks may leave.
     pub fn pool(&self) -> Option<&Pool> {
-        self.pool.as_ref()
+        self.pool.as_deref()
     }
 }

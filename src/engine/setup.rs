@@ -225,7 +225,7 @@ impl<F: Flight> Simulation<F> {
         if scene.orifice.is_some() || !scene.inlets.is_empty() {
             let pool = super::pool::Pool::new(&sim.disks, scene.warmup, &scene.inlets, scene.seed);
             let cap = pool.capacity();
-            sim.pool = Some(pool);
+            sim.pool = Some(Box::new(pool));
             sim.map.numbering.keep_ids(n);
             sim.map.numbering.reserve_to(cap);
             sim.disks.reserve_to(cap);

@@ -46,7 +46,7 @@ pub struct EngineState {
     same_instant: Vec<(f64, u32)>,
     numbering: Numbering,
     /// Live and dead disks (scenes whose disks leave).
-    pool: Option<super::pool::Pool>,
+    pool: Option<Box<super::pool::Pool>>,
 }
 
 impl EngineState {
