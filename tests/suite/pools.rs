@@ -194,7 +194,7 @@ fn a_pour_brings_every_disk_once_and_conserves_the_count() {
 }
 
 /// A lone inlet over an empty floor: its disks enter at the exact scheduled times (one every
-/// 1/rate), falling at the inlet's speed.
+/// 1/rate), falling at the inlet's speed (fast enough to clear the one place between entries).
 #[test]
 fn disks_enter_at_their_scheduled_times() {
     let json = r#"{
@@ -205,7 +205,7 @@ fn disks_enter_at_their_scheduled_times() {
         "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
                        "placement": { "positions": [[1.0, 0.5]], "velocities": [[0.0, 0.0]] } },
         "inlets": [ { "x": { "from": 5.0, "to": 5.0 }, "y": { "from": 50.0, "to": 50.0 },
-                      "rate": 4.0, "start": 0.1, "speed": 2.0 } ],
+                      "rate": 4.0, "start": 0.1, "speed": 5.0 } ],
         "run": { "duration": 2.0 }
     }"#;
     let mut sim = ballistic(json);
@@ -218,7 +218,7 @@ fn disks_enter_at_their_scheduled_times() {
         assert_eq!(sim.pool().unwrap().flow.entered, j + 1);
         let s = sim.snapshot(t + 1e-9);
         let row = s.ids.iter().position(|&id| id == 1 + j as u32).unwrap();
-        assert!((s.vy[row] + 2.0 + 1e-9).abs() < 1e-12, "vy = {}", s.vy[row]);
+        assert!((s.vy[row] + 5.0 + 1e-9).abs() < 1e-12, "vy = {}", s.vy[row]);
         assert!((s.y[row] - 50.0).abs() < 1e-8 && (s.x[row] - 5.0).abs() < 1e-12);
     }
 }
