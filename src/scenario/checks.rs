@@ -294,7 +294,7 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
             crate::scenario::Radius::Fixed(a) => a,
             _ => {
                 return Err(Error::input(
-                    &field("x"),
+                    field("x"),
                     "inlets need equal disks (particles.radius a number)",
                 ))
             }
@@ -302,7 +302,7 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         let width = s.domain.width;
         let (x, y) = (inlet.x, inlet.y);
         if !(x.from.is_finite() && x.to.is_finite() && x.from <= x.to) {
-            return Err(Error::input(&field("x"), "needs finite from ≤ to"));
+            return Err(Error::input(field("x"), "needs finite from ≤ to"));
         }
         let (lo, hi) = match s.domain.x_boundary {
             crate::scenario::XBoundary::Walls => (a, width - a),
@@ -310,53 +310,50 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         };
         if x.from < lo || x.to > hi {
             return Err(Error::input(
-                &field("x"),
+                field("x"),
                 format!("must lie within [{lo}, {hi}]: a disk entering there must fit between the walls"),
             ));
         }
         if !(y.from.is_finite() && y.to.is_finite() && y.from <= y.to) {
-            return Err(Error::input(&field("y"), "needs finite from ≤ to"));
+            return Err(Error::input(field("y"), "needs finite from ≤ to"));
         }
         if y.from < a {
             return Err(Error::input(
-                &field("y.from"),
+                field("y.from"),
                 format!("must be at least a radius ({a}) above the floor"),
             ));
         }
         if let (Some(h), crate::scenario::YBoundary::Lid) = (s.domain.height, s.domain.y_boundary) {
             if y.to > h - a {
                 return Err(Error::input(
-                    &field("y.to"),
+                    field("y.to"),
                     "must leave a radius below the lid",
                 ));
             }
         }
         let end = inlet.end.unwrap_or(s.run.duration);
         if !(inlet.start.is_finite() && inlet.start >= 0.0) {
-            return Err(Error::input(&field("start"), "must be ≥ 0"));
+            return Err(Error::input(field("start"), "must be ≥ 0"));
         }
         if !(end.is_finite() && end > inlet.start) {
-            return Err(Error::input(&field("end"), "must be after start"));
+            return Err(Error::input(field("end"), "must be after start"));
         }
         match (inlet.rate, inlet.count) {
             (Some(_), Some(_)) => {
-                return Err(Error::input(
-                    &field("count"),
-                    "give rate or count, not both",
-                ))
+                return Err(Error::input(field("count"), "give rate or count, not both"))
             }
             (Some(r), None) => {
                 positive(&field("rate"), r)?;
                 if r * (end - inlet.start) > 2e7 {
-                    return Err(Error::input(&field("rate"), "brings more than 2·10⁷ disks"));
+                    return Err(Error::input(field("rate"), "brings more than 2·10⁷ disks"));
                 }
             }
             (None, Some(n)) if n > 20_000_000 => {
-                return Err(Error::input(&field("count"), "at most 2·10⁷"))
+                return Err(Error::input(field("count"), "at most 2·10⁷"))
             }
             (None, None) if !inlet.recycle => {
                 return Err(Error::input(
-                    &field("rate"),
+                    field("rate"),
                     "give rate or count (or recycle: true for an inlet that only recycles)",
                 ))
             }
@@ -364,26 +361,23 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         }
         for (name, v) in [("speed", inlet.speed), ("temperature", inlet.temperature)] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::input(&field(name), format!("must be ≥ 0 (got {v})")));
+                return Err(Error::input(field(name), format!("must be ≥ 0 (got {v})")));
             }
         }
         if inlet.recycle {
             recycling += 1;
             if recycling > 1 {
-                return Err(Error::input(
-                    &field("recycle"),
-                    "only one inlet may recycle",
-                ));
+                return Err(Error::input(field("recycle"), "only one inlet may recycle"));
             }
             if s.floor.as_ref().and_then(|f| f.orifice).is_none() {
                 return Err(Error::input(
-                    &field("recycle"),
+                    field("recycle"),
                     "needs floor.orifice: only disks that leave can come back",
                 ));
             }
         }
         if s.is_rough() {
-            return Err(Error::input(&field("x"), "inlets need smooth disks"));
+            return Err(Error::input(field("x"), "inlets need smooth disks"));
         }
         if s.engine.scheme != crate::scenario::Scheme::EventDriven {
             return Err(Error::input(

@@ -268,7 +268,8 @@ fn recycled_disks_come_back_with_their_ids() {
 /// Bad inlets are refused naming the field.
 #[test]
 fn bad_inlets_are_refused_naming_the_field() {
-    let cases: [(&str, fn(&mut serde_json::Value)); 6] = [
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(&str, Edit); 6] = [
         ("inlets.0.y.from", |v| {
             v["inlets"][0]["y"]["from"] = 0.2.into()
         }),
