@@ -302,7 +302,14 @@ fn the_tree_and_the_calendar_agree_on_a_recycling_silo() {
         sim.advance_to(15.0).unwrap();
         let f = sim.pool().unwrap().flow;
         let s = sim.snapshot(15.0);
-        (sim.counts(), f.left, f.entered, f.last_exit.to_bits(), s.x, s.vy)
+        (
+            sim.counts(),
+            f.left,
+            f.entered,
+            f.last_exit.to_bits(),
+            s.x,
+            s.vy,
+        )
     };
     assert_eq!(run("tree"), run("calendar"));
 }
