@@ -221,9 +221,9 @@ impl Pool {
             }
         }
         let rows = || self.ids.iter().map(|&i| i as usize);
-        self.view.radius.gather(&self.all.radius, rows());
-        self.view.mass.gather(&self.all.mass, rows());
-        self.view.species.gather(&self.all.species, rows());
+        self.view.radius.fill_from(&self.all.radius, rows());
+        self.view.mass.fill_from(&self.all.mass, rows());
+        self.view.species.fill_from(&self.all.species, rows());
         self.stale = false;
     }
 

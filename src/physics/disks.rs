@@ -244,7 +244,7 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
 
     /// Becomes `src`'s entries at `rows`, in that order, reusing its memory (no allocation once
     /// it has held as many).
-    pub fn gather(&mut self, src: &PerDisk<T>, rows: impl Iterator<Item = usize>) {
+    pub fn fill_from(&mut self, src: &PerDisk<T>, rows: impl Iterator<Item = usize>) {
         self.common = src.common;
         self.each.clear();
         self.len = 0;
