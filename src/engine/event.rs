@@ -28,6 +28,12 @@ pub enum Event {
     ShellExit,
     /// The prediction is made again: the floor search looked only so far ahead.
     Recheck,
+    /// An impact on a corner of the floor's orifice (`true`: the right one).
+    Corner(bool),
+    /// The disk is wholly below the floor in the orifice: it leaves.
+    Exit,
+    /// A disk at rest on the floor slides over an edge of the orifice.
+    Edge,
     /// No event: the disk's time is infinite, it is never the earliest.
     None,
 }
@@ -44,8 +50,12 @@ pub(crate) mod code {
     pub const SHELL: u32 = u32::MAX - 7;
     pub const RECHECK: u32 = u32::MAX - 8;
     pub const SLIDE_END: u32 = u32::MAX - 9;
+    pub const CORNER_LEFT: u32 = u32::MAX - 10;
+    pub const CORNER_RIGHT: u32 = u32::MAX - 11;
+    pub const EXIT: u32 = u32::MAX - 12;
+    pub const EDGE: u32 = u32::MAX - 13;
     /// The lowest code that is not a disk: no scene may have this many disks.
-    pub const FIRST_NOT_A_DISK: u32 = SLIDE_END;
+    pub const FIRST_NOT_A_DISK: u32 = EDGE;
 }
 
 impl Event {
@@ -63,6 +73,10 @@ impl Event {
             code::SHELL => Event::ShellExit,
             code::RECHECK => Event::Recheck,
             code::SLIDE_END => Event::SlideEnd,
+            code::CORNER_LEFT => Event::Corner(false),
+            code::CORNER_RIGHT => Event::Corner(true),
+            code::EXIT => Event::Exit,
+            code::EDGE => Event::Edge,
             j => Event::Pair(j),
         }
     }
@@ -81,6 +95,10 @@ impl Event {
             Event::ShellExit => code::SHELL,
             Event::Recheck => code::RECHECK,
             Event::SlideEnd => code::SLIDE_END,
+            Event::Corner(false) => code::CORNER_LEFT,
+            Event::Corner(true) => code::CORNER_RIGHT,
+            Event::Exit => code::EXIT,
+            Event::Edge => code::EDGE,
             Event::None => code::NONE,
         }
     }
@@ -93,8 +111,10 @@ impl Event {
             Event::Wall(Side::Left) => Some(Partner::Left),
             Event::Wall(Side::Right) => Some(Partner::Right),
             Event::Lid => Some(Partner::Lid),
-            Event::Floor => Some(Partner::Floor),
+            Event::Floor | Event::Corner(_) => Some(Partner::Floor),
             Event::RideEnd
+            | Event::Exit
+            | Event::Edge
             | Event::Unmount
             | Event::SlideEnd
             | Event::ShellExit
@@ -122,6 +142,10 @@ mod tests {
             Event::ShellExit,
             Event::Recheck,
             Event::SlideEnd,
+            Event::Corner(false),
+            Event::Corner(true),
+            Event::Exit,
+            Event::Edge,
             Event::None,
         ];
         for e in events {

@@ -30,6 +30,9 @@ impl<F: Flight> Simulation<F> {
                 self.predict(i);
             }
             Event::ShellExit => self.leave_shell(i)?,
+            Event::Corner(right) => self.hit_corner(i, right),
+            Event::Exit => self.leave(i)?,
+            Event::Edge => self.slide_over_edge(i),
             Event::None => unreachable!("a disk without an event is never the minimum"),
             Event::Pair(j) => {
                 let j = j as usize;

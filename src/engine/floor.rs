@@ -14,7 +14,8 @@ impl<F: Flight> Simulation<F> {
     /// `next`: for a rider the end of its ride or the loss of a support; for a flying disk an
     /// impact on the lid or the floor, or a re-check where the floor's search stopped.
     #[inline(always)]
-    pub(super) fn floor_events(&self, i: usize, (_, y, _, vy): State, a: f64, next: &mut Next) {
+    pub(super) fn floor_events(&self, i: usize, state: State, a: f64, next: &mut Next) {
+        let (_, y, _, vy) = state;
         let floor = self
             .bounds
             .floor
@@ -41,7 +42,15 @@ impl<F: Flight> Simulation<F> {
                     next.t = t_off;
                     next.who = code::UNMOUNT;
                 }
+            } else if self.bounds.orifice.is_some() {
+                *next = self.edge_event(state, *next);
             }
+            return;
+        }
+        if self.bounds.orifice.is_some() {
+            // One test for scenes with an orifice; the others run the code below as before. `next`
+            // goes by value: a call taking its address would keep it out of registers.
+            *next = self.flying_over_orifice(state, a, *next);
             return;
         }
         if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
@@ -60,6 +69,36 @@ impl<F: Flight> Simulation<F> {
             Some(FloorEvent::Recheck(tf)) => next.recheck = next.recheck.min(tf),
             _ => {}
         }
+    }
+
+    /// [`floor_events`](Self::floor_events) of a flying disk in a scene with an orifice: the lid,
+    /// the flat floor where the centre lands beside the gap, the corners and the exit.
+    #[inline(never)]
+    fn flying_over_orifice(&self, state: State, a: f64, mut next: Next) -> Next {
+        let floor = self
+            .bounds
+            .floor
+            .as_ref()
+            .expect("an orifice is in a floor");
+        let (now, g) = (self.now, self.flight.g());
+        let (_, y, _, vy) = state;
+        if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
+            if now + dt < next.t {
+                next.t = now + dt;
+                next.who = code::LID;
+            }
+        }
+        let limit = next.t.min(self.map.dutc.deadline);
+        match floor.next_event(y, vy, a, g, now, limit) {
+            Some(FloorEvent::Impact(tf)) if tf < next.t && !self.lands_in_gap(state, tf) => {
+                next.t = tf;
+                next.who = code::FLOOR;
+            }
+            Some(FloorEvent::Recheck(tf)) => next.recheck = next.recheck.min(tf),
+            _ => {}
+        }
+        self.orifice_events(state, a, &mut next);
+        next
     }
 
     /// The floor's height and velocity now: what disks at rest move with (a scene with disks at

@@ -33,9 +33,11 @@ mod lanes;
 mod log;
 mod motion;
 mod observe;
+mod outlet;
 mod pair;
 mod parts;
 pub mod placement;
+pub mod pool;
 mod predict;
 pub mod remap;
 pub mod rest;
@@ -99,11 +101,32 @@ pub struct Simulation<F: Flight> {
     rest: Rest,
     tally: Tally,
     control: Control,
+    /// Live and dead disks, in scenes whose disks leave (`None`: every disk stays).
+    pool: Option<Box<pool::Pool>>,
 }
 
 impl<F: Flight> Simulation<F> {
     /// Runs events until absolute time `target` (events at exactly `target` are left for later).
     pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        let progress = self.run_to(target);
+        if let Some(pool) = self.pool.as_mut() {
+            pool.refresh();
+        }
+        progress
+    }
+
+    /// The event loop of [`advance_to`](Self::advance_to): a scene whose disks enter (a pool)
+    /// runs a loop that also wakes at the next entry; any other runs the loop without it.
+    fn run_to(&mut self, target: f64) -> Result<Progress> {
+        if self.pool.is_some() {
+            self.event_loop::<true>(target)
+        } else {
+            self.event_loop::<false>(target)
+        }
+    }
+
+    /// The event loop, waking at entries through inlets if `POOL`.
+    fn event_loop<const POOL: bool>(&mut self, target: f64) -> Result<Progress> {
         // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
         // at the start, so that a run stops within a bounded wall time whatever it is doing.
         let mut turns = 0u32;
@@ -126,9 +149,19 @@ impl<F: Flight> Simulation<F> {
             self.prefetch_next();
             let te = self.events.time[i];
             let deadline = self.map.dutc.deadline;
-            if deadline <= te && deadline < local_target {
-                self.now = deadline;
-                self.remap()?;
+            // The next entry through an inlet (∞ without inlets) wakes the loop like the DUTC.
+            let wake = if POOL {
+                deadline.min(self.control.entry)
+            } else {
+                deadline
+            };
+            if wake <= te && wake < local_target {
+                self.now = wake;
+                if POOL && wake != deadline {
+                    self.enter_due()?;
+                } else {
+                    self.remap()?;
+                }
                 continue;
             }
             if te >= local_target {

@@ -31,6 +31,8 @@ pub struct Snapshot {
     pub vy: Vec<f64>,
     /// Floor height at `time`, if there is a floor.
     pub floor_height: Option<f64>,
+    /// The id (scenario number) of each entry, where disks leave (empty: entry i is disk i).
+    pub ids: Vec<u32>,
 }
 
 impl Snapshot {
@@ -69,7 +71,18 @@ impl<F: Flight> Simulation<F> {
     /// (nor in the scenario's numbering once the engine has renumbered its disks): take a
     /// snapshot for that.
     pub fn disks(&self) -> &Disks {
+        if let Some(pool) = &self.pool {
+            return pool.view();
+        }
         self.map.numbering.original().unwrap_or(&self.disks)
+    }
+
+    /// The radius of the disk whose id is `id`.
+    fn radius_of_id(&self, id: usize) -> f64 {
+        match &self.pool {
+            Some(pool) => pool.radius_of(id),
+            None => self.disks().radius[id],
+        }
     }
 
     /// `Σ ½ I ω²` of rough disks at absolute time `t ≥ time()` (spins are constant between
@@ -222,6 +235,7 @@ impl<F: Flight> Simulation<F> {
             + self.restitution.bytes()
             + self.rest.riders.bytes()
             + self.map.numbering.bytes()
+            + self.pool.as_ref().map_or(0, |p| p.bytes())
     }
 
     /// Energy flows up to absolute time `t`, including the work the floor has done on riding
@@ -272,6 +286,13 @@ impl<F: Flight> Simulation<F> {
     pub fn visit_states(&self, t: f64, mut visit: impl FnMut(usize, [f64; 4])) {
         let local = self.base.local(t);
         let state = |k: usize| self.wrapped_state_at(k, local);
+        if let Some(pool) = &self.pool {
+            // Live disks only, in the order of their ids.
+            for (row, k) in pool.engine_rows().enumerate() {
+                visit(row, state(k));
+            }
+            return;
+        }
         let Some(id) = self.map.numbering.ids() else {
             (0..self.disks.len()).for_each(|i| visit(i, state(i)));
             return;
@@ -315,6 +336,10 @@ impl<F: Flight> Simulation<F> {
         out.fill(self.disks.len(), t, self.floor_height_at(t), |f| {
             self.visit_states(t, f)
         });
+        if let Some(pool) = &self.pool {
+            out.ids.clear();
+            out.ids.extend_from_slice(pool.ids());
+        }
     }
 
     /// Every disk's state at absolute time `t`.
@@ -364,7 +389,7 @@ impl<F: Flight> Simulation<F> {
     /// (see [`overlap_at`](Self::overlap_at)).
     pub fn check_no_overlap(&self, t: f64) -> Result<()> {
         let (o, i, j) = self.overlap_at(t);
-        let s = self.disks().radius[i] + self.disks().radius[j];
+        let s = self.radius_of_id(i) + self.radius_of_id(j);
         if o > OVERLAP_TOLERANCE * s {
             return Err(Error::Runtime(format!(
                 "disks {i} and {j} overlap by {o:e} at time {t}"

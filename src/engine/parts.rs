@@ -75,6 +75,8 @@ pub(super) struct Bounds {
     /// The periodic images of `sides` and `top`, for minimum-image separations.
     pub images: Images,
     pub floor: Option<Floor>,
+    /// The floor's orifice, if any (a static floor).
+    pub orifice: Option<crate::physics::orifice::Orifice>,
 }
 
 /// Disks at rest: on (riding) the floor or on resting disks, and the memory of the rules that
@@ -147,6 +149,8 @@ pub(super) struct Control {
     /// report once it has stalled.
     pub clock_mark: ClockMark,
     pub stall_report: Option<String>,
+    /// Local time of the next disk entering through an inlet (∞: none).
+    pub entry: f64,
 }
 
 impl Control {
@@ -161,6 +165,7 @@ impl Control {
             pipelining,
             clock_mark: ClockMark::default(),
             stall_report: None,
+            entry: f64::INFINITY,
         }
     }
 }

@@ -11,6 +11,7 @@ pub(super) type State = (f64, f64, f64, f64);
 
 /// A disk's event while its prediction is completed: absolute time, code, the counter filed
 /// with it, and the time of a re-check some source needs.
+#[derive(Clone, Copy)]
 pub(super) struct Next {
     pub t: f64,
     pub who: u32,

@@ -60,6 +60,14 @@ pub struct Scene {
     pub check_invariants: bool,
     /// Event budget.
     pub max_events: Option<u64>,
+    /// The floor's orifice, if any: disks leave through it.
+    pub orifice: Option<crate::physics::orifice::Orifice>,
+    /// The warm-up's end (the flow rate counts exits from then on).
+    pub warmup: f64,
+    /// The inlets, resolved.
+    pub inlets: Vec<crate::engine::pool::InletPlan>,
+    /// The scenario's seed (entering disks draw from it).
+    pub seed: u64,
 }
 
 impl Scene {
@@ -133,6 +141,19 @@ impl Scene {
             skin: s.engine.skin,
             check_invariants: s.engine.check_invariants,
             max_events: s.run.max_events,
+            orifice: s.floor.as_ref().and_then(|f| f.orifice).map(|o| {
+                crate::physics::orifice::Orifice {
+                    from: o.from,
+                    to: o.to,
+                }
+            }),
+            warmup: s.run.warmup,
+            inlets: s
+                .inlets
+                .iter()
+                .map(|i| inlet_plan(i, s.run.duration))
+                .collect(),
+            seed: s.seed,
         };
         Ok((scene, disks))
     }
@@ -262,6 +283,31 @@ fn positions(
 }
 
 /// Radii, masses and species of every disk.
+/// An inlet's box and schedule: `count` disks spread evenly over `[start, end)`, or one every
+/// 1/`rate` from `start` while before `end` (the run's end when absent).
+fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool::InletPlan {
+    let end = i.end.unwrap_or(duration);
+    let window = end - i.start;
+    let (period, total) = match (i.rate, i.count) {
+        (Some(r), _) => (1.0 / r, (r * window).ceil() as u64),
+        (None, Some(n)) => (window / n as f64, n),
+        (None, None) => (f64::INFINITY, 0),
+    };
+    crate::engine::pool::InletPlan {
+        x0: i.x.from,
+        x1: i.x.to,
+        y0: i.y.from,
+        y1: i.y.to,
+        start: i.start,
+        period,
+        total,
+        speed: i.speed,
+        temperature: i.temperature,
+        recycle: i.recycle,
+        next: 0,
+    }
+}
+
 fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
     let p = &s.particles;
     let pi = std::f64::consts::PI;

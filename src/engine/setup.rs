@@ -144,6 +144,12 @@ impl<F: Flight> Simulation<F> {
         let (a_min, a_max) = disks.radius_range();
         let floor = scene.floor.clone();
         let bottom = floor.as_ref().map_or(0.0, |f| f.lowest());
+        // Disks falling through an orifice reach a radius below the floor before they leave.
+        let bottom = if scene.orifice.is_some() {
+            bottom - 2.0 * a_max
+        } else {
+            bottom
+        };
         let (top_y, y_periodic) = match scene.top {
             Top::Open => (None, false),
             Top::Lid { height, .. } => (Some(height), false),
@@ -200,6 +206,7 @@ impl<F: Flight> Simulation<F> {
                 top: scene.top,
                 images: super::motion::Images::of(scene.sides, scene.top),
                 floor,
+                orifice: scene.orifice,
             },
             restitution: CollisionLaw::new(
                 Restitution {
@@ -213,9 +220,25 @@ impl<F: Flight> Simulation<F> {
             rest: Rest::new(scene.resting_contacts),
             tally: Tally::default(),
             control: Control::new(scene, n, pipelining),
+            pool: None,
         };
+        if scene.orifice.is_some() || !scene.inlets.is_empty() {
+            let pool = super::pool::Pool::new(&sim.disks, scene.warmup, &scene.inlets, scene.seed);
+            let cap = pool.capacity();
+            sim.pool = Some(Box::new(pool));
+            sim.map.numbering.keep_ids(n);
+            sim.map.numbering.reserve_to(cap);
+            sim.disks.reserve_to(cap);
+            let ev = &mut sim.events;
+            ev.time.reserve_exact(cap + 1 - ev.time.len().min(cap + 1));
+            ev.code.reserve_exact(cap - ev.code.len().min(cap));
+            ev.counter.reserve_exact(cap - ev.counter.len().min(cap));
+        }
         if sim.bounds.floor.is_some() {
             sim.rest.riders = Riders::new(n, riders::carried_room(a_min, a_max));
+            if let Some(pool) = &sim.pool {
+                sim.rest.riders.reserve_to(pool.capacity());
+            }
             if sim.floor_friction().is_some() {
                 sim.rest.riders = std::mem::take(&mut sim.rest.riders).with_slides();
             }

@@ -45,6 +45,8 @@ pub struct EngineState {
     riders: Riders,
     same_instant: Vec<(f64, u32)>,
     numbering: Numbering,
+    /// Live and dead disks (scenes whose disks leave).
+    pool: Option<Box<super::pool::Pool>>,
 }
 
 impl EngineState {
@@ -83,6 +85,7 @@ impl<F: Flight> Simulation<F> {
             riders: self.rest.riders.clone(),
             same_instant: self.rest.same_instant.clone(),
             numbering: self.map.numbering.clone(),
+            pool: self.pool.clone(),
         }
     }
 
@@ -90,7 +93,16 @@ impl<F: Flight> Simulation<F> {
     /// does not fit the scene (another number of disks, a floor where there is none, a grid of
     /// another kind), so that a mismatched checkpoint is an error, not a panic later.
     pub fn restore(&mut self, state: EngineState) -> Result<()> {
-        let n = self.disks.len();
+        // Where disks leave, the saved engine holds the disks live then.
+        let n = match (&self.pool, &state.pool) {
+            (Some(_), Some(saved))
+                if saved.fits(state.disks.len(), state.numbering.ids().unwrap_or(&[])) =>
+            {
+                state.disks.len()
+            }
+            (None, None) => self.disks.len(),
+            _ => usize::MAX,
+        };
         let mismatch = |what: &str| {
             Error::input(
                 "checkpoint",
@@ -125,13 +137,14 @@ impl<F: Flight> Simulation<F> {
         if std::mem::discriminant(&state.cells) != std::mem::discriminant(&self.map.cells) {
             return Err(mismatch("grid kind"));
         }
-        if state.shells.as_ref().map(|s| s.len()) != self.map.shells.as_ref().map(|s| s.len()) {
+        if state.shells.as_ref().map(|s| s.len()) != self.map.shells.as_ref().map(|_| n) {
             return Err(mismatch("re-mapping"));
         }
-        if state.riders.len() != self.rest.riders.len() {
+        let per_disk = |v: usize| if v == 0 { 0 } else { n };
+        if state.riders.len() != per_disk(self.rest.riders.len()) {
             return Err(mismatch("riders"));
         }
-        if state.same_instant.len() != self.rest.same_instant.len() {
+        if state.same_instant.len() != per_disk(self.rest.same_instant.len()) {
             return Err(mismatch("riders"));
         }
         if state.numbering.on != self.map.numbering.on {
@@ -160,6 +173,11 @@ impl<F: Flight> Simulation<F> {
         self.rest.riders.recount();
         self.rest.same_instant = state.same_instant;
         self.map.numbering = state.numbering;
+        self.pool = state.pool;
+        if let Some(pool) = self.pool.as_mut() {
+            pool.restored();
+        }
+        self.schedule_entry();
         Ok(())
     }
 }

@@ -72,5 +72,7 @@ pub struct FrameView<'a> {
     /// velocity, anticlockwise positive; `None` for smooth disks.
     pub spins: Option<&'a [(f64, f64)]>,
     /// The live 2D fields (`output.record_fields`): a running average over one floor period.
+    /// The id of each disk, where disks leave (empty: disk i is entry i).
+    pub ids: &'a [u32],
     pub fields: Option<&'a Fields>,
 }

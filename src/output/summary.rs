@@ -68,7 +68,14 @@ pub struct EnergySummary {
     pub injected: f64,
     /// Lost in collisions.
     pub dissipated: f64,
-    /// |final − initial − injected + dissipated| relative to the largest term.
+    /// Carried out by disks that left (scenes where disks leave or enter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carried_out: Option<f64>,
+    /// Brought in by disks that entered (scenes where disks leave or enter).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carried_in: Option<f64>,
+    /// |final − initial − injected + dissipated + carried out − carried in| relative to the
+    /// largest term.
     pub balance_error: f64,
 }
 
@@ -185,6 +192,70 @@ pub struct Summary {
     /// Why simulated time stopped advancing (ending `stalled`): the disks and rules involved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stall: Option<String>,
+    /// Disks in and out, where they leave (a floor orifice).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flow: Option<FlowSummary>,
+}
+
+/// Disks in and out of a scene with an orifice, and the discharge rate after the warm-up.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FlowSummary {
+    /// Disks at the start.
+    pub initial: u64,
+    /// Disks that entered.
+    #[serde(rename = "in")]
+    pub in_: u64,
+    /// Disks that left.
+    pub out: u64,
+    /// Disks in the scene at the end (initial + in − out).
+    pub live: u64,
+    /// Mass that left.
+    pub mass_out: f64,
+    /// Energy the leaving disks carried out (kinetic and potential as they left).
+    pub energy_out: f64,
+    /// Disks out after the warm-up.
+    pub exits_measured: u64,
+    /// Disks per unit time out after the warm-up: one over the mean interval between exits
+    /// (absent before two exits).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rate: Option<f64>,
+    /// Its standard error, from the spread of the intervals (taken as independent).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rate_error: Option<f64>,
+    /// Mass per unit time out after the warm-up: the rate times the mean mass of the exits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_rate: Option<f64>,
+    /// Impacts on the orifice's corners.
+    pub corner_impacts: u64,
+    /// Disks at rest on the floor that slid over an edge of the orifice.
+    pub slid_over_edge: u64,
+    /// Energy the entering disks brought in.
+    pub energy_in: f64,
+    /// Entries that found no free place in their inlet and waited.
+    pub waits: u64,
+}
+
+impl FlowSummary {
+    /// The summary of `flow` with `live` disks at the end.
+    pub fn of(flow: &crate::engine::pool::Flow, live: usize) -> FlowSummary {
+        let rate = flow.rate();
+        FlowSummary {
+            initial: flow.initial,
+            in_: flow.entered,
+            out: flow.left,
+            live: live as u64,
+            mass_out: flow.mass_out,
+            energy_out: flow.energy_out,
+            exits_measured: flow.exits,
+            rate: rate.map(|r| r.0),
+            rate_error: rate.map(|r| r.1),
+            mass_rate: rate.map(|r| r.0 * flow.exit_mass / flow.exits as f64),
+            corner_impacts: flow.corner,
+            slid_over_edge: flow.edge,
+            energy_in: flow.energy_in,
+            waits: flow.waits,
+        }
+    }
 }
 
 /// An output the run could not write: a recording or trajectory (dropped from then on) or a

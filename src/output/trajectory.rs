@@ -25,6 +25,8 @@
 //!   a floor), `frame` the frame number.
 //! - Rough disks add two columns, `angle:R:1:omega:R:1` ([`ROUGH_PROPERTIES`]): each disk's
 //!   orientation in [0, 2π) and its angular velocity.
+//! - Scenes whose disks leave (a floor orifice) add a last column, `id:I:1`: each live disk's
+//!   id (its scenario number), the frame listing only the live disks in the order of their ids.
 //! - Numbers are written in the shortest form that reads back to the same `f64`, always as reals
 //!   (`2.0`, not `2`, so that readers type `Time` alike in every frame).
 //!
@@ -139,7 +141,8 @@ impl TrajectoryWriter {
         } else {
             PROPERTIES
         };
-        let _ = write!(t, " 0 0 0 1\" Properties={properties} Time=");
+        let id = if f.ids.is_empty() { "" } else { ":id:I:1" };
+        let _ = write!(t, " 0 0 0 1\" Properties={properties}{id} Time=");
         push_real(t, f.time);
         if let Some(h) = f.floor_height {
             t.push_str(" floor_height=");
@@ -171,6 +174,9 @@ impl TrajectoryWriter {
                     t.push(' ');
                     push_real(t, v);
                 }
+            }
+            if let Some(id) = f.ids.get(i) {
+                let _ = write!(t, " {id}");
             }
             t.push('\n');
         }

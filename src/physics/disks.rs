@@ -132,6 +132,28 @@ impl Disks {
     }
 }
 
+impl Disks {
+    /// Reserves room for `cap` disks in every array, so that disks entering allocate nothing.
+    pub fn reserve_to(&mut self, cap: usize) {
+        let more = cap.saturating_sub(self.motion.len());
+        self.motion.reserve_exact(more);
+        self.counter.reserve_exact(more);
+    }
+
+    /// Removes disk `k`, the last disk taking its number (no allocation).
+    pub fn swap_remove(&mut self, k: usize) {
+        self.motion.swap_remove(k);
+        self.radius.swap_remove(k);
+        self.mass.swap_remove(k);
+        self.species.swap_remove(k);
+        self.counter.swap_remove(k);
+        if let Some(s) = &mut self.spins {
+            s.omega.swap_remove(k);
+            s.phase.swap_remove(k);
+        }
+    }
+}
+
 /// Reorders `v` in place so that its entry `k` is the old entry `from[k]` (`from` a
 /// permutation of `0..v.len()`): cycle by cycle, with one bit per entry to mark those done, so
 /// that renumbering a million disks needs no second copy of their arrays.
@@ -232,6 +254,42 @@ impl<T: Copy + PartialEq + Default> PerDisk<T> {
     pub fn permute(&mut self, from: &[u32]) {
         if !self.each.is_empty() {
             permute_in_place(&mut self.each, from);
+        }
+    }
+
+    /// Appends an entry (no allocation while the value is the common one, or within the room
+    /// reserved).
+    pub fn push(&mut self, v: T) {
+        if self.each.is_empty() && (self.len == 0 || v == self.common) {
+            self.common = v;
+        } else {
+            if self.each.is_empty() {
+                self.each = vec![self.common; self.len];
+            }
+            self.each.push(v);
+        }
+        self.len += 1;
+    }
+
+    /// Removes entry `k`, the last taking its place (no allocation).
+    pub fn swap_remove(&mut self, k: usize) {
+        if !self.each.is_empty() {
+            self.each.swap_remove(k);
+        }
+        self.len -= 1;
+    }
+
+    /// Becomes `src`'s entries at `rows`, in that order, reusing its memory (no allocation once
+    /// it has held as many).
+    pub fn fill_from(&mut self, src: &PerDisk<T>, rows: impl Iterator<Item = usize>) {
+        self.common = src.common;
+        self.each.clear();
+        self.len = 0;
+        for k in rows {
+            if !src.each.is_empty() {
+                self.each.push(src.each[k]);
+            }
+            self.len += 1;
         }
     }
 

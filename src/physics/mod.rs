@@ -6,6 +6,7 @@
 pub mod disks;
 pub mod flight;
 pub mod floor;
+pub mod orifice;
 pub mod pair;
 pub mod restitution;
 pub mod rough;

@@ -61,6 +61,26 @@ impl CollisionLaw {
         }
     }
 
+    /// A disk enters as the last one, with no collision yet.
+    pub fn push(&mut self) {
+        if self.law.tc.is_some() {
+            self.last.push(f64::NEG_INFINITY);
+        }
+        if self.law.tc.is_some() || self.law.speed_cutoff.is_some() {
+            self.paired.push(false);
+        }
+    }
+
+    /// Disk `k` leaves, the last disk taking its number.
+    pub fn swap_remove(&mut self, k: usize) {
+        if !self.last.is_empty() {
+            self.last.swap_remove(k);
+        }
+        if !self.paired.is_empty() {
+            self.paired.swap_remove(k);
+        }
+    }
+
     /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         if !self.last.is_empty() {

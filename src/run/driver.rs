@@ -379,6 +379,21 @@ impl<'a, E: Integrator> Driver<'a, E> {
         ];
         // Smooth disks have no rotational energy: their series stop before it.
         let series = &series[..series.len() - usize::from(rotational.is_none())];
+        let pool_series;
+        let series = match sim.flow() {
+            Some(f) => {
+                pool_series = [
+                    series,
+                    &[
+                        ("flow/live", snap.x.len() as f64),
+                        ("flow/out", f.left as f64),
+                    ],
+                ]
+                .concat();
+                &pool_series[..]
+            }
+            None => series,
+        };
         let spins = sim.spins_at(self.now);
         let d = sim.disks();
         let profile = self
@@ -391,10 +406,17 @@ impl<'a, E: Integrator> Driver<'a, E> {
             f.decay(*forget);
             f.add(snap, d);
         }
+        // Where disks leave, instance i of the recording stays disk i: every id has an entry,
+        // those not in the scene drawn nowhere (no position, radius 0).
+        let by_id = (!snap.ids.is_empty()).then(|| by_id(snap, &radius, &species, self.s));
+        let (snap, radius, species) = match &by_id {
+            Some((s, r, k)) => (s, r, k),
+            None => (snap, &radius, &species),
+        };
         let mut view = frame_view(
             self.stops.k_frame - 1,
             snap,
-            (&radius, &species),
+            (radius, species),
             (series, profile.as_ref()),
             spins.as_deref(),
         );
@@ -597,7 +619,14 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 final_: EnergyAt::from(&last),
                 injected: flow.injected,
                 dissipated: flow.dissipated,
-                balance_error: balance_error(&self.initial, &last, &flow),
+                carried_out: sim.flow().map(|f| f.energy_out),
+                carried_in: sim.flow().map(|f| f.energy_in),
+                balance_error: balance_error(
+                    &self.initial,
+                    &last,
+                    &flow,
+                    sim.flow().map_or(0.0, |f| f.energy_out - f.energy_in),
+                ),
             },
             temperature: avg.temperature(),
             compressibility_factor,
@@ -640,6 +669,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             approximation: sim.approximation(),
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
+            flow: sim
+                .flow()
+                .map(|f| crate::output::summary::FlowSummary::of(&f, sim.disks().len())),
         }
     }
 }
@@ -760,7 +792,40 @@ fn frame_view<'a>(
         profile,
         spins,
         fields: None,
+        ids: &snap.ids,
     }
+}
+
+/// A snapshot of the live disks (with their ids), their radii and species, spread over every id
+/// of the scene: entry i is the disk whose id is i, those not in the scene at no position
+/// (NaN) with radius 0.
+fn by_id(
+    snap: &Snapshot,
+    radius: &[f64],
+    species: &[u32],
+    s: &Scenario,
+) -> (Snapshot, Vec<f64>, Vec<u32>) {
+    let ids = (s.disk_count()).max(snap.ids.iter().map(|&i| i as usize + 1).max().unwrap_or(0));
+    let mut out = Snapshot {
+        time: snap.time,
+        x: vec![f64::NAN; ids],
+        y: vec![f64::NAN; ids],
+        vx: vec![0.0; ids],
+        vy: vec![0.0; ids],
+        floor_height: snap.floor_height,
+        ids: Vec::new(),
+    };
+    let (mut r, mut k) = (vec![0.0; ids], vec![0; ids]);
+    for (row, &id) in snap.ids.iter().enumerate() {
+        let id = id as usize;
+        out.x[id] = snap.x[row];
+        out.y[id] = snap.y[row];
+        out.vx[id] = snap.vx[row];
+        out.vy[id] = snap.vy[row];
+        r[id] = radius[row];
+        k[id] = species.get(row).copied().unwrap_or(0);
+    }
+    (out, r, k)
 }
 
 /// The factor by which the recording's live fields forget their past at each frame, `frame_dt`
@@ -785,15 +850,23 @@ pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
             .is_none_or(|f| f.is_static() && f.restitution == 1.0)
 }
 
-/// |now − initial − injected + dissipated| relative to the largest term of the energy budget.
-pub(super) fn balance_error(initial: &Observables, now: &Observables, flow: &EnergyFlow) -> f64 {
-    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated;
+/// |now − initial − injected + dissipated + carried out − carried in| relative to the largest
+/// term of the energy budget (`out`: the energy disks that left carried out, less what entering
+/// disks brought in).
+pub(super) fn balance_error(
+    initial: &Observables,
+    now: &Observables,
+    flow: &EnergyFlow,
+    out: f64,
+) -> f64 {
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated + out;
     let scale = initial
         .energy()
         .abs()
         .max(now.energy().abs())
         .max(flow.injected.abs())
         .max(flow.dissipated)
+        .max(out.abs())
         .max(f64::MIN_POSITIVE);
     balance.abs() / scale
 }
@@ -808,11 +881,27 @@ pub(super) fn check_sample<E: Integrator>(
     sim.check_state(t)?;
     let now = Observables::of(&StatesAt(sim, t), sim.disks(), g);
     let flow = sim.energy_flow_at(t);
-    let error = balance_error(initial, &now, &flow);
+    let pool = sim.flow();
+    let error = balance_error(
+        initial,
+        &now,
+        &flow,
+        pool.map_or(0.0, |f| f.energy_out - f.energy_in),
+    );
     if error > 1e-9 {
         return Err(Error::Runtime(format!(
             "energy budget off by {error:e} (relative) at time {t}"
         )));
+    }
+    if let Some(f) = pool {
+        // Number conservation: in − out = live − initial.
+        let live = sim.disks().len() as u64;
+        if f.initial + f.entered != live + f.left {
+            return Err(Error::Runtime(format!(
+                "disks not conserved at time {t}: {} at the start + {} in − {} out ≠ {live} live",
+                f.initial, f.entered, f.left
+            )));
+        }
     }
     Ok(())
 }

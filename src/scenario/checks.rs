@@ -149,6 +149,8 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_gravity(s)?;
     validate_floor(s)?;
     validate_particles(s)?;
+    validate_orifice(s)?;
+    validate_inlets(s)?;
     validate_collisions(&s.collisions)?;
     validate_rough(s)?;
     validate_run(&s.run)?;
@@ -213,6 +215,181 @@ fn validate_floor(s: &Scenario) -> Result<()> {
     if let Some(floor) = &s.floor {
         restitution("floor.restitution", floor.restitution)?;
         validate_vibration(floor, s.gravity)?;
+    }
+    Ok(())
+}
+
+/// The floor's orifice: within the width, wider than the largest disk, in a static, smooth
+/// floor under gravity, with the exact engine (see the physics page on the orifice).
+fn validate_orifice(s: &Scenario) -> Result<()> {
+    let Some(floor) = &s.floor else {
+        return Ok(());
+    };
+    let Some(o) = floor.orifice else {
+        return Ok(());
+    };
+    let width = s.domain.width;
+    for (field, v) in [("floor.orifice.from", o.from), ("floor.orifice.to", o.to)] {
+        if !(v.is_finite() && (0.0..=width).contains(&v)) {
+            return Err(Error::input(
+                field,
+                format!("must lie in [0, domain.width = {width}] (got {v})"),
+            ));
+        }
+    }
+    let (_, a_max) = s.radius_range();
+    if o.to - o.from <= 2.0 * a_max {
+        return Err(Error::input(
+            "floor.orifice.to",
+            format!(
+                "the orifice [{}, {}] must be wider than the largest disk (diameter {}): a disk \
+                 wedged between its two corners could not be held at rest",
+                o.from,
+                o.to,
+                2.0 * a_max
+            ),
+        ));
+    }
+    if s.gravity.is_none() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs gravity: disks leave by falling through it",
+        ));
+    }
+    if floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs a static floor: the corners of a vibrating orifice are not implemented",
+        ));
+    }
+    if floor.friction.is_some() || floor.tangential_restitution.is_some() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs a smooth floor (no floor.friction or floor.tangential_restitution): its \
+             corners are smooth",
+        ));
+    }
+    if s.is_rough() {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs smooth disks: rough disks leaving through an orifice are not supported",
+        ));
+    }
+    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+        return Err(Error::input(
+            "floor.orifice",
+            "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
+             the whole run and have no corner contacts",
+        ));
+    }
+    Ok(())
+}
+
+/// The inlets: boxes inside the domain above the floor, a rate or a count over a window within
+/// the run, speeds and temperatures that make sense; equal smooth disks and the exact engine.
+fn validate_inlets(s: &Scenario) -> Result<()> {
+    let mut recycling = 0;
+    for (k, inlet) in s.inlets.iter().enumerate() {
+        let field = |name: &str| format!("inlets.{k}.{name}");
+        let a = match s.particles.radius {
+            crate::scenario::Radius::Fixed(a) => a,
+            _ => {
+                return Err(Error::input(
+                    field("x"),
+                    "inlets need equal disks (particles.radius a number)",
+                ))
+            }
+        };
+        let width = s.domain.width;
+        let (x, y) = (inlet.x, inlet.y);
+        if !(x.from.is_finite() && x.to.is_finite() && x.from <= x.to) {
+            return Err(Error::input(field("x"), "needs finite from ≤ to"));
+        }
+        let (lo, hi) = match s.domain.x_boundary {
+            crate::scenario::XBoundary::Walls => (a, width - a),
+            crate::scenario::XBoundary::Periodic => (0.0, width),
+        };
+        if x.from < lo || x.to > hi {
+            return Err(Error::input(
+                field("x"),
+                format!("must lie within [{lo}, {hi}]: a disk entering there must fit between the walls"),
+            ));
+        }
+        if !(y.from.is_finite() && y.to.is_finite() && y.from <= y.to) {
+            return Err(Error::input(field("y"), "needs finite from ≤ to"));
+        }
+        if y.from < a {
+            return Err(Error::input(
+                field("y.from"),
+                format!("must be at least a radius ({a}) above the floor"),
+            ));
+        }
+        if let (Some(h), crate::scenario::YBoundary::Lid) = (s.domain.height, s.domain.y_boundary) {
+            if y.to > h - a {
+                return Err(Error::input(
+                    field("y.to"),
+                    "must leave a radius below the lid",
+                ));
+            }
+        }
+        let end = inlet.end.unwrap_or(s.run.duration);
+        if !(inlet.start.is_finite() && inlet.start >= 0.0) {
+            return Err(Error::input(field("start"), "must be ≥ 0"));
+        }
+        if !(end.is_finite() && end > inlet.start) {
+            return Err(Error::input(field("end"), "must be after start"));
+        }
+        match (inlet.rate, inlet.count) {
+            (Some(_), Some(_)) => {
+                return Err(Error::input(field("count"), "give rate or count, not both"))
+            }
+            (Some(r), None) => {
+                positive(&field("rate"), r)?;
+                if r * (end - inlet.start) > 2e7 {
+                    return Err(Error::input(field("rate"), "brings more than 2·10⁷ disks"));
+                }
+            }
+            (None, Some(n)) if n > 20_000_000 => {
+                return Err(Error::input(field("count"), "at most 2·10⁷"))
+            }
+            (None, None) if !inlet.recycle => {
+                return Err(Error::input(
+                    field("rate"),
+                    "give rate or count (or recycle: true for an inlet that only recycles)",
+                ))
+            }
+            _ => {}
+        }
+        for (name, v) in [("speed", inlet.speed), ("temperature", inlet.temperature)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::input(field(name), format!("must be ≥ 0 (got {v})")));
+            }
+        }
+        if inlet.recycle {
+            recycling += 1;
+            if recycling > 1 {
+                return Err(Error::input(field("recycle"), "only one inlet may recycle"));
+            }
+            if s.floor.as_ref().and_then(|f| f.orifice).is_none() {
+                return Err(Error::input(
+                    field("recycle"),
+                    "needs floor.orifice: only disks that leave can come back",
+                ));
+            }
+        }
+        if s.is_rough() {
+            return Err(Error::input(field("x"), "inlets need smooth disks"));
+        }
+        if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+            return Err(Error::input(
+                "inlets",
+                "need engine.scheme = event-driven: the approximate schemes keep the same disks \
+                 for the whole run",
+            ));
+        }
+        if s.gravity.is_none() || s.floor.is_none() {
+            return Err(Error::input("inlets", "need gravity and a floor"));
+        }
     }
     Ok(())
 }

@@ -9,7 +9,8 @@ use serde_json::Value;
 use std::cell::RefCell;
 
 /// The fields that hold lists (dotted paths).
-const LIST_FIELDS: [&str; 4] = [
+const LIST_FIELDS: [&str; 5] = [
+    "inlets",
     "output.field_bins",
     "particles.placement.positions",
     "particles.placement.velocities",
@@ -51,7 +52,7 @@ pub fn lists_only_where_lists_belong(value: &Value) -> Result<()> {
                 }
             }),
             Value::Array(items) if LIST_FIELDS.contains(&path) => {
-                if path == "particles.radius.species" {
+                if path == "particles.radius.species" || path == "inlets" {
                     for (k, item) in items.iter().enumerate() {
                         walk(item, &format!("{path}.{k}"))?;
                     }

@@ -42,6 +42,53 @@ pub struct Scenario {
     /// Integration scheme and its knobs.
     #[serde(default)]
     pub engine: Engine,
+    /// Sources of disks entering the scene while it runs.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inlets: Vec<Inlet>,
+}
+
+/// An interval `[from, to]` of one coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Span {
+    /// Lower end.
+    pub from: f64,
+    /// Upper end (at least `from`).
+    pub to: f64,
+}
+
+/// A source of disks: their centres enter uniformly in a box (a segment where `y.from = y.to`)
+/// at a rate or a total count over a window, sized as `particles` sizes its disks, falling at
+/// a speed and/or with a temperature; leaving disks may come back in through it (`recycle`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Inlet {
+    /// Where centres enter across the width.
+    pub x: Span,
+    /// Where centres enter in height.
+    pub y: Span,
+    /// New disks per unit time, from `start` to `end`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate: Option<f64>,
+    /// Or this many new disks, evenly spread over `[start, end)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<u64>,
+    /// When the first new disk enters.
+    #[serde(default)]
+    pub start: f64,
+    /// When new disks stop (absent: the end of the run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end: Option<f64>,
+    /// Downward speed of the disks entering.
+    #[serde(default)]
+    pub speed: f64,
+    /// Granular temperature of the disks entering (Maxwellian velocities about the downward
+    /// speed).
+    #[serde(default)]
+    pub temperature: f64,
+    /// Disks leaving through the floor's orifice come back in here (keeping their ids).
+    #[serde(default)]
+    pub recycle: bool,
 }
 
 /// The box: its width, what bounds it in x and y.
@@ -128,6 +175,20 @@ pub struct Floor {
     /// Tangential restitution β ∈ [−1, 1] of disk–floor impacts (rough disks).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential_restitution: Option<f64>,
+    /// A gap in a static floor from x = `from` to x = `to`: disks fall through it and leave.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orifice: Option<Orifice>,
+}
+
+/// A gap in the floor whose two edges are corners (points) the disks collide with; a disk that
+/// falls through it wholly below the floor leaves the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Orifice {
+    /// Left edge x0.
+    pub from: f64,
+    /// Right edge x1 > x0.
+    pub to: f64,
 }
 
 /// Shape of the floor vibration.

@@ -112,6 +112,10 @@ pub trait Integrator {
     }
     /// Event counts so far.
     fn counts(&self) -> EventCounts;
+    /// Disks in and out, in scenes whose disks leave (`None`: every disk stays).
+    fn flow(&self) -> Option<crate::engine::pool::Flow> {
+        None
+    }
     /// Energy injected and dissipated up to absolute time `t`.
     fn energy_flow_at(&self, t: f64) -> EnergyFlow;
     /// Collision virial so far.
@@ -167,11 +171,17 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         Simulation::visit_states(self, t, visit)
     }
+    fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
+        Simulation::snapshot_into(self, t, out)
+    }
     fn floor_height_at(&self, t: f64) -> Option<f64> {
         Simulation::floor_height_at(self, t)
     }
     fn counts(&self) -> EventCounts {
         Simulation::counts(self)
+    }
+    fn flow(&self) -> Option<crate::engine::pool::Flow> {
+        self.pool().map(|p| p.flow)
     }
     fn rotational_energy(&self, t: f64) -> Option<f64> {
         Simulation::rotational_energy(self, t)

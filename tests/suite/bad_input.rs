@@ -737,3 +737,96 @@ fn fields_in_a_missing_directory_are_refused() {
         &["--fields"],
     );
 }
+
+// --- Disks that leave and enter: orifices and inlets. ---
+
+/// `run SCENE --set S... --summary --trajectory --rrd` refused with exit 2 naming `field`, and
+/// nothing written.
+fn pool_refuses(test: &str, scene: &str, sets: &[&str], field: &str) {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let path = scenario(scene).display().to_string();
+    let mut words = vec![
+        "run",
+        &path,
+        "--quiet",
+        "--summary",
+        "summary.json",
+        "--trajectory",
+        "t.xyz",
+    ];
+    for set in sets {
+        words.extend(["--set", set]);
+    }
+    let out = vibrobed(&dir, &guarded::args(&words));
+    assert_refused(&out, &[field], &dir, &[]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn orifices_that_cannot_be_are_refused_and_nothing_is_written() {
+    pool_refuses(
+        "orifice-wide",
+        "silo.json",
+        &["floor.orifice.to=99"],
+        "floor.orifice.to",
+    );
+    pool_refuses(
+        "orifice-narrow",
+        "silo.json",
+        &["floor.orifice.to=13.5"],
+        "floor.orifice.to",
+    );
+    pool_refuses(
+        "orifice-vibrating",
+        "silo.json",
+        &["floor.amplitude=0.1", "floor.frequency=1"],
+        "floor.orifice",
+    );
+    pool_refuses(
+        "orifice-rough",
+        "silo.json",
+        &["collisions.friction=0.5"],
+        "floor.orifice",
+    );
+    pool_refuses(
+        "orifice-scheme",
+        "silo.json",
+        &["engine.scheme=space-time"],
+        "floor.orifice",
+    );
+}
+
+#[test]
+fn inlets_that_cannot_be_are_refused_and_nothing_is_written() {
+    pool_refuses(
+        "inlet-low",
+        "pour.json",
+        &["inlets.0.y.from=0.1"],
+        "inlets.0.y.from",
+    );
+    pool_refuses(
+        "inlet-rate",
+        "pour.json",
+        &["inlets.0.rate=-2"],
+        "inlets.0.rate",
+    );
+    pool_refuses(
+        "inlet-both",
+        "pour.json",
+        &["inlets.0.count=3"],
+        "inlets.0.count",
+    );
+    pool_refuses(
+        "inlet-recycle",
+        "pour.json",
+        &["inlets.0.recycle=true"],
+        "inlets.0.recycle",
+    );
+    pool_refuses(
+        "inlet-species",
+        "pour.json",
+        &["particles.radius={\"min\":0.4,\"max\":0.5}"],
+        "inlets.0.x",
+    );
+    pool_refuses("inlet-list", "pour.json", &["inlets={\"x\":1}"], "inlets");
+}

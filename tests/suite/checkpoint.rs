@@ -630,3 +630,16 @@ fn a_resumed_recording_continues_the_run_in_a_new_file() {
         "part 2 continues the frame count ({last_one} then {first_two})"
     );
 }
+
+/// Disks leaving through a floor orifice: the pool of live and dead disks, their ids and the
+/// flow go into the checkpoint; the cut falls while the silo drains.
+#[test]
+fn a_resumed_draining_silo_is_the_uninterrupted_silo() {
+    resumed_equals_uninterrupted(
+        "silo",
+        "silo.json",
+        &["run.warmup=2", "engine.check_invariants=true"],
+        7.3,
+        15.0,
+    );
+}

@@ -84,6 +84,7 @@ fn view(k: u64, s: &State) -> FrameView<'_> {
         profile: None,
         spins: None,
         fields: None,
+        ids: &[],
     }
 }
 
@@ -418,6 +419,7 @@ fn recording_throughput() {
             profile: None,
             spins: None,
             fields: None,
+            ids: &[],
         })
         .unwrap();
     }

@@ -19,6 +19,12 @@ impl<F: Flight> Simulation<F> {
     pub(in crate::engine) fn remap(&mut self) -> Result<()> {
         let now = self.now;
         let n = self.disks.len();
+        if n == 0 {
+            // Every disk has left: nothing to map, no deadline.
+            self.map.dutc = Dutc::frozen(f64::INFINITY);
+            self.schedule_entry();
+            return Ok(());
+        }
         // Every list is rebuilt below: rows can go now, before renumbering takes memory.
         self.map.lists.release();
         for i in 0..n {
@@ -29,6 +35,9 @@ impl<F: Flight> Simulation<F> {
         self.renumber_if_due();
         self.base.advance(now);
         self.now = 0.0;
+        if self.pool.is_some() {
+            self.schedule_entry();
+        }
         self.restitution.rebase(now);
         if let Some(spins) = &mut self.disks.spins {
             spins.rebase(now);

@@ -66,6 +66,30 @@ impl Numbering {
         }
     }
 
+    /// Holds the scenario number of each of `n` engine disks explicitly (they start equal), so
+    /// that disks may leave: a scene with an orifice keeps its disks' numbers this way and is
+    /// never renumbered.
+    pub fn keep_ids(&mut self, n: usize) {
+        self.on = false;
+        self.id = (0..n as u32).collect();
+    }
+
+    /// Engine disk `k` leaves, the last engine disk taking its number (see
+    /// [`keep_ids`](Self::keep_ids)).
+    pub fn swap_remove(&mut self, k: usize) {
+        self.id.swap_remove(k);
+    }
+
+    /// A disk enters with scenario number `id` as the last engine disk.
+    pub fn push(&mut self, id: u32) {
+        self.id.push(id);
+    }
+
+    /// Room for `cap` disks.
+    pub fn reserve_to(&mut self, cap: usize) {
+        self.id.reserve_exact(cap.saturating_sub(self.id.len()));
+    }
+
     /// Scenario number of engine disk `k`.
     #[inline]
     pub fn id(&self, k: usize) -> usize {

@@ -142,6 +142,16 @@ impl Shells {
         }
     }
 
+    /// A disk enters as the last one, anchored where it is.
+    pub fn push(&mut self, at: [f64; 2]) {
+        self.anchor.push(at);
+    }
+
+    /// Disk `k` leaves, the last disk taking its number.
+    pub fn swap_remove(&mut self, k: usize) {
+        self.anchor.swap_remove(k);
+    }
+
     /// Number of disks.
     pub fn len(&self) -> usize {
         self.anchor.len()

@@ -272,6 +272,65 @@ impl Riders {
         (0..self.riding.len()).filter(|&i| self.riding[i])
     }
 
+    /// A flying disk enters as the last one.
+    pub fn push(&mut self) {
+        if self.riding.is_empty() && self.room == 0 {
+            return;
+        }
+        self.riding.push(false);
+        self.lift.push(0.0);
+        self.support.push([NO_DISK; 2]);
+        if !self.slides.is_empty() {
+            self.slides.push(Slide::NONE);
+        }
+        self.carries.extend(std::iter::repeat_n(NO_DISK, self.room));
+    }
+
+    /// Room for `cap` disks.
+    pub fn reserve_to(&mut self, cap: usize) {
+        let more = cap.saturating_sub(self.riding.len());
+        self.riding.reserve_exact(more);
+        self.lift.reserve_exact(more);
+        self.support.reserve_exact(more);
+        self.carries.reserve_exact(more * self.room);
+    }
+
+    /// Flying disk `k` leaves, the last disk taking its number (no allocation): references to
+    /// the last disk follow it, any to `k` are cleared.
+    pub fn swap_remove(&mut self, k: usize) {
+        if self.riding.is_empty() {
+            return;
+        }
+        self.set_riding(k, false);
+        let last = self.riding.len() - 1;
+        let renamed = |d: u32| {
+            if d == k as u32 {
+                NO_DISK
+            } else if d == last as u32 {
+                k as u32
+            } else {
+                d
+            }
+        };
+        for s in self.support.iter_mut() {
+            *s = s.map(renamed);
+        }
+        for c in self.carries.iter_mut() {
+            *c = renamed(*c);
+        }
+        self.riding.swap_remove(k);
+        self.lift.swap_remove(k);
+        self.support.swap_remove(k);
+        if !self.slides.is_empty() {
+            self.slides.swap_remove(k);
+        }
+        let room = self.room;
+        for r in 0..room {
+            self.carries[k * room + r] = self.carries[last * room + r];
+        }
+        self.carries.truncate(last * room);
+    }
+
     /// Follows a renumbering of the disks: new disk k is old disk `from[k]`.
     pub fn permute(&mut self, from: &[u32]) {
         if self.riding.is_empty() {

@@ -1,0 +1,315 @@
+//! Disks that leave through a floor orifice and enter through inlets: the pool keeps every id
+//! once (none lost, none duplicated), the number of disks is conserved (in − out = live −
+//! initial), a run is deterministic, the corner contact and the exit are exact against analytic
+//! drops, entries happen at their exact times at free places, and bad orifices and inlets are
+//! refused naming the field.
+
+use crate::common::{ballistic, crate_path};
+use std::collections::BTreeSet;
+use vibrobed::engine::Progress;
+
+/// A shipped scene with `edit` applied to its JSON.
+fn shipped(name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let text = std::fs::read_to_string(crate_path(&format!("scenarios/{name}"))).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    edit(&mut v);
+    v.to_string()
+}
+
+/// The silo without its recycling inlet: it drains.
+fn silo(_: &str) -> String {
+    shipped("silo.json", |v| {
+        v.as_object_mut().unwrap().remove("inlets");
+    })
+}
+
+/// Every live disk has a distinct id below the initial count; ids that left never come back
+/// (no inlet); the counts add up at every stop.
+#[test]
+fn ids_are_kept_none_lost_none_duplicated_and_the_count_is_conserved() {
+    let mut sim = ballistic(&silo(""));
+    let mut gone: BTreeSet<u32> = BTreeSet::new();
+    let mut before: BTreeSet<u32> = (0..400).collect();
+    let mut out_seen = 0;
+    for k in 1..=60 {
+        let t = k as f64;
+        assert_eq!(sim.advance_to(t).unwrap(), Progress::Reached);
+        let snap = sim.snapshot(t);
+        let ids: BTreeSet<u32> = snap.ids.iter().copied().collect();
+        assert_eq!(ids.len(), snap.ids.len(), "an id twice at t = {t}");
+        assert_eq!(snap.x.len(), ids.len());
+        assert!(ids.is_subset(&before), "an id came back at t = {t}");
+        for id in before.difference(&ids) {
+            gone.insert(*id);
+        }
+        let flow = sim.pool().unwrap().flow;
+        assert_eq!(flow.initial + flow.entered, ids.len() as u64 + flow.left);
+        assert_eq!(flow.left as usize, gone.len(), "out counts the ids gone");
+        // The ones present are above the floor's underside; those gone left below it.
+        for (i, &y) in snap.y.iter().enumerate() {
+            assert!(y > -0.5 - 1e-9, "disk {} at y = {y}", snap.ids[i]);
+        }
+        out_seen = flow.left;
+        before = ids;
+    }
+    assert!(out_seen > 100, "the silo drains: {out_seen} out");
+}
+
+/// The same scene twice gives the same exits at the same times, bit for bit.
+#[test]
+fn a_draining_silo_is_deterministic() {
+    let run = || {
+        let mut sim = ballistic(&silo(""));
+        sim.advance_to(20.0).unwrap();
+        let f = sim.pool().unwrap().flow;
+        let s = sim.snapshot(20.0);
+        (
+            f.left,
+            f.last_exit.to_bits(),
+            f.sum_gap.to_bits(),
+            s.ids,
+            s.x,
+        )
+    };
+    assert_eq!(run(), run());
+}
+
+/// A disk dropped straight onto a corner from rest bounces back up elastically at the time the
+/// parabola puts its centre a radius above the corner, and no energy is lost.
+#[test]
+fn a_disk_dropped_on_a_corner_bounces_at_the_analytic_time() {
+    let json = r#"{
+        "name": "drop on a corner",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 2.0,
+        "floor": { "orifice": { "from": 4.0, "to": 6.0 } },
+        "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[4.0, 3.0]], "velocities": [[0.0, 0.0]] } },
+        "run": { "duration": 10.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    sim.set_logging(true);
+    let t_hit = (2.0f64 * (3.0 - 0.5) / 2.0).sqrt();
+    sim.advance_to(t_hit * 1.5).unwrap();
+    let log = sim.take_log();
+    assert!(!log.is_empty(), "the disk hit something");
+    let first = log[0].time;
+    assert!(
+        (first - t_hit).abs() < 1e-12 * t_hit,
+        "hit at {first}, expected {t_hit}"
+    );
+    let s = sim.snapshot(t_hit * 1.5);
+    // Straight back up: after the elastic bounce at speed g t_hit, it rises.
+    let v = 2.0 * t_hit;
+    let dt = 0.5 * t_hit;
+    assert!((s.vy[0] - (v - 2.0 * dt)).abs() < 1e-12, "vy = {}", s.vy[0]);
+    assert_eq!(sim.pool().unwrap().flow.corner, 1);
+}
+
+/// A disk dropped just inside the gap, farther than a radius from both corners, falls through
+/// and leaves when its centre is a radius below the floor.
+#[test]
+fn a_disk_through_the_gap_leaves_at_the_analytic_time() {
+    let json = r#"{
+        "name": "drop through",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 1.0,
+        "floor": { "orifice": { "from": 4.0, "to": 6.0 } },
+        "particles": { "count": 2, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[5.0, 2.0], [1.0, 0.5]],
+                                      "velocities": [[0.0, 0.0], [0.0, 0.0]] } },
+        "run": { "duration": 10.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    let t_out = (2.0f64 * 2.5).sqrt();
+    sim.advance_to(t_out * (1.0 - 1e-9)).unwrap();
+    assert_eq!(sim.pool().unwrap().flow.left, 0);
+    sim.advance_to(t_out * (1.0 + 1e-9)).unwrap();
+    let f = sim.pool().unwrap().flow;
+    assert_eq!(f.left, 1);
+    assert!((f.last_exit - t_out).abs() < 1e-12, "{}", f.last_exit);
+    let s = sim.snapshot(t_out * 2.0);
+    assert_eq!(
+        s.ids,
+        vec![1],
+        "the disk at rest on the floor stays, by its id"
+    );
+    // Energy carried out: m g y at y = −a plus ½ m v², v = g t.
+    assert!((f.energy_out - (-0.5 + 0.5 * t_out * t_out)).abs() < 1e-12);
+}
+
+/// Bad orifices are refused naming the field.
+#[test]
+fn bad_orifices_are_refused_naming_the_field() {
+    let base = std::fs::read_to_string(crate_path("scenarios/silo.json")).unwrap();
+    let cases = [
+        ("\"to\": 17.15", "\"to\": 40.0", "floor.orifice.to"),
+        ("\"from\": 13.15", "\"from\": -1.0", "floor.orifice.from"),
+        ("\"to\": 17.15", "\"to\": 13.9", "floor.orifice.to"),
+        (
+            "\"restitution\": 0.5,",
+            "\"restitution\": 0.5, \"amplitude\": 0.1, \"frequency\": 1.0,",
+            "floor.orifice",
+        ),
+        (
+            "\"run\": {",
+            "\"engine\": { \"scheme\": \"time-step\" }, \"run\": {",
+            "floor.orifice",
+        ),
+    ];
+    for (from, to, field) in cases {
+        let json = base.replacen(from, to, 1);
+        let e = vibrobed::Scenario::from_json(&json).expect_err(to);
+        assert!(e.to_string().contains(field), "{to}: {e}");
+    }
+}
+
+/// The pour: new disks take fresh ids in order, every id at most once, none lost; the count
+/// is conserved at every stop; the invariant checks (no overlap, energy with what came in)
+/// hold at every sample of the whole run.
+#[test]
+fn a_pour_brings_every_disk_once_and_conserves_the_count() {
+    let json = shipped("pour.json", |v| {
+        v["run"]["duration"] = 30.0.into();
+        v["run"]["warmup"] = 0.0.into();
+    });
+    let mut sim = ballistic(&json);
+    sim.set_checks(true);
+    let mut seen = 20;
+    for k in 1..=30 {
+        let t = k as f64;
+        assert_eq!(sim.advance_to(t).unwrap(), Progress::Reached);
+        sim.check_no_overlap(t).unwrap();
+        let snap = sim.snapshot(t);
+        let f = sim.pool().unwrap().flow;
+        assert_eq!(f.initial + f.entered - f.left, snap.ids.len() as u64);
+        let ids: BTreeSet<u32> = snap.ids.iter().copied().collect();
+        assert_eq!(ids.len(), snap.ids.len(), "an id twice");
+        // No orifice: the ids are exactly 0 … live − 1, the newest the latest to enter.
+        assert_eq!(ids, (0..snap.ids.len() as u32).collect::<BTreeSet<_>>());
+        assert!(snap.ids.len() >= seen);
+        seen = snap.ids.len();
+    }
+    assert_eq!(seen, 520, "all 500 poured by t = 25");
+}
+
+/// A lone inlet over an empty floor: its disks enter at the exact scheduled times (one every
+/// 1/rate), falling at the inlet's speed (fast enough to clear the one place between entries).
+#[test]
+fn disks_enter_at_their_scheduled_times() {
+    let json = r#"{
+        "name": "drip",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 1.0,
+        "floor": { "restitution": 0.5 },
+        "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[1.0, 0.5]], "velocities": [[0.0, 0.0]] } },
+        "inlets": [ { "x": { "from": 5.0, "to": 5.0 }, "y": { "from": 50.0, "to": 50.0 },
+                      "rate": 4.0, "start": 0.1, "speed": 5.0 } ],
+        "run": { "duration": 2.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    // Entries at 0.1, 0.35, 0.6, …: just before and after each.
+    for j in 0..4 {
+        let t = 0.1 + j as f64 * 0.25;
+        sim.advance_to(t - 1e-9).unwrap();
+        assert_eq!(sim.pool().unwrap().flow.entered, j);
+        sim.advance_to(t + 1e-9).unwrap();
+        assert_eq!(sim.pool().unwrap().flow.entered, j + 1);
+        let s = sim.snapshot(t + 1e-9);
+        let row = s.ids.iter().position(|&id| id == 1 + j as u32).unwrap();
+        assert!((s.vy[row] + 5.0 + 1e-9).abs() < 1e-12, "vy = {}", s.vy[row]);
+        assert!((s.y[row] - 50.0).abs() < 1e-8 && (s.x[row] - 5.0).abs() < 1e-12);
+    }
+}
+
+/// An inlet whose one place is taken waits: the next disk enters once the one below has
+/// fallen clear, and the wait is counted.
+#[test]
+fn an_entry_with_no_free_place_waits() {
+    let json = r#"{
+        "name": "blocked",
+        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+        "gravity": 1.0,
+        "floor": { "restitution": 0.5 },
+        "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
+                       "placement": { "positions": [[1.0, 0.5]], "velocities": [[0.0, 0.0]] } },
+        "inlets": [ { "x": { "from": 5.0, "to": 5.0 }, "y": { "from": 50.0, "to": 50.0 },
+                      "count": 2, "start": 0.0, "end": 0.01 } ],
+        "run": { "duration": 5.0 }
+    }"#;
+    let mut sim = ballistic(json);
+    sim.advance_to(0.02).unwrap();
+    let f = sim.pool().unwrap().flow;
+    assert_eq!((f.entered, f.waits), (1, 1), "the second waits");
+    sim.advance_to(5.0).unwrap();
+    let f = sim.pool().unwrap().flow;
+    assert_eq!(f.entered, 2, "and enters later");
+    sim.check_no_overlap(5.0).unwrap();
+}
+
+/// The silo with recycling: disks that leave come back with their ids, so the live set keeps
+/// its ids 0 … 399, and out = in at the end (each one re-enters at once: there is room).
+#[test]
+fn recycled_disks_come_back_with_their_ids() {
+    let mut sim = ballistic(&shipped("silo.json", |_| {}));
+    sim.set_checks(true);
+    for k in 1..=20 {
+        let t = k as f64;
+        sim.advance_to(t).unwrap();
+        let s = sim.snapshot(t);
+        assert_eq!(s.ids, (0..400).collect::<Vec<u32>>(), "at t = {t}");
+    }
+    let f = sim.pool().unwrap().flow;
+    assert!(f.left > 50, "{} out", f.left);
+    assert_eq!(f.left, f.entered);
+}
+
+/// Bad inlets are refused naming the field.
+#[test]
+fn bad_inlets_are_refused_naming_the_field() {
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(&str, Edit); 6] = [
+        ("inlets.0.y.from", |v| {
+            v["inlets"][0]["y"]["from"] = 0.2.into()
+        }),
+        ("inlets.0.x", |v| v["inlets"][0]["x"]["to"] = 45.0.into()),
+        ("inlets.0.count", |v| v["inlets"][0]["count"] = 5.into()),
+        ("inlets.0.end", |v| v["inlets"][0]["end"] = (-1.0).into()),
+        ("inlets.0.speed", |v| {
+            v["inlets"][0]["speed"] = (-1.0).into()
+        }),
+        ("inlets.0.recycle", |v| {
+            v["inlets"][0]["recycle"] = true.into()
+        }),
+    ];
+    for (field, edit) in cases {
+        let json = shipped("pour.json", edit);
+        let e = vibrobed::Scenario::from_json(&json).expect_err(field);
+        assert!(e.to_string().contains(field), "{field}: {e}");
+    }
+}
+
+/// Isobe's tree and the calendar pop the same events in a scene whose disks enter, leave and
+/// come back: the pool's re-mappings and entries change nothing in the order.
+#[test]
+fn the_tree_and_the_calendar_agree_on_a_recycling_silo() {
+    let run = |queue: &str| {
+        let json = shipped("silo.json", |v| {
+            v["engine"] = serde_json::json!({ "queue": queue });
+        });
+        let mut sim = ballistic(&json);
+        sim.advance_to(15.0).unwrap();
+        let f = sim.pool().unwrap().flow;
+        let s = sim.snapshot(15.0);
+        (
+            sim.counts(),
+            f.left,
+            f.entered,
+            f.last_exit.to_bits(),
+            s.x,
+            s.vy,
+        )
+    };
+    assert_eq!(run("tree"), run("calendar"));
+}
