@@ -713,11 +713,12 @@ fn bed_state(
         Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
         None => indicators,
     });
-    // A shaken bed whose motion against the floor's phase was not resolved (too few periods in
-    // the window) could be bouncing or not: no state but a solid one.
-    let unresolved = !floor.is_static()
-        && (state.indicators.com_locking.is_none()
-            || state.indicators.com_locking_two_periods.is_none());
+    // On a static floor the states of a shaken bed do not apply (a pour, a draining silo): no
+    // state but a solid one; nor for a shaken bed whose motion against the floor's phase was not
+    // resolved (too few periods in the window): bouncing or not, it cannot be told.
+    let unresolved = floor.is_static()
+        || state.indicators.com_locking.is_none()
+        || state.indicators.com_locking_two_periods.is_none();
     (!unresolved || state.name == StateName::Solid).then_some(state)
 }
 

@@ -144,6 +144,18 @@ fn a_shaken_bed_whose_periods_are_not_resolved_has_no_state() {
 }
 
 #[test]
+fn a_pile_still_falling_on_a_static_floor_has_no_state() {
+    // The states of a shaken bed do not apply on a static floor: 100 disks poured at t = 0, still
+    // falling at t = 2.
+    let s = summary(
+        "scenarios/hard/pile_poly_walls_cutoff.json",
+        &["run.duration=2", "run.warmup=1"],
+    );
+    assert!(s.at_rest_since.is_none());
+    assert!(s.state.is_none(), "{:?}", s.state);
+}
+
+#[test]
 fn phase_bins_sum_to_the_window() {
     // The phase stops fall on every bin edge whatever the samples see (a sample interval of the
     // period would see one phase only); with 207 samples, all 10.35 periods are resolved.
