@@ -37,6 +37,25 @@ pub struct EventCounts {
     pub slide_end: u64,
 }
 
+impl std::ops::AddAssign for EventCounts {
+    /// Adds another tally's counts, kind by kind (the strips of the space-time scheme).
+    fn add_assign(&mut self, b: EventCounts) {
+        self.pair += b.pair;
+        self.wall += b.wall;
+        self.lid += b.lid;
+        self.floor += b.floor;
+        self.recheck += b.recheck;
+        self.rest += b.rest;
+        self.takeoff += b.takeoff;
+        self.stale += b.stale;
+        self.unmount += b.unmount;
+        self.rebuild += b.rebuild;
+        self.shell += b.shell;
+        self.zeno += b.zeno;
+        self.slide_end += b.slide_end;
+    }
+}
+
 impl EventCounts {
     /// Collisions of any kind: pair + wall + lid + floor.
     pub fn collisions(&self) -> u64 {

@@ -312,7 +312,7 @@ impl<F: Flight> SpaceTime<F> {
         let mut deep = first.deep_overlaps;
         let mut worst = self.max_overlap.max(first.max_overlap);
         for s in rest {
-            add_counts(&mut counts, &s.counts);
+            counts += s.counts;
             flow.injected += s.flow.injected;
             flow.dissipated += s.flow.dissipated;
             flow.floor_impulse += s.flow.floor_impulse;
@@ -607,23 +607,6 @@ fn overlap(
     let s = radius[i] + radius[j];
     let d2 = dx * dx + dy * dy;
     (d2 < s * s && s - d2.sqrt() > OVERLAP_TOLERANCE * s).then(|| s - d2.sqrt())
-}
-
-/// Adds `b`'s counts to `a`'s.
-fn add_counts(a: &mut EventCounts, b: &EventCounts) {
-    a.pair += b.pair;
-    a.wall += b.wall;
-    a.lid += b.lid;
-    a.floor += b.floor;
-    a.recheck += b.recheck;
-    a.rest += b.rest;
-    a.takeoff += b.takeoff;
-    a.stale += b.stale;
-    a.unmount += b.unmount;
-    a.rebuild += b.rebuild;
-    a.shell += b.shell;
-    a.zeno += b.zeno;
-    a.slide_end += b.slide_end;
 }
 
 impl<F: Flight> Strip<F> {
