@@ -621,21 +621,21 @@ fn bad_sweep_inputs_exit_2_naming_the_culprit() {
 }
 
 #[test]
-fn the_shipped_example_sweep_plans() {
-    let out = vibrobed(
-        Path::new(env!("CARGO_MANIFEST_DIR")),
-        &[
-            "sweep",
-            "plan",
-            "scenarios/sweeps/temperature_vs_drive.json",
-        ],
-    );
-    assert_ok(&out);
-    let listing = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        listing.contains("21 runs (7 points × 3 seeds)"),
-        "{listing}"
-    );
+fn the_shipped_sweeps_plan() {
+    for (file, runs) in [
+        ("temperature_vs_drive", "21 runs (7 points × 3 seeds)"),
+        ("phase_diagram", "24 runs (24 points × 1 seed)"),
+        ("beverloo", "18 runs (6 points × 3 seeds)"),
+    ] {
+        let path = format!("scenarios/sweeps/{file}.json");
+        let out = vibrobed(
+            Path::new(env!("CARGO_MANIFEST_DIR")),
+            &["sweep", "plan", &path],
+        );
+        assert_ok(&out);
+        let listing = String::from_utf8_lossy(&out.stdout);
+        assert!(listing.contains(runs), "{file}: {listing}");
+    }
 }
 
 /// `"record": true` records each run into its folder, through a temporary name.
