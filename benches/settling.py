@@ -24,7 +24,7 @@ the same run, bit for bit). The events per disk per unit time over the last half
 Runs go two at a time (--jobs). Wall times are whole-process and only indicative.
 
 Usage, from the project root (builds the engine without the recorder first):
-    benches/settling.py                 # piles and jam (about 3.5 minutes on 2 cores)
+    benches/settling.py                 # piles and jam (minutes on 2 cores: each run also reruns to rest)
     benches/settling.py piles           # one of them
     benches/settling.py beds --jobs 1   # the real beds (about 15 minutes on one core)
     benches/settling.py --bin PATH jam  # another build
