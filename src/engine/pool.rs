@@ -1,4 +1,5 @@
-//! Pools of live and dead disks, for scenes whose disks leave (a floor orifice).
+//! Pools of live and dead disks, for scenes whose disks enter (inlets) or leave (a floor
+//! orifice, an exit height at the top).
 //!
 //! The live disks are the engine's disks `0..n`; a disk that leaves swaps places with the last
 //! live one and the arrays shrink by one (their memory is kept: capacity is fixed at the start,
@@ -25,6 +26,8 @@ pub struct Flow {
     pub entered: u64,
     /// Disks that left.
     pub left: u64,
+    /// Of them, those that left at the top (the exit height).
+    pub top: u64,
     /// Their mass.
     pub mass_out: f64,
     /// The energy they carried out (kinetic and potential, m g y, as they left).
@@ -86,6 +89,15 @@ impl Flow {
         let rate = 1.0 / mean;
         Some((rate, rate * rate * (var / gaps).sqrt()))
     }
+}
+
+/// Where a disk leaves the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outlet {
+    /// Through the floor's orifice, wholly below the floor.
+    Orifice,
+    /// At the top, its centre at the exit height.
+    Top,
 }
 
 /// One inlet resolved for the engine: the box centres enter in, the schedule of its new disks,
@@ -310,10 +322,11 @@ impl Pool {
 }
 
 impl<F: Flight> Simulation<F> {
-    /// Disk `i` (flying, wholly below the floor in the orifice) leaves the scene: its energy
-    /// and mass are booked as carried out, the last engine disk takes its number, and the grid,
-    /// lists and predictions are rebuilt over the disks that remain.
-    pub(super) fn leave(&mut self, i: usize) -> crate::error::Result<()> {
+    /// Disk `i` (flying, wholly below the floor in the orifice or its centre at the exit height)
+    /// leaves the scene through `outlet`: its energy and mass are booked as carried out, it
+    /// waits for the recycling inlet if there is one, the last engine disk takes its number,
+    /// and the grid, lists and predictions are rebuilt over the disks that remain.
+    pub(super) fn leave(&mut self, i: usize, outlet: Outlet) -> crate::error::Result<()> {
         let now = self.now;
         self.bring(i, now);
         let m = &self.disks.motion[i];
@@ -330,6 +343,9 @@ impl<F: Flight> Simulation<F> {
         pool.stale = true;
         pool.flow.exit(time, mass);
         pool.flow.energy_out += energy;
+        if outlet == Outlet::Top {
+            pool.flow.top += 1;
+        }
         if pool.inlets.iter().any(|p| p.recycle) {
             if pool.waiting.is_empty() {
                 pool.waiting_since = time;

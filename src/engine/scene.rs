@@ -62,6 +62,8 @@ pub struct Scene {
     pub max_events: Option<u64>,
     /// The floor's orifice, if any: disks leave through it.
     pub orifice: Option<crate::physics::orifice::Orifice>,
+    /// Under an open top, the height at which a rising disk's centre leaves the scene.
+    pub exit_height: Option<f64>,
     /// The warm-up's end (the flow rate counts exits from then on).
     pub warmup: f64,
     /// The inlets, resolved.
@@ -112,6 +114,7 @@ impl Scene {
             disks.motion[i].vy = v[1];
         }
         debug_assert_eq!(disks.len(), n);
+        below_exit(s.domain.exit_height, &disks)?;
         if s.is_rough() {
             disks.spins = Some(spins(s, &disks, &mut rng));
         }
@@ -147,6 +150,7 @@ impl Scene {
                     to: o.to,
                 }
             }),
+            exit_height: s.domain.exit_height,
             warmup: s.run.warmup,
             inlets: s
                 .inlets
@@ -157,6 +161,28 @@ impl Scene {
         };
         Ok((scene, disks))
     }
+}
+
+/// Refuses an exit height that the initial bed reaches: every disk must start wholly below it
+/// (one that starts there would leave at once, or above it never).
+fn below_exit(exit_height: Option<f64>, disks: &Disks) -> Result<()> {
+    let Some(h) = exit_height else {
+        return Ok(());
+    };
+    for (i, (m, a)) in disks.motion.iter().zip(disks.radius.iter()).enumerate() {
+        if m.y + a >= h {
+            return Err(Error::input(
+                "domain.exit_height",
+                format!(
+                    "{h} must lie above the initial bed: disk {i} reaches {} (its centre {} and \
+                     its radius)",
+                    m.y + a,
+                    m.y
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The tangential laws of a rough scenario (`None` for smooth disks).
@@ -282,7 +308,6 @@ fn positions(
     Ok(positions)
 }
 
-/// Radii, masses and species of every disk.
 /// An inlet's box and schedule: `count` disks spread evenly over `[start, end)`, or one every
 /// 1/`rate` from `start` while before `end` (the run's end when absent).
 fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool::InletPlan {
@@ -308,6 +333,7 @@ fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool:
     }
 }
 
+/// Radii, masses and species of every disk.
 fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
     let p = &s.particles;
     let pi = std::f64::consts::PI;

@@ -207,6 +207,8 @@ impl<F: Flight> Simulation<F> {
                 images: super::motion::Images::of(scene.sides, scene.top),
                 floor,
                 orifice: scene.orifice,
+                exit_height: scene.exit_height,
+                outlets: scene.orifice.is_some() || scene.exit_height.is_some(),
             },
             restitution: CollisionLaw::new(
                 Restitution {
@@ -222,7 +224,7 @@ impl<F: Flight> Simulation<F> {
             control: Control::new(scene, n, pipelining),
             pool: None,
         };
-        if scene.orifice.is_some() || !scene.inlets.is_empty() {
+        if sim.bounds.outlets || !scene.inlets.is_empty() {
             let pool = super::pool::Pool::new(&sim.disks, scene.warmup, &scene.inlets, scene.seed);
             let cap = pool.capacity();
             sim.pool = Some(Box::new(pool));

@@ -151,6 +151,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_particles(s)?;
     validate_orifice(s)?;
     validate_inlets(s)?;
+    validate_exit_height(s)?;
     validate_collisions(&s.collisions)?;
     validate_rough(s)?;
     validate_run(&s.run)?;
@@ -370,10 +371,11 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
             if recycling > 1 {
                 return Err(Error::input(field("recycle"), "only one inlet may recycle"));
             }
-            if s.floor.as_ref().and_then(|f| f.orifice).is_none() {
+            if s.floor.as_ref().and_then(|f| f.orifice).is_none() && s.domain.exit_height.is_none()
+            {
                 return Err(Error::input(
                     field("recycle"),
-                    "needs floor.orifice: only disks that leave can come back",
+                    "needs floor.orifice or domain.exit_height: only disks that leave can come back",
                 ));
             }
         }
@@ -389,6 +391,43 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         }
         if s.gravity.is_none() || s.floor.is_none() {
             return Err(Error::input("inlets", "need gravity and a floor"));
+        }
+    }
+    Ok(())
+}
+
+/// The exit height: a positive height under an open top, with the exact engine, above every
+/// inlet's box by its largest radius (a disk entering must not leave at once). That it clears
+/// the initial bed is checked where the bed is placed ([`Scene::build`](crate::engine::Scene)).
+fn validate_exit_height(s: &Scenario) -> Result<()> {
+    let Some(h) = s.domain.exit_height else {
+        return Ok(());
+    };
+    const FIELD: &str = "domain.exit_height";
+    positive(FIELD, h)?;
+    if s.domain.y_boundary != YBoundary::Open {
+        return Err(Error::input(
+            FIELD,
+            "needs domain.y_boundary = open: disks leave by rising through an open top",
+        ));
+    }
+    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+        return Err(Error::input(
+            FIELD,
+            "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
+             the whole run",
+        ));
+    }
+    for (k, inlet) in s.inlets.iter().enumerate() {
+        let top = inlet.y.to + s.inlet_radius_range(inlet).1;
+        if h <= top {
+            return Err(Error::input(
+                FIELD,
+                format!(
+                    "{h} must lie above inlets.{k} (its box reaches {top} with the radius of its \
+                     largest disk): a disk entering there would leave at once"
+                ),
+            ));
         }
     }
     Ok(())

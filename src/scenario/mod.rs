@@ -86,7 +86,8 @@ pub struct Inlet {
     /// speed).
     #[serde(default)]
     pub temperature: f64,
-    /// Disks leaving through the floor's orifice come back in here (keeping their ids).
+    /// Disks leaving (through the floor's orifice or the exit height) come back in here
+    /// (keeping their ids).
     #[serde(default)]
     pub recycle: bool,
 }
@@ -116,6 +117,10 @@ pub struct Domain {
     /// Tangential restitution β ∈ [−1, 1] of the side walls and the lid (rough disks).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_tangential_restitution: Option<f64>,
+    /// Under an open top: a disk whose centre rises to this height leaves the scene (through
+    /// the pool, as through the floor's orifice). Absent: no disk leaves by the top.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exit_height: Option<f64>,
 }
 
 /// What bounds the domain in x.
@@ -794,6 +799,11 @@ impl Scenario {
                 (acc.0.min(s.radius), acc.1.max(s.radius))
             }),
         }
+    }
+
+    /// The smallest and largest radius of the disks `inlet` brings.
+    pub fn inlet_radius_range(&self, _inlet: &Inlet) -> (f64, f64) {
+        self.radius_range()
     }
 
     /// Notes on what this (valid) scenario asks for that is likely unintended; see

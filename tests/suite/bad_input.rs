@@ -830,3 +830,35 @@ fn inlets_that_cannot_be_are_refused_and_nothing_is_written() {
     );
     pool_refuses("inlet-list", "pour.json", &["inlets={\"x\":1}"], "inlets");
 }
+
+#[test]
+fn exit_heights_that_cannot_be_are_refused_and_nothing_is_written() {
+    let cases: [(&str, &str, &[&str]); 5] = [
+        (
+            "exit-negative",
+            "vibrated_bed.json",
+            &["domain.exit_height=-1"],
+        ),
+        (
+            "exit-lid",
+            "vibrated_bed.json",
+            &[
+                "domain.y_boundary=lid",
+                "domain.height=40",
+                "domain.exit_height=30",
+            ],
+        ),
+        // The initial bed reaches above 6 (checked where the bed is placed).
+        ("exit-bed", "vibrated_bed.json", &["domain.exit_height=6"]),
+        // The inlet's box reaches 27 and its disks a radius more.
+        ("exit-inlet", "pour.json", &["domain.exit_height=27.2"]),
+        (
+            "exit-scheme",
+            "vibrated_bed.json",
+            &["domain.exit_height=30", "engine.scheme=time-step"],
+        ),
+    ];
+    for (test, scene, sets) in cases {
+        pool_refuses(test, scene, sets, "domain.exit_height");
+    }
+}

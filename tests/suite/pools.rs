@@ -313,3 +313,189 @@ fn the_tree_and_the_calendar_agree_on_a_recycling_silo() {
     };
     assert_eq!(run("tree"), run("calendar"));
 }
+
+/// A vibrated bed whose most energetic disks leave at an exit height of 10, recycled or not.
+const FOUNTAIN: &str = r#"{
+    "name": "vibrated bed losing disks at the top",
+    "seed": 4,
+    "domain": { "width": 20.0, "x_boundary": "periodic", "y_boundary": "open",
+                "exit_height": 10.0 },
+    "gravity": 1.0,
+    "floor": { "gamma": 4.0, "frequency": 0.5, "restitution": 0.95 },
+    "particles": { "count": 60, "radius": 0.5, "temperature": 0.5 },
+    "collisions": { "restitution": 0.95 },
+    "run": { "duration": 40.0, "warmup": 5.0 }
+}"#;
+
+/// The energy budget of a scene of unit masses under g = 1 at `t` against its energy `e0` at
+/// the start, relative: now − start − work of the floor + dissipated + carried out − brought in.
+fn budget_error(
+    sim: &vibrobed::engine::Simulation<vibrobed::physics::flight::Ballistic>,
+    t: f64,
+    e0: f64,
+) -> f64 {
+    let s = sim.snapshot(t);
+    let now: f64 = (0..s.x.len())
+        .map(|k| 0.5 * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + s.y[k])
+        .sum();
+    let flow = sim.energy_flow_at(t);
+    let f = sim.pool().unwrap().flow;
+    let balance = now - e0 - flow.injected + flow.dissipated + f.energy_out - f.energy_in;
+    balance.abs() / e0.abs().max(flow.injected.abs()).max(f.energy_out)
+}
+
+/// The energy of a scene of unit masses under g = 1 at the start.
+fn energy_at_start(
+    sim: &vibrobed::engine::Simulation<vibrobed::physics::flight::Ballistic>,
+) -> f64 {
+    let s = sim.snapshot(0.0);
+    (0..s.x.len())
+        .map(|k| 0.5 * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + s.y[k])
+        .sum()
+}
+
+/// A disk thrown up from the floor leaves when its centre reaches the exit height, at the
+/// smaller root of y0 + v t − ½ g t² = h, carrying out its energy; a disk thrown lower turns
+/// back and stays, by its id.
+#[test]
+fn a_disk_thrown_up_leaves_at_the_exit_height_at_the_analytic_time() {
+    let (g, h, y0, v, vx): (f64, f64, f64, f64, f64) = (2.0, 10.0, 0.5, 7.0, 0.3);
+    let json = format!(
+        r#"{{
+        "name": "throw",
+        "domain": {{ "width": 10.0, "x_boundary": "walls", "y_boundary": "open",
+                     "exit_height": {h} }},
+        "gravity": {g},
+        "floor": {{}},
+        "particles": {{ "count": 2, "radius": 0.5, "temperature": 0.0,
+                       "placement": {{ "positions": [[5.0, {y0}], [2.0, {y0}]],
+                                      "velocities": [[{vx}, {v}], [0.0, 5.0]] }} }},
+        "run": {{ "duration": 10.0 }}
+    }}"#
+    );
+    let mut sim = ballistic(&json);
+    let t_out = (v - (v * v - 2.0 * g * (h - y0)).sqrt()) / g;
+    sim.advance_to(t_out * (1.0 - 1e-9)).unwrap();
+    assert_eq!(sim.pool().unwrap().flow.left, 0, "still in just before");
+    sim.advance_to(t_out * (1.0 + 1e-9)).unwrap();
+    let f = sim.pool().unwrap().flow;
+    assert_eq!((f.left, f.top), (1, 1));
+    assert!(
+        (f.last_exit - t_out).abs() < 1e-12 * t_out,
+        "left at {}, expected {t_out}",
+        f.last_exit
+    );
+    // What it carried out is what it had: ½ m v² + m g y0, m = 1.
+    let e0 = 0.5 * (vx * vx + v * v) + g * y0;
+    assert!(
+        (f.energy_out - e0).abs() < 1e-12 * e0,
+        "{} vs {e0}",
+        f.energy_out
+    );
+    // The other rises to 0.5 + 25/4 < 10, falls back and bounces on: it never leaves.
+    sim.advance_to(10.0).unwrap();
+    assert_eq!(sim.snapshot(10.0).ids, vec![1]);
+    assert_eq!(sim.pool().unwrap().flow.left, 1);
+}
+
+/// Disks thrown out of a vibrated bed at the top: at every stop no overlap, the energy budget
+/// closes with what was carried out, in − out = live − initial, every exit is a top exit and
+/// the live disks are those never seen to leave.
+#[test]
+fn exits_at_the_top_conserve_number_and_energy() {
+    let mut sim = ballistic(FOUNTAIN);
+    sim.set_checks(true);
+    let e0 = energy_at_start(&sim);
+    let mut before: BTreeSet<u32> = (0..60).collect();
+    for k in 1..=40 {
+        let t = k as f64;
+        assert_eq!(sim.advance_to(t).unwrap(), Progress::Reached);
+        sim.check_no_overlap(t).unwrap();
+        let snap = sim.snapshot(t);
+        let ids: BTreeSet<u32> = snap.ids.iter().copied().collect();
+        assert!(ids.is_subset(&before), "an id came back at t = {t}");
+        let f = sim.pool().unwrap().flow;
+        assert_eq!(f.top, f.left);
+        assert_eq!(60 - f.left, ids.len() as u64, "at t = {t}");
+        // Those present are below the exit height.
+        assert!(snap.y.iter().all(|&y| y < 10.0), "a disk above 10 at {t}");
+        let error = budget_error(&sim, t, e0);
+        assert!(error < 1e-12, "energy budget off by {error:e} at {t}");
+        before = ids;
+    }
+    assert!(
+        before.len() < 40,
+        "the bed loses disks: {} left",
+        before.len()
+    );
+}
+
+/// The energy budget closes with the energy carried out at the top and brought back in by a
+/// recycling inlet, and the recycled disks keep their ids: the live set is always the 60 ids
+/// the scene began with.
+#[test]
+fn disks_leaving_at_the_top_are_recycled_with_their_ids() {
+    let mut v: serde_json::Value = serde_json::from_str(FOUNTAIN).unwrap();
+    v["inlets"] = serde_json::json!([{
+        "x": { "from": 1.0, "to": 19.0 }, "y": { "from": 6.0, "to": 8.0 }, "recycle": true
+    }]);
+    let mut sim = ballistic(&v.to_string());
+    sim.set_checks(true);
+    let e0 = energy_at_start(&sim);
+    for k in 1..=40 {
+        let t = k as f64;
+        sim.advance_to(t).unwrap();
+        assert_eq!(
+            sim.snapshot(t).ids,
+            (0..60).collect::<Vec<u32>>(),
+            "at t = {t}"
+        );
+        let error = budget_error(&sim, t, e0);
+        assert!(error < 1e-12, "energy budget off by {error:e} at {t}");
+    }
+    let f = sim.pool().unwrap().flow;
+    assert!(f.top > 20, "{} out at the top", f.top);
+    assert_eq!(f.left, f.entered);
+    assert!(f.energy_in > 0.0 && f.energy_out > f.energy_in);
+}
+
+/// Two runs of the fountain agree bit for bit: exits, their times, the live disks' states.
+#[test]
+fn exits_at_the_top_are_deterministic() {
+    let run = || {
+        let mut sim = ballistic(FOUNTAIN);
+        sim.advance_to(30.0).unwrap();
+        let f = sim.pool().unwrap().flow;
+        let s = sim.snapshot(30.0);
+        (
+            f.top,
+            f.last_exit.to_bits(),
+            f.energy_out.to_bits(),
+            s.ids,
+            s.x,
+            s.vy,
+        )
+    };
+    let (one, two) = (run(), run());
+    assert!(one.0 > 10, "{} out", one.0);
+    assert_eq!(one, two);
+}
+
+/// Without `domain.exit_height` nothing leaves at the top, though disks rise above 10, and a
+/// scene with neither inlets nor an orifice has no pool: the exit is no event of it at all.
+#[test]
+fn without_an_exit_height_nothing_leaves_at_the_top() {
+    let mut v: serde_json::Value = serde_json::from_str(FOUNTAIN).unwrap();
+    v["domain"].as_object_mut().unwrap().remove("exit_height");
+    let mut sim = ballistic(&v.to_string());
+    assert!(sim.pool().is_none());
+    let mut highest = f64::NEG_INFINITY;
+    for k in 1..=200 {
+        let t = 0.1 * k as f64;
+        sim.advance_to(t).unwrap();
+        let s = sim.snapshot(t);
+        assert_eq!(s.x.len(), 60);
+        highest = s.y.iter().copied().fold(highest, f64::max);
+    }
+    assert!(highest > 10.0, "the highest centre seen: {highest}");
+}
