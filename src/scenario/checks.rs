@@ -24,6 +24,8 @@ pub const MAX_PHASE_BINS: usize = 1000;
 pub const MAX_FIELD_BINS: usize = 100_000;
 /// Most frames, samples or trajectory frames a run may ask for.
 pub const MAX_OUTPUT_TIMES: f64 = 1e7;
+/// Largest ratio of the largest radius to the smallest that the neighbour masks support.
+pub const MAX_RADIUS_RATIO: f64 = 6.0;
 /// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
 pub const MAX_STEPS: f64 = 1e12;
 
@@ -238,7 +240,7 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
             ));
         }
     }
-    let (_, a_max) = s.radius_range();
+    let (_, a_max) = s.all_radius_range();
     if o.to - o.from <= 2.0 * a_max {
         return Err(Error::input(
             "floor.orifice.to",
@@ -286,21 +288,15 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// The inlets: boxes inside the domain above the floor, a rate or a count over a window within
-/// the run, speeds and temperatures that make sense; equal smooth disks and the exact engine.
+/// The inlets: sizes and masses as `particles` gives them, boxes inside the domain above the
+/// floor with room for their largest disk, a rate or a count over a window within the run,
+/// speeds and temperatures that make sense; the exact engine.
 fn validate_inlets(s: &Scenario) -> Result<()> {
     let mut recycling = 0;
     for (k, inlet) in s.inlets.iter().enumerate() {
         let field = |name: &str| format!("inlets.{k}.{name}");
-        let a = match s.particles.radius {
-            crate::scenario::Radius::Fixed(a) => a,
-            _ => {
-                return Err(Error::input(
-                    field("x"),
-                    "inlets need equal disks (particles.radius a number)",
-                ))
-            }
-        };
+        validate_inlet_sizes(s, k, inlet)?;
+        let a = s.inlet_radius_range(inlet).1;
         let width = s.domain.width;
         let (x, y) = (inlet.x, inlet.y);
         if !(x.from.is_finite() && x.to.is_finite() && x.from <= x.to) {
@@ -379,9 +375,6 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
                 ));
             }
         }
-        if s.is_rough() {
-            return Err(Error::input(field("x"), "inlets need smooth disks"));
-        }
         if s.engine.scheme != crate::scenario::Scheme::EventDriven {
             return Err(Error::input(
                 "inlets",
@@ -392,6 +385,76 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         if s.gravity.is_none() || s.floor.is_none() {
             return Err(Error::input("inlets", "need gravity and a floor"));
         }
+    }
+    Ok(())
+}
+
+/// An inlet's sizes and masses: a radius law as `particles.radius` (a species list's counts,
+/// the odds of each species, add up to at least one), a positive mass or density (not both),
+/// masses double precision handles, and radii within the ratio the neighbour masks support
+/// together with every other disk of the scene.
+fn validate_inlet_sizes(s: &Scenario, k: usize, inlet: &Inlet) -> Result<()> {
+    let field = |name: &str| format!("inlets.{k}.{name}");
+    if let Some(law) = &inlet.radius {
+        validate_radius_law(law, &field("radius"))?;
+        if let Radius::Species(list) = law {
+            if list.species.iter().map(|sp| sp.count).sum::<usize>() == 0 {
+                return Err(Error::input(
+                    field("radius.species"),
+                    "the counts (the odds of each species) must add up to at least one",
+                ));
+            }
+        }
+    }
+    if let Some(m) = inlet.mass {
+        positive(&field("mass"), m)?;
+    }
+    if let Some(d) = inlet.density {
+        positive(&field("density"), d)?;
+    }
+    if inlet.mass.is_some() && inlet.density.is_some() {
+        return Err(Error::input(
+            field("density"),
+            format!("give either inlets.{k}.mass or inlets.{k}.density, not both"),
+        ));
+    }
+    let (lo, hi) = s.inlet_radius_range(inlet);
+    let mut masses = vec![s.inlet_mass(inlet, lo, None), s.inlet_mass(inlet, hi, None)];
+    if let Radius::Species(list) = s.inlet_radius(inlet) {
+        masses.extend(
+            list.species
+                .iter()
+                .map(|sp| s.inlet_mass(inlet, sp.radius, sp.mass)),
+        );
+    }
+    if let Some(m) = masses
+        .into_iter()
+        .find(|m| !(MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(m))
+    {
+        return Err(Error::input(
+            field("mass"),
+            format!(
+                "the inlet brings disks of mass {m:e}, outside the range [{MIN_MAGNITUDE:e}, \
+                 {MAX_MAGNITUDE:e}] that double precision computes with"
+            ),
+        ));
+    }
+    let (a_min, a_max) = s.all_radius_range();
+    if a_max / a_min > MAX_RADIUS_RATIO {
+        return Err(Error::input(
+            field("radius"),
+            format!(
+                "with the scene's other disks the radii span a ratio of {:.2}, more than \
+                 {MAX_RADIUS_RATIO}, the largest the neighbour masks support",
+                a_max / a_min
+            ),
+        ));
+    }
+    if s.domain.width < 4.0 * a_max {
+        return Err(Error::input(
+            field("radius"),
+            format!("domain.width must be at least 4 radii of the largest disk ({a_max})"),
+        ));
     }
     Ok(())
 }
@@ -776,42 +839,45 @@ fn validate_particles(s: &Scenario) -> Result<()> {
     validate_fit_in_box(s)
 }
 
-/// The radius law: a positive radius, a uniform range with min ≤ max, or a non-empty list of
-/// species (positive radii and masses) that sets the count itself.
+/// The particles' radius law ([`validate_radius_law`]); a species list sets the count itself.
 fn validate_radii(p: &Particles) -> Result<()> {
-    match &p.radius {
-        Radius::Fixed(r) => positive("particles.radius", *r)?,
+    validate_radius_law(&p.radius, "particles.radius")?;
+    if matches!(p.radius, Radius::Species(_)) && p.count.is_some() {
+        return Err(Error::input(
+            "particles.count",
+            "leave it out when particles.radius lists species with counts",
+        ));
+    }
+    Ok(())
+}
+
+/// A radius law (`field`: where it is): a positive radius, a uniform range with min ≤ max, or
+/// a non-empty list of species (positive radii and masses).
+fn validate_radius_law(law: &Radius, field: &str) -> Result<()> {
+    match law {
+        Radius::Fixed(r) => positive(field, *r)?,
         Radius::Uniform(u) => {
-            positive("particles.radius.min", u.min)?;
-            positive("particles.radius.max", u.max)?;
+            positive(&format!("{field}.min"), u.min)?;
+            positive(&format!("{field}.max"), u.max)?;
             if u.min > u.max {
                 return Err(Error::input(
-                    "particles.radius.min",
-                    format!(
-                        "must not exceed particles.radius.max ({} > {})",
-                        u.min, u.max
-                    ),
+                    format!("{field}.min"),
+                    format!("must not exceed {field}.max ({} > {})", u.min, u.max),
                 ));
             }
         }
         Radius::Species(list) => {
             if list.species.is_empty() {
                 return Err(Error::input(
-                    "particles.radius.species",
+                    format!("{field}.species"),
                     "list at least one species",
                 ));
             }
             for (k, sp) in list.species.iter().enumerate() {
-                positive(&format!("particles.radius.species.{k}.radius"), sp.radius)?;
+                positive(&format!("{field}.species.{k}.radius"), sp.radius)?;
                 if let Some(m) = sp.mass {
-                    positive(&format!("particles.radius.species.{k}.mass"), m)?;
+                    positive(&format!("{field}.species.{k}.mass"), m)?;
                 }
-            }
-            if p.count.is_some() {
-                return Err(Error::input(
-                    "particles.count",
-                    "leave it out when particles.radius lists species with counts",
-                ));
             }
         }
     }
@@ -890,7 +956,7 @@ fn validate_fit_in_box(s: &Scenario) -> Result<()> {
             ),
         ));
     }
-    if rmax / rmin > 6.0 {
+    if rmax / rmin > MAX_RADIUS_RATIO {
         return Err(Error::input(
             "particles.radius",
             format!(

@@ -327,31 +327,36 @@ const FOUNTAIN: &str = r#"{
     "run": { "duration": 40.0, "warmup": 5.0 }
 }"#;
 
-/// The energy budget of a scene of unit masses under g = 1 at `t` against its energy `e0` at
-/// the start, relative: now − start − work of the floor + dissipated + carried out − brought in.
-fn budget_error(
-    sim: &vibrobed::engine::Simulation<vibrobed::physics::flight::Ballistic>,
-    t: f64,
-    e0: f64,
-) -> f64 {
+type Engine = vibrobed::engine::Simulation<vibrobed::physics::flight::Ballistic>;
+
+/// The energy of a scene under g = 1 at `t`: Σ m (½ v² + y) of the live disks (their masses
+/// by id), with Σ ½ I ω² of rough disks.
+fn energy(sim: &Engine, t: f64) -> f64 {
     let s = sim.snapshot(t);
-    let now: f64 = (0..s.x.len())
-        .map(|k| 0.5 * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + s.y[k])
+    let mass = &sim.disks().mass;
+    let translational: f64 = (0..s.x.len())
+        .map(|k| mass[k] * (0.5 * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + s.y[k]))
         .sum();
-    let flow = sim.energy_flow_at(t);
-    let f = sim.pool().unwrap().flow;
-    let balance = now - e0 - flow.injected + flow.dissipated + f.energy_out - f.energy_in;
-    balance.abs() / e0.abs().max(flow.injected.abs()).max(f.energy_out)
+    translational + sim.rotational_energy(t).unwrap_or(0.0)
 }
 
-/// The energy of a scene of unit masses under g = 1 at the start.
-fn energy_at_start(
-    sim: &vibrobed::engine::Simulation<vibrobed::physics::flight::Ballistic>,
-) -> f64 {
-    let s = sim.snapshot(0.0);
-    (0..s.x.len())
-        .map(|k| 0.5 * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + s.y[k])
-        .sum()
+/// The energy budget at `t` against the energy `e0` at the start, relative to its largest
+/// term: now − start − work of the floor + dissipated + carried out − brought in.
+fn budget_error(sim: &Engine, t: f64, e0: f64) -> f64 {
+    let flow = sim.energy_flow_at(t);
+    let f = sim.pool().unwrap().flow;
+    let balance =
+        energy(sim, t) - e0 - flow.injected + flow.dissipated + f.energy_out - f.energy_in;
+    let scale = [
+        e0,
+        flow.injected,
+        flow.dissipated,
+        f.energy_out,
+        f.energy_in,
+    ]
+    .iter()
+    .fold(0.0f64, |m, v| m.max(v.abs()));
+    balance.abs() / scale
 }
 
 /// A disk thrown up from the floor leaves when its centre reaches the exit height, at the
@@ -405,7 +410,7 @@ fn a_disk_thrown_up_leaves_at_the_exit_height_at_the_analytic_time() {
 fn exits_at_the_top_conserve_number_and_energy() {
     let mut sim = ballistic(FOUNTAIN);
     sim.set_checks(true);
-    let e0 = energy_at_start(&sim);
+    let e0 = energy(&sim, 0.0);
     let mut before: BTreeSet<u32> = (0..60).collect();
     for k in 1..=40 {
         let t = k as f64;
@@ -441,7 +446,7 @@ fn disks_leaving_at_the_top_are_recycled_with_their_ids() {
     }]);
     let mut sim = ballistic(&v.to_string());
     sim.set_checks(true);
-    let e0 = energy_at_start(&sim);
+    let e0 = energy(&sim, 0.0);
     for k in 1..=40 {
         let t = k as f64;
         sim.advance_to(t).unwrap();
@@ -498,4 +503,188 @@ fn without_an_exit_height_nothing_leaves_at_the_top() {
         highest = s.y.iter().copied().fold(highest, f64::max);
     }
     assert!(highest > 10.0, "the highest centre seen: {highest}");
+}
+
+/// The pour with its inlet bringing radii drawn uniformly in [0.3, 0.6] (equal areal density:
+/// mass (a / 0.5)², the bed's disks of 0.5 weighing 1), for `duration`.
+fn polydisperse_pour(duration: f64) -> String {
+    shipped("pour.json", |v| {
+        v["run"]["duration"] = duration.into();
+        v["run"]["warmup"] = 0.0.into();
+        v["inlets"][0]["radius"] = serde_json::json!({ "min": 0.3, "max": 0.6 });
+    })
+}
+
+/// A polydisperse pour: every disk that entered has its radius in the inlet's range, the radii
+/// are spread over it (not one value), masses follow equal areal density, the count is
+/// conserved, no pair overlaps, and the energy budget closes with what came in.
+#[test]
+fn an_inlet_brings_sizes_from_its_distribution_and_the_budget_closes() {
+    let mut sim = ballistic(&polydisperse_pour(30.0));
+    sim.set_checks(true);
+    let e0 = energy(&sim, 0.0);
+    for k in 1..=30 {
+        let t = k as f64;
+        assert_eq!(sim.advance_to(t).unwrap(), Progress::Reached);
+        sim.check_no_overlap(t).unwrap();
+        let f = sim.pool().unwrap().flow;
+        assert_eq!(
+            f.initial + f.entered - f.left,
+            sim.snapshot(t).ids.len() as u64
+        );
+        let error = budget_error(&sim, t, e0);
+        assert!(error < 1e-12, "energy budget off by {error:e} at {t}");
+    }
+    let pool = sim.pool().unwrap();
+    assert_eq!(pool.flow.entered, 500);
+    let view = pool.view();
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for (row, &id) in pool.ids().iter().enumerate() {
+        let (a, m) = (view.radius[row], view.mass[row]);
+        if id < 20 {
+            assert_eq!((a, m), (0.5, 1.0), "the bed's disk {id}");
+            continue;
+        }
+        assert!((0.3..=0.6).contains(&a), "disk {id} of radius {a}");
+        assert!(
+            (m - (a / 0.5).powi(2)).abs() < 1e-15,
+            "disk {id}: mass {m} for radius {a}"
+        );
+        lo = lo.min(a);
+        hi = hi.max(a);
+    }
+    assert!(lo < 0.33 && hi > 0.57, "500 radii spread over [{lo}, {hi}]");
+}
+
+/// A polydisperse pour twice: the same radii for the same ids and the same states, bit for bit.
+#[test]
+fn a_polydisperse_pour_is_deterministic() {
+    let run = || {
+        let mut sim = ballistic(&polydisperse_pour(12.0));
+        sim.advance_to(12.0).unwrap();
+        let s = sim.snapshot(12.0);
+        let radii: Vec<u64> = sim
+            .pool()
+            .unwrap()
+            .view()
+            .radius
+            .iter()
+            .map(f64::to_bits)
+            .collect();
+        (s.ids, radii, s.x, s.vy)
+    };
+    let one = run();
+    assert!(one.0.len() > 200, "{} in", one.0.len());
+    assert_eq!(one, run());
+}
+
+/// An inlet of two species with their own masses: each entering disk is one of them with its
+/// mass and species number, both species come, and the seed decides which (another seed, other
+/// draws).
+#[test]
+fn an_inlet_of_species_brings_each_with_its_mass() {
+    let species = |seed: u64| {
+        let json = shipped("pour.json", |v| {
+            v["seed"] = seed.into();
+            v["run"]["duration"] = 10.0.into();
+            v["run"]["warmup"] = 0.0.into();
+            v["inlets"][0]["radius"] = serde_json::json!({ "species": [
+                { "count": 3, "radius": 0.4, "mass": 2.0 },
+                { "count": 1, "radius": 0.7 } ] });
+            v["inlets"][0]["density"] = 1.0.into();
+        });
+        let mut sim = ballistic(&json);
+        sim.advance_to(10.0).unwrap();
+        let pool = sim.pool().unwrap();
+        let view = pool.view();
+        let mut kinds = Vec::new();
+        for (row, &id) in pool.ids().iter().enumerate().filter(|(_, &id)| id >= 20) {
+            let (a, m, sp) = (view.radius[row], view.mass[row], view.species[row]);
+            let expected = if sp == 0 {
+                (0.4, 2.0)
+            } else {
+                (0.7, std::f64::consts::PI * 0.49)
+            };
+            assert_eq!((a, m), expected, "disk {id} of species {sp}");
+            kinds.push(sp);
+        }
+        kinds
+    };
+    let (one, other) = (species(5), species(6));
+    let small = one.iter().filter(|&&k| k == 0).count();
+    assert!(one.len() > 150, "{} in", one.len());
+    // Odds 3 : 1 (binomial spread over ~190 draws is about 6).
+    let share = small as f64 / one.len() as f64;
+    assert!((share - 0.75).abs() < 0.1, "small share {share}");
+    assert_ne!(one, other, "another seed draws other species");
+}
+
+/// Rough disks through an inlet: they enter spinning with the particles' rotational
+/// temperature (a normal ω of variance T_rot / I), or not at all without one; the energy budget
+/// closes with their spins' energy brought in.
+#[test]
+fn rough_disks_enter_spinning_at_the_rotational_temperature() {
+    let first_spins = |t_rot: Option<f64>| {
+        let json = shipped("pour.json", |v| {
+            v["run"]["duration"] = 20.0.into();
+            v["run"]["warmup"] = 0.0.into();
+            v["collisions"]["friction"] = 0.5.into();
+            if let Some(t) = t_rot {
+                v["particles"]["rotational_temperature"] = t.into();
+            }
+        });
+        let mut sim = ballistic(&json);
+        let e0 = energy(&sim, 0.0);
+        // Entries at 0, 0.05, 0.1, …: the first ten fall from 25 untouched till 0.5.
+        sim.advance_to(0.48).unwrap();
+        let spins = sim.spins_at(0.48).unwrap();
+        let ids = sim.snapshot(0.48).ids;
+        let new: Vec<f64> = ids
+            .iter()
+            .zip(&spins)
+            .filter(|(&id, _)| id >= 20)
+            .map(|(_, s)| s.1)
+            .collect();
+        assert_eq!(new.len(), 10);
+        for k in 1..=20 {
+            let t = k as f64;
+            sim.advance_to(t).unwrap();
+            let error = budget_error(&sim, t, e0);
+            assert!(error < 1e-12, "energy budget off by {error:e} at {t}");
+        }
+        new
+    };
+    assert!(
+        first_spins(None).iter().all(|&w| w == 0.0),
+        "no rotational temperature, no spin"
+    );
+    // I = ½ m a² = 1/8: ω has a standard deviation of √(0.2 · 8) ≈ 1.26.
+    let spins = first_spins(Some(0.2));
+    let mean_square = spins.iter().map(|w| w * w).sum::<f64>() / spins.len() as f64;
+    assert!(spins.iter().all(|&w| w != 0.0));
+    assert!(
+        (0.3..5.0).contains(&mean_square),
+        "⟨ω²⟩ = {mean_square}, expected 1.6"
+    );
+}
+
+/// Rough disks leaving at the top: the spins of those that stay are read by id (ids beyond the
+/// live count included) and the budget closes with the rotational energy carried out.
+#[test]
+fn rough_disks_leave_at_the_top_with_their_spins_energy() {
+    let mut v: serde_json::Value = serde_json::from_str(FOUNTAIN).unwrap();
+    v["collisions"]["friction"] = 0.3.into();
+    v["particles"]["rotational_temperature"] = 0.5.into();
+    let mut sim = ballistic(&v.to_string());
+    let e0 = energy(&sim, 0.0);
+    for k in 1..=40 {
+        let t = k as f64;
+        sim.advance_to(t).unwrap();
+        let live = sim.snapshot(t).ids.len();
+        assert_eq!(sim.spins_at(t).unwrap().len(), live);
+        let error = budget_error(&sim, t, e0);
+        assert!(error < 1e-12, "energy budget off by {error:e} at {t}");
+    }
+    let f = sim.pool().unwrap().flow;
+    assert!(f.top > 5, "{} out", f.top);
 }
