@@ -223,7 +223,8 @@ fn validate_floor(s: &Scenario) -> Result<()> {
 }
 
 /// The floor's orifice: within the width, wider than the largest disk, in a static, smooth
-/// floor under gravity, with the exact engine (see the physics page on the orifice).
+/// floor under gravity (rough disks may fall through it: its corners are as smooth as the
+/// floor), with the exact engine (see the physics page on the orifice).
 fn validate_orifice(s: &Scenario) -> Result<()> {
     let Some(floor) = &s.floor else {
         return Ok(());
@@ -268,14 +269,9 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
     if floor.friction.is_some() || floor.tangential_restitution.is_some() {
         return Err(Error::input(
             "floor.orifice",
-            "needs a smooth floor (no floor.friction or floor.tangential_restitution): its \
-             corners are smooth",
-        ));
-    }
-    if s.is_rough() {
-        return Err(Error::input(
-            "floor.orifice",
-            "needs smooth disks: rough disks leaving through an orifice are not supported",
+            "needs a smooth floor (no floor.friction or floor.tangential_restitution): rough \
+             disks sliding on a rough floor to the orifice's edges are not implemented; rough \
+             disks on a smooth floor are (its corners are smooth too)",
         ));
     }
     if s.engine.scheme != crate::scenario::Scheme::EventDriven {

@@ -785,7 +785,7 @@ fn orifices_that_cannot_be_are_refused_and_nothing_is_written() {
     pool_refuses(
         "orifice-rough",
         "silo.json",
-        &["collisions.friction=0.5"],
+        &["floor.friction=0.5"],
         "floor.orifice",
     );
     pool_refuses(
