@@ -31,13 +31,14 @@ pub struct Flow {
     pub top: u64,
     /// Their mass.
     pub mass_out: f64,
-    /// The energy they carried out (kinetic and potential, m g y, as they left).
+    /// The energy they carried out (kinetic, rotational and potential, m g y, as they left).
     pub energy_out: f64,
     /// Impacts on the orifice's corners (also counted as floor impacts).
     pub corner: u64,
     /// Disks at rest on the floor that slid over an edge of the orifice and fell.
     pub edge: u64,
-    /// The energy entering disks brought in (kinetic and potential as they entered).
+    /// The energy entering disks brought in (kinetic, rotational and potential as they
+    /// entered).
     pub energy_in: f64,
     /// Entries that found no free place and waited.
     pub waits: u64,
@@ -129,8 +130,11 @@ pub struct InletPlan {
 /// (drawn when the scene is built: the grid is sized for the largest and smallest of them).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Newcomers {
+    /// Radius of each.
     pub radius: Vec<f64>,
+    /// Mass of each.
     pub mass: Vec<f64>,
+    /// Species of each (numbered in its radius law's list; 0 for a number or a uniform law).
     pub species: Vec<u32>,
 }
 
@@ -186,8 +190,8 @@ pub struct Pool {
     blocked_until: f64,
     /// Rough disks enter spinning with this rotational temperature (`None`: smooth disks).
     rotational_temperature: Option<f64>,
-    /// Random numbers drawn for entries so far, and the scene's seed (positions and velocities
-    /// of entering disks: a counter-based generator, so the state is two numbers).
+    /// Random numbers drawn for entries so far, and the scene's seed (positions, velocities and
+    /// spins of entering disks: a counter-based generator, so the state is two numbers).
     draws: u64,
     seed: u64,
 }

@@ -192,12 +192,13 @@ pub struct Summary {
     /// Why simulated time stopped advancing (ending `stalled`): the disks and rules involved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stall: Option<String>,
-    /// Disks in and out, where they leave (a floor orifice).
+    /// Disks in and out, where they enter or leave (inlets, a floor orifice, an exit height).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flow: Option<FlowSummary>,
 }
 
-/// Disks in and out of a scene with an orifice, and the discharge rate after the warm-up.
+/// Disks in and out of a scene with a pool (inlets, a floor orifice, an exit height), and the
+/// discharge rate after the warm-up.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlowSummary {
     /// Disks at the start.
