@@ -32,6 +32,8 @@ pub enum Event {
     Corner(bool),
     /// The disk is wholly below the floor in the orifice: it leaves.
     Exit,
+    /// The disk's centre rises to the exit height of an open top: it leaves.
+    ExitTop,
     /// A disk at rest on the floor slides over an edge of the orifice.
     Edge,
     /// No event: the disk's time is infinite, it is never the earliest.
@@ -54,8 +56,9 @@ pub(crate) mod code {
     pub const CORNER_RIGHT: u32 = u32::MAX - 11;
     pub const EXIT: u32 = u32::MAX - 12;
     pub const EDGE: u32 = u32::MAX - 13;
+    pub const EXIT_TOP: u32 = u32::MAX - 14;
     /// The lowest code that is not a disk: no scene may have this many disks.
-    pub const FIRST_NOT_A_DISK: u32 = EDGE;
+    pub const FIRST_NOT_A_DISK: u32 = EXIT_TOP;
 }
 
 impl Event {
@@ -77,6 +80,7 @@ impl Event {
             code::CORNER_RIGHT => Event::Corner(true),
             code::EXIT => Event::Exit,
             code::EDGE => Event::Edge,
+            code::EXIT_TOP => Event::ExitTop,
             j => Event::Pair(j),
         }
     }
@@ -99,6 +103,7 @@ impl Event {
             Event::Corner(true) => code::CORNER_RIGHT,
             Event::Exit => code::EXIT,
             Event::Edge => code::EDGE,
+            Event::ExitTop => code::EXIT_TOP,
             Event::None => code::NONE,
         }
     }
@@ -114,6 +119,7 @@ impl Event {
             Event::Floor | Event::Corner(_) => Some(Partner::Floor),
             Event::RideEnd
             | Event::Exit
+            | Event::ExitTop
             | Event::Edge
             | Event::Unmount
             | Event::SlideEnd
@@ -146,6 +152,7 @@ mod tests {
             Event::Corner(true),
             Event::Exit,
             Event::Edge,
+            Event::ExitTop,
             Event::None,
         ];
         for e in events {

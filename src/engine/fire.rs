@@ -4,6 +4,7 @@
 //! changed is re-predicted.
 
 use super::event::Event;
+use super::pool::Outlet;
 use super::{Collision, Partner, Simulation};
 use crate::error::Result;
 use crate::physics::flight::Flight;
@@ -31,7 +32,8 @@ impl<F: Flight> Simulation<F> {
             }
             Event::ShellExit => self.leave_shell(i)?,
             Event::Corner(right) => self.hit_corner(i, right),
-            Event::Exit => self.leave(i)?,
+            Event::Exit => self.leave(i, Outlet::Orifice)?,
+            Event::ExitTop => self.leave(i, Outlet::Top)?,
             Event::Edge => self.slide_over_edge(i),
             Event::None => unreachable!("a disk without an event is never the minimum"),
             Event::Pair(j) => {

@@ -47,10 +47,11 @@ impl<F: Flight> Simulation<F> {
             }
             return;
         }
-        if self.bounds.orifice.is_some() {
-            // One test for scenes with an orifice; the others run the code below as before. `next`
-            // goes by value: a call taking its address would keep it out of registers.
-            *next = self.flying_over_orifice(state, a, *next);
+        if self.bounds.outlets {
+            // One test for scenes with an orifice or an exit height; the others run the code
+            // below as before. `next` goes by value: a call taking its address would keep it out
+            // of registers.
+            *next = self.flying_with_outlets(state, a, *next);
             return;
         }
         if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
@@ -71,15 +72,16 @@ impl<F: Flight> Simulation<F> {
         }
     }
 
-    /// [`floor_events`](Self::floor_events) of a flying disk in a scene with an orifice: the lid,
-    /// the flat floor where the centre lands beside the gap, the corners and the exit.
+    /// [`floor_events`](Self::floor_events) of a flying disk in a scene whose disks may leave:
+    /// the lid, the floor (where the centre lands beside the orifice's gap), the orifice's
+    /// corners and exit, and the exit at the top.
     #[inline(never)]
-    fn flying_over_orifice(&self, state: State, a: f64, mut next: Next) -> Next {
+    fn flying_with_outlets(&self, state: State, a: f64, mut next: Next) -> Next {
         let floor = self
             .bounds
             .floor
             .as_ref()
-            .expect("an orifice is in a floor");
+            .expect("outlets are in a scene with a floor");
         let (now, g) = (self.now, self.flight.g());
         let (_, y, _, vy) = state;
         if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
@@ -97,7 +99,12 @@ impl<F: Flight> Simulation<F> {
             Some(FloorEvent::Recheck(tf)) => next.recheck = next.recheck.min(tf),
             _ => {}
         }
-        self.orifice_events(state, a, &mut next);
+        if self.bounds.orifice.is_some() {
+            self.orifice_events(state, a, &mut next);
+        }
+        if let Some(h) = self.bounds.exit_height {
+            self.top_exit_event(state, h, &mut next);
+        }
         next
     }
 

@@ -132,13 +132,20 @@ impl<F: Flight> Simulation<F> {
     pub fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
         let spins = self.disks.spins.as_ref()?;
         let local = self.base.local(t);
-        let mut out = vec![(0.0, 0.0); self.disks.len()];
-        for k in 0..self.disks.len() {
-            out[self.map.numbering.id(k)] = if self.rest.riders.any_sliding() {
+        let spin = |k: usize| {
+            if self.rest.riders.any_sliding() {
                 self.spin_at(k, local)
             } else {
                 (spins.angle(k, local), spins.omega[k])
-            };
+            }
+        };
+        if let Some(pool) = &self.pool {
+            // Live disks only, in the order of their ids (the rows of the snapshots).
+            return Some(pool.engine_rows().map(spin).collect());
+        }
+        let mut out = vec![(0.0, 0.0); self.disks.len()];
+        for k in 0..self.disks.len() {
+            out[self.map.numbering.id(k)] = spin(k);
         }
         Some(out)
     }

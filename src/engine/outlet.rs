@@ -1,13 +1,14 @@
-//! The floor's orifice as an event source: impacts on its two corners, a flying disk leaving
-//! once wholly below the floor, and a disk at rest on the floor sliding over an edge. The
-//! geometry and the root finding are [`physics::orifice`](crate::physics::orifice)'s; a disk
-//! leaving is the [`pool`](super::pool)'s.
+//! The outlets as event sources: the floor's orifice (impacts on its two corners, a flying disk
+//! leaving once wholly below the floor, a disk at rest on the floor sliding over an edge) and
+//! the exit height of an open top (a flying disk leaving when its centre rises to it). The
+//! orifice's geometry and root finding are [`physics::orifice`](crate::physics::orifice)'s; a
+//! disk leaving is the [`pool`](super::pool)'s.
 
 use super::clock::into_period;
 use super::event::code;
 use super::predict::{Next, State};
 use super::Simulation;
-use crate::physics::flight::Flight;
+use crate::physics::flight::{time_to_rise, Flight};
 use crate::physics::orifice::{corner_contact, time_below};
 use crate::physics::walls::SideBounds;
 
@@ -47,6 +48,19 @@ impl<F: Flight> Simulation<F> {
                     next.t = now + dt;
                     next.who = who;
                 }
+            }
+        }
+    }
+
+    /// A flying disk's exit at the top, if earlier than `next`: the first time its centre
+    /// rises to the exit height `h`, the smaller root of y + vy t − ½ g t² = h in its stable
+    /// form (none if the parabola's top stays below `h`).
+    #[inline(never)]
+    pub(super) fn top_exit_event(&self, (_, y, _, vy): State, h: f64, next: &mut Next) {
+        if let Some(dt) = time_to_rise(h - y, vy, self.flight.g()) {
+            if self.now + dt < next.t {
+                next.t = self.now + dt;
+                next.who = code::EXIT_TOP;
             }
         }
     }

@@ -77,6 +77,11 @@ pub(super) struct Bounds {
     pub floor: Option<Floor>,
     /// The floor's orifice, if any (a static floor).
     pub orifice: Option<crate::physics::orifice::Orifice>,
+    /// Under an open top, the height at which a rising disk's centre leaves, if any.
+    pub exit_height: Option<f64>,
+    /// An orifice or an exit height: flying disks may leave (one test in the prediction of
+    /// scenes without either).
+    pub outlets: bool,
 }
 
 /// Disks at rest: on (riding) the floor or on resting disks, and the memory of the rules that

@@ -1,4 +1,5 @@
-//! Pools of live and dead disks, for scenes whose disks leave (a floor orifice).
+//! Pools of live and dead disks, for scenes whose disks enter (inlets) or leave (a floor
+//! orifice, an exit height at the top).
 //!
 //! The live disks are the engine's disks `0..n`; a disk that leaves swaps places with the last
 //! live one and the arrays shrink by one (their memory is kept: capacity is fixed at the start,
@@ -11,6 +12,7 @@
 use super::Simulation;
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
+use crate::physics::rough::Roughness;
 use serde::{Deserialize, Serialize};
 
 /// The engine number of an id that is not in the scene.
@@ -25,15 +27,18 @@ pub struct Flow {
     pub entered: u64,
     /// Disks that left.
     pub left: u64,
+    /// Of them, those that left at the top (the exit height).
+    pub top: u64,
     /// Their mass.
     pub mass_out: f64,
-    /// The energy they carried out (kinetic and potential, m g y, as they left).
+    /// The energy they carried out (kinetic, rotational and potential, m g y, as they left).
     pub energy_out: f64,
     /// Impacts on the orifice's corners (also counted as floor impacts).
     pub corner: u64,
     /// Disks at rest on the floor that slid over an edge of the orifice and fell.
     pub edge: u64,
-    /// The energy entering disks brought in (kinetic and potential as they entered).
+    /// The energy entering disks brought in (kinetic, rotational and potential as they
+    /// entered).
     pub energy_in: f64,
     /// Entries that found no free place and waited.
     pub waits: u64,
@@ -88,6 +93,15 @@ impl Flow {
     }
 }
 
+/// Where a disk leaves the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outlet {
+    /// Through the floor's orifice, wholly below the floor.
+    Orifice,
+    /// At the top, its centre at the exit height.
+    Top,
+}
+
 /// One inlet resolved for the engine: the box centres enter in, the schedule of its new disks,
 /// their velocities, and whether it takes leaving disks back.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,8 +120,33 @@ pub struct InletPlan {
     pub temperature: f64,
     /// Leaving disks come back in here.
     pub recycle: bool,
+    /// New disk j takes the id `first_id + j`.
+    pub first_id: u64,
     /// The next new disk's j.
     pub next: u64,
+}
+
+/// The radii, masses and species of the disks the inlets bring, in the order of their ids
+/// (drawn when the scene is built: the grid is sized for the largest and smallest of them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Newcomers {
+    /// Radius of each.
+    pub radius: Vec<f64>,
+    /// Mass of each.
+    pub mass: Vec<f64>,
+    /// Species of each (numbered in its radius law's list; 0 for a number or a uniform law).
+    pub species: Vec<u32>,
+}
+
+impl Newcomers {
+    /// The smallest and largest radius (`(∞, 0)` without newcomers).
+    pub fn radius_range(&self) -> (f64, f64) {
+        self.radius
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+                (lo.min(r), hi.max(r))
+            })
+    }
 }
 
 impl InletPlan {
@@ -149,29 +188,35 @@ pub struct Pool {
     waiting_since: f64,
     /// No entry is tried before this absolute time (the last found no free place).
     blocked_until: f64,
-    /// The next id a new disk takes.
-    next_id: u32,
-    /// Random numbers drawn for entries so far, and the scene's seed (positions and velocities
-    /// of entering disks: a counter-based generator, so the state is two numbers).
+    /// Rough disks enter spinning with this rotational temperature (`None`: smooth disks).
+    rotational_temperature: Option<f64>,
+    /// Random numbers drawn for entries so far, and the scene's seed (positions, velocities and
+    /// spins of entering disks: a counter-based generator, so the state is two numbers).
     draws: u64,
     seed: u64,
 }
 
 impl Pool {
-    /// A pool holding `disks` (every id live), with room for `capacity` ids; exits count for
-    /// the rate from absolute time `from`.
-    pub fn new(disks: &Disks, from: f64, inlets: &[InletPlan], seed: u64) -> Pool {
+    /// A pool holding `disks` (every id live) and the ids of the `newcomers` the `inlets`
+    /// bring; exits count for the rate from absolute time `from`. Rough disks enter spinning
+    /// at `rotational_temperature`.
+    pub fn new(
+        disks: &Disks,
+        from: f64,
+        (inlets, newcomers): (&[InletPlan], &Newcomers),
+        rotational_temperature: Option<f64>,
+        seed: u64,
+    ) -> Pool {
         let n = disks.len();
-        let capacity = n + inlets.iter().map(|p| p.total as usize).sum::<usize>();
+        let capacity = n + newcomers.radius.len();
         let mut all = disks.clone();
         all.motion = Vec::new();
         all.counter = Vec::new();
         all.spins = None;
-        // Inlets bring equal disks (validated): the new ids share the scene's radius and mass.
-        for _ in n..capacity {
-            all.radius.push(disks.radius[0]);
-            all.mass.push(disks.mass[0]);
-            all.species.push(0);
+        for k in 0..newcomers.radius.len() {
+            all.radius.push(newcomers.radius[k]);
+            all.mass.push(newcomers.mass[k]);
+            all.species.push(newcomers.species[k]);
         }
         let mut engine_of = Vec::with_capacity(capacity);
         engine_of.extend(0..n as u32);
@@ -191,7 +236,7 @@ impl Pool {
             waiting: Vec::with_capacity(capacity),
             waiting_since: f64::INFINITY,
             blocked_until: f64::NEG_INFINITY,
-            next_id: n as u32,
+            rotational_temperature,
             draws: 0,
             seed,
         };
@@ -296,6 +341,21 @@ impl Pool {
         (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
+    /// The spin of a rough disk of radius `a` and mass `mass` entering (`laws`: the rough
+    /// disks' laws, `None` for smooth ones), normal with variance T_rot / I, and its energy
+    /// ½ I ω²; `(0, 0)` for smooth disks or no rotational temperature (and no draw).
+    fn spin_for(&mut self, a: f64, mass: f64, laws: Option<&Roughness>) -> (f64, f64) {
+        let (Some(laws), Some(t_rot)) = (laws, self.rotational_temperature) else {
+            return (0.0, 0.0);
+        };
+        if t_rot == 0.0 {
+            return (0.0, 0.0);
+        }
+        let inertia = laws.inertia_factor * mass * a * a;
+        let omega = self.normal() * (t_rot / inertia).sqrt();
+        (omega, 0.5 * inertia * omega * omega)
+    }
+
     /// A standard normal number (Box–Muller).
     fn normal(&mut self) -> f64 {
         let u = 1.0 - self.uniform();
@@ -310,16 +370,22 @@ impl Pool {
 }
 
 impl<F: Flight> Simulation<F> {
-    /// Disk `i` (flying, wholly below the floor in the orifice) leaves the scene: its energy
-    /// and mass are booked as carried out, the last engine disk takes its number, and the grid,
-    /// lists and predictions are rebuilt over the disks that remain.
-    pub(super) fn leave(&mut self, i: usize) -> crate::error::Result<()> {
+    /// Disk `i` (flying, wholly below the floor in the orifice or its centre at the exit height)
+    /// leaves the scene through `outlet`: its energy and mass are booked as carried out, it
+    /// waits for the recycling inlet if there is one, the last engine disk takes its number,
+    /// and the grid, lists and predictions are rebuilt over the disks that remain.
+    pub(super) fn leave(&mut self, i: usize, outlet: Outlet) -> crate::error::Result<()> {
         let now = self.now;
         self.bring(i, now);
         let m = &self.disks.motion[i];
-        let mass = self.disks.mass[i];
+        let (mass, a) = (self.disks.mass[i], self.disks.radius[i]);
         let g = self.flight.g();
-        let energy = mass * (0.5 * (m.vx * m.vx + m.vy * m.vy) + g * m.y);
+        let spin = self
+            .disks
+            .spins
+            .as_ref()
+            .map_or(0.0, |s| 0.5 * s.q * mass * a * a * s.omega[i] * s.omega[i]);
+        let energy = mass * (0.5 * (m.vx * m.vx + m.vy * m.vy) + g * m.y) + spin;
         let time = self.base.absolute(now);
         let last = self.disks.len() - 1;
         let pool = self.pool.as_mut().expect("leaving needs a pool");
@@ -330,6 +396,9 @@ impl<F: Flight> Simulation<F> {
         pool.stale = true;
         pool.flow.exit(time, mass);
         pool.flow.energy_out += energy;
+        if outlet == Outlet::Top {
+            pool.flow.top += 1;
+        }
         if pool.inlets.iter().any(|p| p.recycle) {
             if pool.waiting.is_empty() {
                 pool.waiting_since = time;
@@ -409,7 +478,7 @@ impl<F: Flight> Simulation<F> {
             let id = if recycled {
                 pool.waiting[0]
             } else {
-                pool.next_id
+                (plan.first_id + plan.next) as u32
             };
             let (a, mass) = (pool.all.radius[id as usize], pool.all.mass[id as usize]);
             let Some((x, y)) = self.free_place(&plan, a) else {
@@ -430,11 +499,11 @@ impl<F: Flight> Simulation<F> {
                 }
             } else {
                 pool.inlets[k].next += 1;
-                pool.next_id += 1;
             }
+            let spin = pool.spin_for(a, mass, self.friction.as_ref());
             pool.flow.entered += 1;
-            pool.flow.energy_in += mass * (0.5 * (vx * vx + vy * vy) + g * y);
-            self.insert_disk(id, [x, y, vx, vy], a, mass);
+            pool.flow.energy_in += mass * (0.5 * (vx * vx + vy * vy) + g * y) + spin.1;
+            self.insert_disk(id, [x, y, vx, vy], spin.0);
             entered = true;
         }
         if entered {
@@ -464,12 +533,23 @@ impl<F: Flight> Simulation<F> {
         None
     }
 
-    /// Disk `id` enters now at `[x, y, vx, vy]` as engine disk n (the arrays grow by one within
-    /// the capacity reserved at the start); the re-mapping that follows files it everywhere.
-    fn insert_disk(&mut self, id: u32, [x, y, vx, vy]: [f64; 4], a: f64, mass: f64) {
+    /// Disk `id` enters now at `[x, y, vx, vy]` (spinning at `omega` if rough, at orientation
+    /// 0) as engine disk n (the arrays grow by one within the capacity reserved at the start);
+    /// the re-mapping that follows files it everywhere.
+    fn insert_disk(&mut self, id: u32, [x, y, vx, vy]: [f64; 4], omega: f64) {
         let n = self.disks.len();
         let now = self.now;
+        let pool = self.pool.as_ref().expect("a pool");
+        let (a, mass, species) = (
+            pool.all.radius[id as usize],
+            pool.all.mass[id as usize],
+            pool.all.species[id as usize],
+        );
         let d = &mut self.disks;
+        if let Some(s) = d.spins.as_mut() {
+            s.omega.push(omega);
+            s.phase.push(-omega * now);
+        }
         d.motion.push(crate::physics::disks::Motion {
             x,
             y,
@@ -479,7 +559,7 @@ impl<F: Flight> Simulation<F> {
         });
         d.radius.push(a);
         d.mass.push(mass);
-        d.species.push(0);
+        d.species.push(species);
         d.counter.push(0);
         self.map.numbering.push(id);
         self.restitution.push();

@@ -2,6 +2,7 @@
 //! initial disks (radii, masses, positions, velocities) drawn from the scenario's seed.
 
 use crate::engine::placement::{self, Region};
+use crate::engine::pool::{InletPlan, Newcomers};
 use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::floor::Floor;
@@ -62,10 +63,16 @@ pub struct Scene {
     pub max_events: Option<u64>,
     /// The floor's orifice, if any: disks leave through it.
     pub orifice: Option<crate::physics::orifice::Orifice>,
+    /// Under an open top, the height at which a rising disk's centre leaves the scene.
+    pub exit_height: Option<f64>,
     /// The warm-up's end (the flow rate counts exits from then on).
     pub warmup: f64,
     /// The inlets, resolved.
     pub inlets: Vec<crate::engine::pool::InletPlan>,
+    /// The sizes of the disks the inlets bring, in the order of their ids.
+    pub newcomers: Newcomers,
+    /// Rough disks start and enter spinning at this rotational temperature.
+    pub rotational_temperature: f64,
     /// The scenario's seed (entering disks draw from it).
     pub seed: u64,
 }
@@ -112,9 +119,13 @@ impl Scene {
             disks.motion[i].vy = v[1];
         }
         debug_assert_eq!(disks.len(), n);
+        below_exit(s.domain.exit_height, &disks)?;
         if s.is_rough() {
             disks.spins = Some(spins(s, &disks, &mut rng));
         }
+        let inlets = inlet_plans(s, n);
+        // Drawn after the initial state, which stays the scene's without inlets.
+        let newcomers = newcomers(s, &inlets, &mut rng);
         let scene = Scene {
             name: s.name.clone(),
             sides,
@@ -147,16 +158,37 @@ impl Scene {
                     to: o.to,
                 }
             }),
+            exit_height: s.domain.exit_height,
             warmup: s.run.warmup,
-            inlets: s
-                .inlets
-                .iter()
-                .map(|i| inlet_plan(i, s.run.duration))
-                .collect(),
+            inlets,
+            newcomers,
+            rotational_temperature: s.particles.rotational_temperature.unwrap_or(0.0),
             seed: s.seed,
         };
         Ok((scene, disks))
     }
+}
+
+/// Refuses an exit height that the initial bed reaches: every disk must start wholly below it
+/// (one that starts there would leave at once, or above it never).
+fn below_exit(exit_height: Option<f64>, disks: &Disks) -> Result<()> {
+    let Some(h) = exit_height else {
+        return Ok(());
+    };
+    for (i, (m, a)) in disks.motion.iter().zip(disks.radius.iter()).enumerate() {
+        if m.y + a >= h {
+            return Err(Error::input(
+                "domain.exit_height",
+                format!(
+                    "{h} must lie above the initial bed: disk {i} reaches {} (its centre {} and \
+                     its radius)",
+                    m.y + a,
+                    m.y
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The tangential laws of a rough scenario (`None` for smooth disks).
@@ -282,10 +314,64 @@ fn positions(
     Ok(positions)
 }
 
-/// Radii, masses and species of every disk.
+/// The inlets' plans, their new disks numbered from `n` (the disks at the start) inlet after
+/// inlet.
+fn inlet_plans(s: &Scenario, n: usize) -> Vec<InletPlan> {
+    let mut first_id = n as u64;
+    s.inlets
+        .iter()
+        .map(|i| {
+            let plan = inlet_plan(i, s.run.duration, first_id);
+            first_id += plan.total;
+            plan
+        })
+        .collect()
+}
+
+/// The radius, mass and species of each disk the inlets bring, drawn from each inlet's
+/// radius law (a species list's counts are the odds of each species, numbered in that list).
+fn newcomers(s: &Scenario, plans: &[InletPlan], rng: &mut Xoshiro256PlusPlus) -> Newcomers {
+    let mut new = Newcomers::default();
+    for (inlet, plan) in s.inlets.iter().zip(plans) {
+        let law = s.inlet_radius(inlet);
+        for _ in 0..plan.total {
+            let (a, species, species_mass) = draw_radius(law, rng);
+            new.radius.push(a);
+            new.mass.push(s.inlet_mass(inlet, a, species_mass));
+            new.species.push(species);
+        }
+    }
+    new
+}
+
+/// One radius from `law` (a draw only where it is not a single number): with its species and
+/// that species' mass, if any.
+fn draw_radius(law: &Radius, rng: &mut Xoshiro256PlusPlus) -> (f64, u32, Option<f64>) {
+    match law {
+        Radius::Fixed(r) => (*r, 0, None),
+        Radius::Uniform(u) => (u.min + (u.max - u.min) * rng.random::<f64>(), 0, None),
+        Radius::Species(list) => {
+            let total: usize = list.species.iter().map(|sp| sp.count).sum();
+            let mut pick = (rng.random::<f64>() * total as f64) as usize;
+            let k = list
+                .species
+                .iter()
+                .position(|sp| {
+                    let this = pick < sp.count;
+                    pick = pick.saturating_sub(sp.count);
+                    this
+                })
+                .unwrap_or(list.species.len().saturating_sub(1));
+            let sp = &list.species[k];
+            (sp.radius, k as u32, sp.mass)
+        }
+    }
+}
+
 /// An inlet's box and schedule: `count` disks spread evenly over `[start, end)`, or one every
-/// 1/`rate` from `start` while before `end` (the run's end when absent).
-fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool::InletPlan {
+/// 1/`rate` from `start` while before `end` (the run's end when absent); its new disks take
+/// the ids from `first_id` on.
+fn inlet_plan(i: &crate::scenario::Inlet, duration: f64, first_id: u64) -> InletPlan {
     let end = i.end.unwrap_or(duration);
     let window = end - i.start;
     let (period, total) = match (i.rate, i.count) {
@@ -293,7 +379,7 @@ fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool:
         (None, Some(n)) => (window / n as f64, n),
         (None, None) => (f64::INFINITY, 0),
     };
-    crate::engine::pool::InletPlan {
+    InletPlan {
         x0: i.x.from,
         x1: i.x.to,
         y0: i.y.from,
@@ -304,13 +390,14 @@ fn inlet_plan(i: &crate::scenario::Inlet, duration: f64) -> crate::engine::pool:
         speed: i.speed,
         temperature: i.temperature,
         recycle: i.recycle,
+        first_id,
         next: 0,
     }
 }
 
+/// Radii, masses and species of every disk.
 fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec<u32>) {
     let p = &s.particles;
-    let pi = std::f64::consts::PI;
     let n = s.disk_count();
     let (radius, species, species_mass): (Vec<f64>, Vec<u32>, Vec<Option<f64>>) = match &p.radius {
         Radius::Fixed(r) => (vec![*r; n], vec![0; n], vec![None; n]),
@@ -335,17 +422,10 @@ fn sizes(s: &Scenario, rng: &mut Xoshiro256PlusPlus) -> (Vec<f64>, Vec<f64>, Vec
             (r, sp, m)
         }
     };
-    let (a_min, _) = s.radius_range();
     let mass = radius
         .iter()
         .zip(&species_mass)
-        .map(|(&a, &m)| match (m, p.mass, p.density) {
-            (Some(m), _, _) => m,
-            (None, _, Some(rho)) => rho * pi * a * a,
-            (None, Some(m), None) => m,
-            // Equal areal density, the smallest disk weighing 1.
-            (None, None, None) => (a / a_min).powi(2),
-        })
+        .map(|(&a, &m)| s.particle_mass(a, m))
         .collect();
     (radius, mass, species)
 }

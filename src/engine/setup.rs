@@ -50,6 +50,14 @@ struct Span {
     y_periodic: bool,
 }
 
+/// The smallest and largest radius of the disks at the start and of those the inlets bring:
+/// what the grid, the masks and the rules of rest are sized for.
+fn radius_range(scene: &Scene, disks: &Disks) -> (f64, f64) {
+    let (lo, hi) = disks.radius_range();
+    let (new_lo, new_hi) = scene.newcomers.radius_range();
+    (lo.min(new_lo), hi.max(new_hi))
+}
+
 /// Grid, mask and list margin of the local re-mapping: cells that hold a disk and its shell,
 /// the 3 × 3 block around a disk as its mask.
 fn local_grid(
@@ -58,7 +66,7 @@ fn local_grid(
     span: Span,
     shell_packing: f64,
 ) -> Result<(GridGeometry, Mask, f64)> {
-    let (a_min, a_max) = disks.radius_range();
+    let (a_min, a_max) = radius_range(scene, disks);
     let n = disks.len();
     if scene.mask != MaskChoice::Auto {
         return Err(Error::input(
@@ -110,7 +118,7 @@ fn local_grid(
 /// Grid, mask and list margin of Isobe's global re-mapping: cells of the smallest disk
 /// (EEPGM), the mask chosen for the scene's sizes and packing.
 fn global_grid(scene: &Scene, disks: &Disks, span: Span) -> Result<(GridGeometry, Mask, f64)> {
-    let (a_min, a_max) = disks.radius_range();
+    let (a_min, a_max) = radius_range(scene, disks);
     let geometry = GridGeometry::new(
         a_min,
         scene.sides.width(),
@@ -141,7 +149,7 @@ impl<F: Flight> Simulation<F> {
     /// Sets up the engine for `scene` with the disks in their initial state (all at time 0).
     pub fn new(flight: F, scene: &Scene, disks: Disks) -> Result<Simulation<F>> {
         let n = disks.len();
-        let (a_min, a_max) = disks.radius_range();
+        let (a_min, a_max) = radius_range(scene, &disks);
         let floor = scene.floor.clone();
         let bottom = floor.as_ref().map_or(0.0, |f| f.lowest());
         // Disks falling through an orifice reach a radius below the floor before they leave.
@@ -207,6 +215,8 @@ impl<F: Flight> Simulation<F> {
                 images: super::motion::Images::of(scene.sides, scene.top),
                 floor,
                 orifice: scene.orifice,
+                exit_height: scene.exit_height,
+                outlets: scene.orifice.is_some() || scene.exit_height.is_some(),
             },
             restitution: CollisionLaw::new(
                 Restitution {
@@ -222,8 +232,14 @@ impl<F: Flight> Simulation<F> {
             control: Control::new(scene, n, pipelining),
             pool: None,
         };
-        if scene.orifice.is_some() || !scene.inlets.is_empty() {
-            let pool = super::pool::Pool::new(&sim.disks, scene.warmup, &scene.inlets, scene.seed);
+        if sim.bounds.outlets || !scene.inlets.is_empty() {
+            let pool = super::pool::Pool::new(
+                &sim.disks,
+                scene.warmup,
+                (&scene.inlets, &scene.newcomers),
+                scene.rough.map(|_| scene.rotational_temperature),
+                scene.seed,
+            );
             let cap = pool.capacity();
             sim.pool = Some(Box::new(pool));
             sim.map.numbering.keep_ids(n);
@@ -236,11 +252,11 @@ impl<F: Flight> Simulation<F> {
         }
         if sim.bounds.floor.is_some() {
             sim.rest.riders = Riders::new(n, riders::carried_room(a_min, a_max));
-            if let Some(pool) = &sim.pool {
-                sim.rest.riders.reserve_to(pool.capacity());
-            }
             if sim.floor_friction().is_some() {
                 sim.rest.riders = std::mem::take(&mut sim.rest.riders).with_slides();
+            }
+            if let Some(pool) = &sim.pool {
+                sim.rest.riders.reserve_to(pool.capacity());
             }
             if sim.rest.resting_contacts {
                 sim.rest.same_instant = vec![(f64::NAN, 0); n];

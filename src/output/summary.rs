@@ -192,12 +192,13 @@ pub struct Summary {
     /// Why simulated time stopped advancing (ending `stalled`): the disks and rules involved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stall: Option<String>,
-    /// Disks in and out, where they leave (a floor orifice).
+    /// Disks in and out, where they enter or leave (inlets, a floor orifice, an exit height).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flow: Option<FlowSummary>,
 }
 
-/// Disks in and out of a scene with an orifice, and the discharge rate after the warm-up.
+/// Disks in and out of a scene with a pool (inlets, a floor orifice, an exit height), and the
+/// discharge rate after the warm-up.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlowSummary {
     /// Disks at the start.
@@ -207,6 +208,9 @@ pub struct FlowSummary {
     pub in_: u64,
     /// Disks that left.
     pub out: u64,
+    /// Of them, those that left at the top (scenes with `domain.exit_height` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub out_top: Option<u64>,
     /// Disks in the scene at the end (initial + in − out).
     pub live: u64,
     /// Mass that left.
@@ -236,13 +240,15 @@ pub struct FlowSummary {
 }
 
 impl FlowSummary {
-    /// The summary of `flow` with `live` disks at the end.
-    pub fn of(flow: &crate::engine::pool::Flow, live: usize) -> FlowSummary {
+    /// The summary of `flow` with `live` disks at the end (`top`: the scene has an exit
+    /// height).
+    pub fn of(flow: &crate::engine::pool::Flow, live: usize, top: bool) -> FlowSummary {
         let rate = flow.rate();
         FlowSummary {
             initial: flow.initial,
             in_: flow.entered,
             out: flow.left,
+            out_top: top.then_some(flow.top),
             live: live as u64,
             mass_out: flow.mass_out,
             energy_out: flow.energy_out,

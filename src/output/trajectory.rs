@@ -25,7 +25,7 @@
 //!   a floor), `frame` the frame number.
 //! - Rough disks add two columns, `angle:R:1:omega:R:1` ([`ROUGH_PROPERTIES`]): each disk's
 //!   orientation in [0, 2π) and its angular velocity.
-//! - Scenes whose disks leave (a floor orifice) add a last column, `id:I:1`: each live disk's
+//! - Scenes whose disks leave or enter (a floor orifice, an exit height, inlets) add a last column, `id:I:1`: each live disk's
 //!   id (its scenario number), the frame listing only the live disks in the order of their ids.
 //! - Numbers are written in the shortest form that reads back to the same `f64`, always as reals
 //!   (`2.0`, not `2`, so that readers type `Time` alike in every frame).

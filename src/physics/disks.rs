@@ -138,6 +138,10 @@ impl Disks {
         let more = cap.saturating_sub(self.motion.len());
         self.motion.reserve_exact(more);
         self.counter.reserve_exact(more);
+        if let Some(s) = &mut self.spins {
+            s.omega.reserve_exact(more);
+            s.phase.reserve_exact(more);
+        }
     }
 
     /// Removes disk `k`, the last disk taking its number (no allocation).

@@ -669,9 +669,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
             approximation: sim.approximation(),
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
-            flow: sim
-                .flow()
-                .map(|f| crate::output::summary::FlowSummary::of(&f, sim.disks().len())),
+            flow: sim.flow().map(|f| {
+                let top = s.domain.exit_height.is_some();
+                crate::output::summary::FlowSummary::of(&f, sim.disks().len(), top)
+            }),
         }
     }
 }

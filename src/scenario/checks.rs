@@ -24,6 +24,8 @@ pub const MAX_PHASE_BINS: usize = 1000;
 pub const MAX_FIELD_BINS: usize = 100_000;
 /// Most frames, samples or trajectory frames a run may ask for.
 pub const MAX_OUTPUT_TIMES: f64 = 1e7;
+/// Largest ratio of the largest radius to the smallest that the neighbour masks support.
+pub const MAX_RADIUS_RATIO: f64 = 6.0;
 /// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
 pub const MAX_STEPS: f64 = 1e12;
 
@@ -151,6 +153,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_particles(s)?;
     validate_orifice(s)?;
     validate_inlets(s)?;
+    validate_exit_height(s)?;
     validate_collisions(&s.collisions)?;
     validate_rough(s)?;
     validate_run(&s.run)?;
@@ -220,7 +223,8 @@ fn validate_floor(s: &Scenario) -> Result<()> {
 }
 
 /// The floor's orifice: within the width, wider than the largest disk, in a static, smooth
-/// floor under gravity, with the exact engine (see the physics page on the orifice).
+/// floor under gravity (rough disks may fall through it: its corners are as smooth as the
+/// floor), with the exact engine (see the physics page on the orifice).
 fn validate_orifice(s: &Scenario) -> Result<()> {
     let Some(floor) = &s.floor else {
         return Ok(());
@@ -237,7 +241,7 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
             ));
         }
     }
-    let (_, a_max) = s.radius_range();
+    let (_, a_max) = s.all_radius_range();
     if o.to - o.from <= 2.0 * a_max {
         return Err(Error::input(
             "floor.orifice.to",
@@ -265,14 +269,9 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
     if floor.friction.is_some() || floor.tangential_restitution.is_some() {
         return Err(Error::input(
             "floor.orifice",
-            "needs a smooth floor (no floor.friction or floor.tangential_restitution): its \
-             corners are smooth",
-        ));
-    }
-    if s.is_rough() {
-        return Err(Error::input(
-            "floor.orifice",
-            "needs smooth disks: rough disks leaving through an orifice are not supported",
+            "needs a smooth floor (no floor.friction or floor.tangential_restitution): rough \
+             disks sliding on a rough floor to the orifice's edges are not implemented; rough \
+             disks on a smooth floor are (its corners are smooth too)",
         ));
     }
     if s.engine.scheme != crate::scenario::Scheme::EventDriven {
@@ -285,21 +284,15 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// The inlets: boxes inside the domain above the floor, a rate or a count over a window within
-/// the run, speeds and temperatures that make sense; equal smooth disks and the exact engine.
+/// The inlets: sizes and masses as `particles` gives them, boxes inside the domain above the
+/// floor with room for their largest disk, a rate or a count over a window within the run,
+/// speeds and temperatures that make sense; the exact engine.
 fn validate_inlets(s: &Scenario) -> Result<()> {
     let mut recycling = 0;
     for (k, inlet) in s.inlets.iter().enumerate() {
         let field = |name: &str| format!("inlets.{k}.{name}");
-        let a = match s.particles.radius {
-            crate::scenario::Radius::Fixed(a) => a,
-            _ => {
-                return Err(Error::input(
-                    field("x"),
-                    "inlets need equal disks (particles.radius a number)",
-                ))
-            }
-        };
+        validate_inlet_sizes(s, k, inlet)?;
+        let a = s.inlet_radius_range(inlet).1;
         let width = s.domain.width;
         let (x, y) = (inlet.x, inlet.y);
         if !(x.from.is_finite() && x.to.is_finite() && x.from <= x.to) {
@@ -370,15 +363,13 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
             if recycling > 1 {
                 return Err(Error::input(field("recycle"), "only one inlet may recycle"));
             }
-            if s.floor.as_ref().and_then(|f| f.orifice).is_none() {
+            if s.floor.as_ref().and_then(|f| f.orifice).is_none() && s.domain.exit_height.is_none()
+            {
                 return Err(Error::input(
                     field("recycle"),
-                    "needs floor.orifice: only disks that leave can come back",
+                    "needs floor.orifice or domain.exit_height: only disks that leave can come back",
                 ));
             }
-        }
-        if s.is_rough() {
-            return Err(Error::input(field("x"), "inlets need smooth disks"));
         }
         if s.engine.scheme != crate::scenario::Scheme::EventDriven {
             return Err(Error::input(
@@ -389,6 +380,113 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         }
         if s.gravity.is_none() || s.floor.is_none() {
             return Err(Error::input("inlets", "need gravity and a floor"));
+        }
+    }
+    Ok(())
+}
+
+/// An inlet's sizes and masses: a radius law as `particles.radius` (a species list's counts,
+/// the odds of each species, add up to at least one), a positive mass or density (not both),
+/// masses double precision handles, and radii within the ratio the neighbour masks support
+/// together with every other disk of the scene.
+fn validate_inlet_sizes(s: &Scenario, k: usize, inlet: &Inlet) -> Result<()> {
+    let field = |name: &str| format!("inlets.{k}.{name}");
+    if let Some(law) = &inlet.radius {
+        validate_radius_law(law, &field("radius"))?;
+        if let Radius::Species(list) = law {
+            if list.species.iter().map(|sp| sp.count).sum::<usize>() == 0 {
+                return Err(Error::input(
+                    field("radius.species"),
+                    "the counts (the odds of each species) must add up to at least one",
+                ));
+            }
+        }
+    }
+    if let Some(m) = inlet.mass {
+        positive(&field("mass"), m)?;
+    }
+    if let Some(d) = inlet.density {
+        positive(&field("density"), d)?;
+    }
+    if inlet.mass.is_some() && inlet.density.is_some() {
+        return Err(Error::input(
+            field("density"),
+            format!("give either inlets.{k}.mass or inlets.{k}.density, not both"),
+        ));
+    }
+    let (lo, hi) = s.inlet_radius_range(inlet);
+    let mut masses = vec![s.inlet_mass(inlet, lo, None), s.inlet_mass(inlet, hi, None)];
+    if let Radius::Species(list) = s.inlet_radius(inlet) {
+        masses.extend(
+            list.species
+                .iter()
+                .map(|sp| s.inlet_mass(inlet, sp.radius, sp.mass)),
+        );
+    }
+    if let Some(m) = masses
+        .into_iter()
+        .find(|m| !(MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(m))
+    {
+        return Err(Error::input(
+            field("mass"),
+            format!(
+                "the inlet brings disks of mass {m:e}, outside the range [{MIN_MAGNITUDE:e}, \
+                 {MAX_MAGNITUDE:e}] that double precision computes with"
+            ),
+        ));
+    }
+    let (a_min, a_max) = s.all_radius_range();
+    if a_max / a_min > MAX_RADIUS_RATIO {
+        return Err(Error::input(
+            field("radius"),
+            format!(
+                "with the scene's other disks the radii span a ratio of {:.2}, more than \
+                 {MAX_RADIUS_RATIO}, the largest the neighbour masks support",
+                a_max / a_min
+            ),
+        ));
+    }
+    if s.domain.width < 4.0 * a_max {
+        return Err(Error::input(
+            field("radius"),
+            format!("domain.width must be at least 4 radii of the largest disk ({a_max})"),
+        ));
+    }
+    Ok(())
+}
+
+/// The exit height: a positive height under an open top, with the exact engine, above every
+/// inlet's box by its largest radius (a disk entering must not leave at once). That it clears
+/// the initial bed is checked where the bed is placed ([`Scene::build`](crate::engine::Scene)).
+fn validate_exit_height(s: &Scenario) -> Result<()> {
+    let Some(h) = s.domain.exit_height else {
+        return Ok(());
+    };
+    const FIELD: &str = "domain.exit_height";
+    positive(FIELD, h)?;
+    if s.domain.y_boundary != YBoundary::Open {
+        return Err(Error::input(
+            FIELD,
+            "needs domain.y_boundary = open: disks leave by rising through an open top",
+        ));
+    }
+    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+        return Err(Error::input(
+            FIELD,
+            "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
+             the whole run",
+        ));
+    }
+    for (k, inlet) in s.inlets.iter().enumerate() {
+        let top = inlet.y.to + s.inlet_radius_range(inlet).1;
+        if h <= top {
+            return Err(Error::input(
+                FIELD,
+                format!(
+                    "{h} must lie above inlets.{k} (its box reaches {top} with the radius of its \
+                     largest disk): a disk entering there would leave at once"
+                ),
+            ));
         }
     }
     Ok(())
@@ -737,42 +835,45 @@ fn validate_particles(s: &Scenario) -> Result<()> {
     validate_fit_in_box(s)
 }
 
-/// The radius law: a positive radius, a uniform range with min ≤ max, or a non-empty list of
-/// species (positive radii and masses) that sets the count itself.
+/// The particles' radius law ([`validate_radius_law`]); a species list sets the count itself.
 fn validate_radii(p: &Particles) -> Result<()> {
-    match &p.radius {
-        Radius::Fixed(r) => positive("particles.radius", *r)?,
+    validate_radius_law(&p.radius, "particles.radius")?;
+    if matches!(p.radius, Radius::Species(_)) && p.count.is_some() {
+        return Err(Error::input(
+            "particles.count",
+            "leave it out when particles.radius lists species with counts",
+        ));
+    }
+    Ok(())
+}
+
+/// A radius law (`field`: where it is): a positive radius, a uniform range with min ≤ max, or
+/// a non-empty list of species (positive radii and masses).
+fn validate_radius_law(law: &Radius, field: &str) -> Result<()> {
+    match law {
+        Radius::Fixed(r) => positive(field, *r)?,
         Radius::Uniform(u) => {
-            positive("particles.radius.min", u.min)?;
-            positive("particles.radius.max", u.max)?;
+            positive(&format!("{field}.min"), u.min)?;
+            positive(&format!("{field}.max"), u.max)?;
             if u.min > u.max {
                 return Err(Error::input(
-                    "particles.radius.min",
-                    format!(
-                        "must not exceed particles.radius.max ({} > {})",
-                        u.min, u.max
-                    ),
+                    format!("{field}.min"),
+                    format!("must not exceed {field}.max ({} > {})", u.min, u.max),
                 ));
             }
         }
         Radius::Species(list) => {
             if list.species.is_empty() {
                 return Err(Error::input(
-                    "particles.radius.species",
+                    format!("{field}.species"),
                     "list at least one species",
                 ));
             }
             for (k, sp) in list.species.iter().enumerate() {
-                positive(&format!("particles.radius.species.{k}.radius"), sp.radius)?;
+                positive(&format!("{field}.species.{k}.radius"), sp.radius)?;
                 if let Some(m) = sp.mass {
-                    positive(&format!("particles.radius.species.{k}.mass"), m)?;
+                    positive(&format!("{field}.species.{k}.mass"), m)?;
                 }
-            }
-            if p.count.is_some() {
-                return Err(Error::input(
-                    "particles.count",
-                    "leave it out when particles.radius lists species with counts",
-                ));
             }
         }
     }
@@ -851,7 +952,7 @@ fn validate_fit_in_box(s: &Scenario) -> Result<()> {
             ),
         ));
     }
-    if rmax / rmin > 6.0 {
+    if rmax / rmin > MAX_RADIUS_RATIO {
         return Err(Error::input(
             "particles.radius",
             format!(

@@ -40,7 +40,15 @@ pub fn parse(text: &str) -> Result<Value> {
     Ok(value)
 }
 
-/// Refuses a list anywhere but in `LIST_FIELDS` (and looks inside species entries).
+/// `true` for an inlet's species list, `inlets.k.radius.species`.
+fn inlet_species(path: &str) -> bool {
+    path.strip_prefix("inlets.")
+        .and_then(|rest| rest.strip_suffix(".radius.species"))
+        .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Refuses a list anywhere but in `LIST_FIELDS` and inlets' species lists (and looks inside
+/// species entries and inlets).
 pub fn lists_only_where_lists_belong(value: &Value) -> Result<()> {
     fn walk(v: &Value, path: &str) -> Result<()> {
         match v {
@@ -51,8 +59,8 @@ pub fn lists_only_where_lists_belong(value: &Value) -> Result<()> {
                     walk(x, &format!("{path}.{k}"))
                 }
             }),
-            Value::Array(items) if LIST_FIELDS.contains(&path) => {
-                if path == "particles.radius.species" || path == "inlets" {
+            Value::Array(items) if LIST_FIELDS.contains(&path) || inlet_species(path) => {
+                if path == "particles.radius.species" || path == "inlets" || inlet_species(path) {
                     for (k, item) in items.iter().enumerate() {
                         walk(item, &format!("{path}.{k}"))?;
                     }

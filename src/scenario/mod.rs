@@ -86,9 +86,20 @@ pub struct Inlet {
     /// speed).
     #[serde(default)]
     pub temperature: f64,
-    /// Disks leaving through the floor's orifice come back in here (keeping their ids).
+    /// Disks leaving (through the floor's orifice or the exit height) come back in here
+    /// (keeping their ids).
     #[serde(default)]
     pub recycle: bool,
+    /// Radius of the new disks, in the forms of `particles.radius` (a species list's counts are
+    /// the odds of each species). Absent: the particles' own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<Radius>,
+    /// Mass of every new disk (absent: by `density`, else the particles' law).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Areal mass density of the new disks: mass = density·π·radius². Alternative to `mass`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 /// The box: its width, what bounds it in x and y.
@@ -116,6 +127,10 @@ pub struct Domain {
     /// Tangential restitution β ∈ [−1, 1] of the side walls and the lid (rough disks).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_tangential_restitution: Option<f64>,
+    /// Under an open top: a disk whose centre rises to this height leaves the scene (through
+    /// the pool, as through the floor's orifice). Absent: no disk leaves by the top.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exit_height: Option<f64>,
 }
 
 /// What bounds the domain in x.
@@ -687,6 +702,32 @@ pub enum MaskChoice {
     R10,
 }
 
+/// The mass a disk of radius `a` is given: its species' own, else `density`·π a², else `mass`
+/// (`None`: none of them is given).
+fn disk_mass(
+    a: f64,
+    species_mass: Option<f64>,
+    mass: Option<f64>,
+    density: Option<f64>,
+) -> Option<f64> {
+    species_mass
+        .or_else(|| density.map(|rho| rho * std::f64::consts::PI * a * a))
+        .or(mass)
+}
+
+impl Radius {
+    /// The smallest and largest radius of the law.
+    pub fn range(&self) -> (f64, f64) {
+        match self {
+            Radius::Fixed(r) => (*r, *r),
+            Radius::Uniform(u) => (u.min, u.max),
+            Radius::Species(list) => list.species.iter().fold((f64::INFINITY, 0.0), |acc, s| {
+                (acc.0.min(s.radius), acc.1.max(s.radius))
+            }),
+        }
+    }
+}
+
 fn one() -> f64 {
     1.0
 }
@@ -785,15 +826,46 @@ impl Scenario {
         }
     }
 
-    /// The smallest and largest disk radius.
+    /// The smallest and largest radius of the disks at the start.
     pub fn radius_range(&self) -> (f64, f64) {
-        match &self.particles.radius {
-            Radius::Fixed(r) => (*r, *r),
-            Radius::Uniform(u) => (u.min, u.max),
-            Radius::Species(list) => list.species.iter().fold((f64::INFINITY, 0.0), |acc, s| {
-                (acc.0.min(s.radius), acc.1.max(s.radius))
-            }),
-        }
+        self.particles.radius.range()
+    }
+
+    /// The radius law of the disks `inlet` brings: its own, else the particles'.
+    pub fn inlet_radius<'a>(&'a self, inlet: &'a Inlet) -> &'a Radius {
+        inlet.radius.as_ref().unwrap_or(&self.particles.radius)
+    }
+
+    /// The smallest and largest radius of the disks `inlet` brings.
+    pub fn inlet_radius_range(&self, inlet: &Inlet) -> (f64, f64) {
+        self.inlet_radius(inlet).range()
+    }
+
+    /// The smallest and largest radius of every disk the scene may hold: at the start and
+    /// through its inlets (what the grid, the masks and the orifice must allow for).
+    pub fn all_radius_range(&self) -> (f64, f64) {
+        self.inlets
+            .iter()
+            .map(|i| self.inlet_radius_range(i))
+            .fold(self.radius_range(), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            })
+    }
+
+    /// The mass of a disk of radius `a` at the start: its species' mass if given, else by
+    /// `particles.density`, else `particles.mass`, else of equal areal density, the smallest
+    /// disk weighing 1.
+    pub fn particle_mass(&self, a: f64, species_mass: Option<f64>) -> f64 {
+        let p = &self.particles;
+        let a_min = self.radius_range().0;
+        disk_mass(a, species_mass, p.mass, p.density).unwrap_or_else(|| (a / a_min).powi(2))
+    }
+
+    /// The mass of a disk of radius `a` that `inlet` brings: its species' mass if given, else
+    /// by the inlet's `density` or `mass`, else as a disk of that radius at the start.
+    pub fn inlet_mass(&self, inlet: &Inlet, a: f64, species_mass: Option<f64>) -> f64 {
+        disk_mass(a, species_mass, inlet.mass, inlet.density)
+            .unwrap_or_else(|| self.particle_mass(a, None))
     }
 
     /// Notes on what this (valid) scenario asks for that is likely unintended; see

@@ -785,7 +785,7 @@ fn orifices_that_cannot_be_are_refused_and_nothing_is_written() {
     pool_refuses(
         "orifice-rough",
         "silo.json",
-        &["collisions.friction=0.5"],
+        &["floor.friction=0.5"],
         "floor.orifice",
     );
     pool_refuses(
@@ -823,10 +823,67 @@ fn inlets_that_cannot_be_are_refused_and_nothing_is_written() {
         "inlets.0.recycle",
     );
     pool_refuses(
-        "inlet-species",
+        "inlet-ratio",
         "pour.json",
-        &["particles.radius={\"min\":0.4,\"max\":0.5}"],
-        "inlets.0.x",
+        &["inlets.0.radius={\"min\":0.05,\"max\":0.5}"],
+        "inlets.0.radius",
+    );
+    pool_refuses(
+        "inlet-radius-order",
+        "pour.json",
+        &["inlets.0.radius={\"min\":0.6,\"max\":0.5}"],
+        "inlets.0.radius.min",
+    );
+    pool_refuses(
+        "inlet-mass-and-density",
+        "pour.json",
+        &["inlets.0.mass=2", "inlets.0.density=1"],
+        "inlets.0.density",
+    );
+    pool_refuses(
+        "inlet-species-none",
+        "pour.json",
+        &["inlets.0.radius={\"species\":[{\"count\":0,\"radius\":0.4}]}"],
+        "inlets.0.radius.species",
+    );
+    // The inlet's largest disk must fit above the floor.
+    pool_refuses(
+        "inlet-large-low",
+        "pour.json",
+        &["inlets.0.radius=1.5", "inlets.0.y.from=1.2"],
+        "inlets.0.y.from",
     );
     pool_refuses("inlet-list", "pour.json", &["inlets={\"x\":1}"], "inlets");
+}
+
+#[test]
+fn exit_heights_that_cannot_be_are_refused_and_nothing_is_written() {
+    let cases: [(&str, &str, &[&str]); 5] = [
+        (
+            "exit-negative",
+            "vibrated_bed.json",
+            &["domain.exit_height=-1"],
+        ),
+        (
+            "exit-lid",
+            "vibrated_bed.json",
+            &[
+                "domain.y_boundary=lid",
+                "domain.height=40",
+                "domain.exit_height=30",
+            ],
+        ),
+        // The initial bed reaches above 6 (checked where the bed is placed).
+        ("exit-bed", "vibrated_bed.json", &["domain.exit_height=6"]),
+        // The inlet's box reaches 27 and its disks a radius more.
+        ("exit-inlet", "pour.json", &["domain.exit_height=27.2"]),
+        (
+            "exit-scheme",
+            "vibrated_bed.json",
+            &["domain.exit_height=30", "engine.scheme=time-step"],
+        ),
+    ];
+    for (test, scene, sets) in cases {
+        pool_refuses(test, scene, sets, "domain.exit_height");
+    }
 }

@@ -643,3 +643,22 @@ fn a_resumed_draining_silo_is_the_uninterrupted_silo() {
         15.0,
     );
 }
+
+/// Disks leaving at the top of a strongly vibrated bed and recycled by an inlet: the cut falls
+/// while they leave and come back.
+#[test]
+fn a_resumed_bed_losing_disks_at_the_top_is_the_uninterrupted_bed() {
+    resumed_equals_uninterrupted(
+        "exit-top",
+        "vibrated_bed.json",
+        &[
+            "floor.gamma=6",
+            "domain.exit_height=12",
+            r#"inlets=[{"x":{"from":1,"to":199},"y":{"from":9,"to":10},"recycle":true}]"#,
+            "run.warmup=2",
+            "engine.check_invariants=true",
+        ],
+        7.3,
+        15.0,
+    );
+}

@@ -293,6 +293,9 @@ impl Riders {
         self.lift.reserve_exact(more);
         self.support.reserve_exact(more);
         self.carries.reserve_exact(more * self.room);
+        if !self.slides.is_empty() {
+            self.slides.reserve_exact(more);
+        }
     }
 
     /// Flying disk `k` leaves, the last disk taking its number (no allocation): references to
