@@ -82,6 +82,17 @@ pub trait Integrator {
     fn time(&self) -> f64;
     /// Runs until absolute time `target`.
     fn advance_to(&mut self, target: f64) -> Result<Progress>;
+    /// Whether the engine runs on threads of its own ([`advance_beside`](Self::advance_beside)
+    /// then does other work on them).
+    fn has_threads(&self) -> bool {
+        false
+    }
+    /// Runs until `target` as [`advance_to`](Self::advance_to) does, with `beside` done on the
+    /// engine's threads meanwhile (by default first, on this thread).
+    fn advance_beside(&mut self, target: f64, beside: impl FnOnce() + Send) -> Result<Progress> {
+        beside();
+        self.advance_to(target)
+    }
     /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time `t ≥ time()`
     /// (`i` in the scenario's numbering, in any order; positions wrapped into a periodic box).
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4]));
