@@ -22,7 +22,7 @@ use crate::engine::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, 
 use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
-use crate::physics::walls::{nearest_image, SideBounds, Top};
+use crate::physics::walls::{into_period, nearest_image, SideBounds, Top};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 
@@ -267,22 +267,6 @@ pub(crate) fn wrap(sides: SideBounds, top: Top, mut x: f64, mut y: f64) -> (f64,
     (x, y)
 }
 
-/// `x.rem_euclid(period)`, without its division for a position at most one period outside the
-/// box (every disk after a step): there `x − period` is exact and `x + period` is what
-/// `rem_euclid` rounds to, so the bits are the same.
-#[inline(always)]
-fn into_period(x: f64, period: f64) -> f64 {
-    if (0.0..period).contains(&x) {
-        x
-    } else if (period..2.0 * period).contains(&x) {
-        x - period
-    } else if -period < x && x < 0.0 {
-        x + period
-    } else {
-        x.rem_euclid(period)
-    }
-}
-
 /// Wraps positions into the periodic box.
 pub(crate) fn wrap_positions(sides: SideBounds, top: Top, disks: &mut Disks) {
     for m in &mut disks.motion {
@@ -304,40 +288,5 @@ pub(crate) fn free_flight_visit<F: Flight>(
         let (x, y, vx, vy) = flight.advance(m.x, m.y, m.vx, m.vy, t - m.t);
         let (x, y) = wrap(sides, top, x, y);
         visit(i, [x, y, vx, vy]);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::into_period;
-    use rand::{Rng, SeedableRng};
-
-    /// The same bits as `rem_euclid` everywhere: within a period of the box, on its edges, far
-    /// away, for tiny negatives that round up to the period, and for NaN.
-    #[test]
-    fn into_period_is_rem_euclid() {
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
-        for period in [1.0, 0.1, 90.0, 2000.0, 3.3e-7] {
-            let edges = [
-                0.0,
-                -0.0,
-                period,
-                2.0 * period,
-                -period,
-                -1e-300,
-                -1e-17,
-                1e300,
-            ];
-            let random = (0..100_000).map(|_| (rng.random::<f64>() * 8.0 - 4.0) * period);
-            for x in edges.into_iter().chain(random) {
-                let (got, want) = (into_period(x, period), x.rem_euclid(period));
-                assert_eq!(
-                    got.to_bits(),
-                    want.to_bits(),
-                    "x = {x:e}, period = {period}"
-                );
-            }
-            assert!(into_period(f64::NAN, period).is_nan());
-        }
     }
 }
