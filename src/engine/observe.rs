@@ -1,13 +1,13 @@
 //! Observing the engine without changing it: accessors, snapshots of every disk at one time,
 //! and the overlap checks.
 
-use super::clock::into_period;
 use super::{EnergyFlow, EventCounts, JamCounts, Simulation, OVERLAP_TOLERANCE};
 use crate::error::{Error, Result};
 use crate::neighbours::{Cells, GridGeometry, Mask};
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
 use crate::physics::floor::Floor;
+use crate::physics::walls::into_period;
 use crate::physics::walls::{SideBounds, Top};
 
 /// Blocks of scenario numbers a visit of a renumbered engine's disks goes through.

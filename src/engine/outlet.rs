@@ -4,12 +4,12 @@
 //! orifice's geometry and root finding are [`physics::orifice`](crate::physics::orifice)'s; a
 //! disk leaving is the [`pool`](super::pool)'s.
 
-use super::clock::into_period;
 use super::event::code;
 use super::predict::{Next, State};
 use super::Simulation;
 use crate::physics::flight::{time_to_rise, Flight};
 use crate::physics::orifice::{corner_contact, time_below};
+use crate::physics::walls::into_period;
 use crate::physics::walls::SideBounds;
 
 impl<F: Flight> Simulation<F> {

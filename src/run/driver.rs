@@ -19,6 +19,7 @@ use crate::output::summary::{
 };
 use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::Watch;
+use crate::physics::disks::Disks;
 use crate::physics::walls::Top;
 use crate::run::checkpoint::Checkpoint;
 use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
@@ -68,6 +69,14 @@ pub(super) struct Driver<'a, E: Integrator> {
     /// The recording's live fields (`output.record_fields`) and the factor by which they forget
     /// their past at each frame.
     pub(super) live_fields: Option<(Fields, f64)>,
+    /// A sample taken at the last stop and not yet in the averages (engines with threads of
+    /// their own add it while they run on to the next stop), and a spare copy of the states for
+    /// the next one.
+    pub(super) taken: Option<Taken>,
+    pub(super) spare: Snapshot,
+    /// The disks' radii and masses, which such a sample's measurement reads while the engine
+    /// runs (engines with threads never change them; the states in this copy are not read).
+    pub(super) sizes: Option<Disks>,
 }
 
 impl<'a, E: Integrator> Driver<'a, E> {
@@ -141,6 +150,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
             failures: Failures::default(),
             watch: Watch::start(Vec::new()),
             live_fields,
+            taken: None,
+            spare: Snapshot::default(),
+            sizes: None,
         }
     }
 
@@ -227,8 +239,16 @@ impl<'a, E: Integrator> Driver<'a, E> {
         .write(&plan.path)
     }
 
-    /// Runs from stop to stop until the duration, the event limit or an interrupt.
+    /// Runs from stop to stop until the duration, the event limit or an interrupt, every sample
+    /// in the averages at the end.
     pub(super) fn run(&mut self, progress: &ProgressReport) -> Result<Ending> {
+        let ending = self.run_stops(progress);
+        self.settle();
+        ending
+    }
+
+    /// The stops of [`run`](Self::run).
+    fn run_stops(&mut self, progress: &ProgressReport) -> Result<Ending> {
         let text = format!(
             "start: {} disks, scene {}",
             self.sim.disks().len(),
@@ -244,7 +264,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 self.trajectory.is_some(),
                 self.averages.window.is_some(),
             );
-            match self.sim.advance_to(stop.time)? {
+            match self.advance_to(stop.time)? {
                 Progress::Reached => {}
                 Progress::EventLimit => return Ok(Ending::EventLimit),
                 Progress::Interrupted => return Ok(Ending::Interrupted),
@@ -326,6 +346,30 @@ impl<'a, E: Integrator> Driver<'a, E> {
         bins.sample(k, &self.snap, self.sim.disks(), floor);
     }
 
+    /// Runs the engine to `target`, adding the sample taken at the last stop meanwhile (on a
+    /// thread of the engine's own: the measurement does not keep its cores waiting). The
+    /// samples go into the averages in the order they were taken, as they would one by one.
+    fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        let Some(taken) = self.taken.take() else {
+            return self.sim.advance_to(target);
+        };
+        let sizes = self.sizes.get_or_insert_with(|| self.sim.disks().clone());
+        let (averages, g) = (&mut self.averages, self.g);
+        let progress = self
+            .sim
+            .advance_beside(target, || taken.add_to(averages, sizes, g));
+        self.spare = taken.snap;
+        progress
+    }
+
+    /// Adds the sample taken at the last stop, if it is not in the averages yet.
+    fn settle(&mut self) {
+        if let Some(taken) = self.taken.take() {
+            taken.add_to(&mut self.averages, self.sim.disks(), self.g);
+            self.spare = taken.snap;
+        }
+    }
+
     /// A sample: measured into the averages after the warm-up; invariants checked if asked.
     pub(super) fn sample(&mut self) -> Result<()> {
         self.stops.k_sample += 1;
@@ -336,10 +380,19 @@ impl<'a, E: Integrator> Driver<'a, E> {
             None
         };
         if self.averages.window.is_some() {
+            self.settle();
             fill_snapshot(&self.sim, self.now, &mut self.snap);
-            let states = Snapped(&self.snap, &self.sim);
-            let o = Observables::of(&states, self.sim.disks(), self.g);
-            self.averages.add(&states, self.sim.disks(), &o);
+            if self.sim.has_threads() {
+                self.taken = Some(Taken::of(
+                    &self.sim,
+                    &self.snap,
+                    std::mem::take(&mut self.spare),
+                ));
+            } else {
+                let states = Snapped(&self.snap, &self.sim);
+                let o = Observables::of(&states, self.sim.disks(), self.g);
+                self.averages.add(&states, self.sim.disks(), &o);
+            }
             self.averages.at_rest += at_rest as f64 / self.sim.disks().len() as f64;
         }
         if self.scene.check_invariants {
@@ -753,6 +806,44 @@ impl<E: Integrator> States for Snapped<'_, E> {
     }
     fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
         Some((self.1.inertia_factor()?, self.1.spins_at(self.0.time)?))
+    }
+}
+
+/// A sample's states, copied at its stop with the spins read there, to be measured later.
+pub(super) struct Taken {
+    snap: Snapshot,
+    rotational: Option<f64>,
+    spins: Option<(f64, Vec<(f64, f64)>)>,
+}
+
+impl Taken {
+    /// The states in `snap` with the spins of `sim` at their time, copied into `spare`.
+    fn of<E: Integrator>(sim: &E, snap: &Snapshot, mut spare: Snapshot) -> Taken {
+        spare.clone_from(snap);
+        let states = Snapped(snap, sim);
+        Taken {
+            snap: spare,
+            rotational: states.rotational_energy(),
+            spins: states.spins(),
+        }
+    }
+
+    /// Measures the sample into `averages` (`disks`: the radii and masses).
+    fn add_to(&self, averages: &mut Averages, disks: &Disks, g: f64) {
+        let o = Observables::of(self, disks, g);
+        averages.add(self, disks, &o);
+    }
+}
+
+impl States for Taken {
+    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
+        self.snap.each(f)
+    }
+    fn rotational_energy(&self) -> Option<f64> {
+        self.rotational
+    }
+    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
+        self.spins.clone()
     }
 }
 

@@ -22,7 +22,7 @@ use crate::engine::{EnergyFlow, EngineState, EventCounts, Progress, Simulation, 
 use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
-use crate::physics::walls::{nearest_image, SideBounds, Top};
+use crate::physics::walls::{into_period, nearest_image, SideBounds, Top};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 
@@ -82,6 +82,17 @@ pub trait Integrator {
     fn time(&self) -> f64;
     /// Runs until absolute time `target`.
     fn advance_to(&mut self, target: f64) -> Result<Progress>;
+    /// Whether the engine runs on threads of its own ([`advance_beside`](Self::advance_beside)
+    /// then does other work on them).
+    fn has_threads(&self) -> bool {
+        false
+    }
+    /// Runs until `target` as [`advance_to`](Self::advance_to) does, with `beside` done on the
+    /// engine's threads meanwhile (by default first, on this thread).
+    fn advance_beside(&mut self, target: f64, beside: impl FnOnce() + Send) -> Result<Progress> {
+        beside();
+        self.advance_to(target)
+    }
     /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time `t ≥ time()`
     /// (`i` in the scenario's numbering, in any order; positions wrapped into a periodic box).
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4]));
@@ -248,10 +259,10 @@ pub(crate) fn min_image(sides: SideBounds, top: Top, mut dx: f64, mut dy: f64) -
 #[inline(always)]
 pub(crate) fn wrap(sides: SideBounds, top: Top, mut x: f64, mut y: f64) -> (f64, f64) {
     if let SideBounds::Periodic { width } = sides {
-        x = x.rem_euclid(width);
+        x = into_period(x, width);
     }
     if let Top::Periodic { height } = top {
-        y = y.rem_euclid(height);
+        y = into_period(y, height);
     }
     (x, y)
 }

@@ -1009,6 +1009,14 @@ impl<F: Flight> Integrator for SpaceTime<F> {
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         self.cores.clone().run(|| self.run_to(target))
     }
+    fn has_threads(&self) -> bool {
+        true
+    }
+    fn advance_beside(&mut self, target: f64, beside: impl FnOnce() + Send) -> Result<Progress> {
+        self.cores
+            .clone()
+            .run(|| rayon::join(|| self.run_to(target), beside).0)
+    }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
     }

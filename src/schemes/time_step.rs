@@ -505,6 +505,14 @@ impl<F: Flight> Integrator for TimeStep<F> {
     fn advance_to(&mut self, target: f64) -> Result<Progress> {
         self.cores.clone().run(|| self.steps_to(target))
     }
+    fn has_threads(&self) -> bool {
+        true
+    }
+    fn advance_beside(&mut self, target: f64, beside: impl FnOnce() + Send) -> Result<Progress> {
+        self.cores
+            .clone()
+            .run(|| rayon::join(|| self.steps_to(target), beside).0)
+    }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
         free_flight_visit(self.flight, &self.disks, self.sides, self.top, t, visit);
     }

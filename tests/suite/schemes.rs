@@ -600,3 +600,64 @@ fn vx_and_spin(sim: &impl vibrobed::schemes::Integrator, t: f64) -> (f64, f64) {
     sim.visit_states(t, |_, s| vx = s[2]);
     (vx, sim.spins_at(t).unwrap()[0].1)
 }
+
+/// A recorder of the frames' heights of the centre of mass (equal masses: the mean y).
+#[derive(Clone, Default)]
+struct Heights(std::sync::Arc<std::sync::Mutex<Vec<(f64, f64)>>>);
+
+impl vibrobed::run::FrameSink for Heights {
+    fn frame(&mut self, f: &vibrobed::output::frame::FrameView) -> vibrobed::Result<()> {
+        let mean = f.y.iter().sum::<f64>() / f.y.len() as f64;
+        self.0.lock().unwrap().push((f.time, mean));
+        Ok(())
+    }
+    fn log_text(&mut self, _: f64, _: &str, _: &str) -> vibrobed::Result<()> {
+        Ok(())
+    }
+    fn finish(self: Box<Self>) -> vibrobed::Result<()> {
+        Ok(())
+    }
+}
+
+/// The schemes measure a sample on their threads while they run on to the next stop: each
+/// sample is still the state at its own stop, and the last one counts. The summary's centre of
+/// mass is the mean of the frames' (taken at the same times) to round-off, on 1 and 2 threads.
+#[test]
+fn samples_measured_beside_the_run_are_those_of_their_stops() {
+    for scheme in ["time-step", "space-time"] {
+        for threads in [1, 2] {
+            let sets = [
+                format!("engine.scheme={scheme}"),
+                format!("engine.threads={threads}"),
+                "run.duration=10".into(),
+                "run.warmup=2".into(),
+                "output.frame_interval=0.25".into(),
+            ];
+            let heights = Heights::default();
+            let s = run(
+                &with(BED, &sets),
+                RunOptions {
+                    sink: Some(Box::new(heights.clone())),
+                    ..RunOptions::default()
+                },
+            )
+            .expect("runs");
+            let frames = heights.0.lock().unwrap();
+            let window: Vec<f64> = (frames.iter())
+                .filter(|(t, _)| *t >= 2.0)
+                .map(|&(_, h)| h)
+                .collect();
+            assert_eq!(
+                window.len(),
+                33,
+                "{scheme} on {threads}: frames 2, 2.25, …, 10"
+            );
+            let mean = window.iter().sum::<f64>() / window.len() as f64;
+            let measured = s.com_height.expect("a bed has a centre of mass");
+            assert!(
+                rel(measured, mean) < 1e-12,
+                "{scheme} on {threads} threads: summary {measured}, frames {mean}"
+            );
+        }
+    }
+}

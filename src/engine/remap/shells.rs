@@ -22,7 +22,6 @@
 //! is bounded by its straight part plus `½ g τ²`, and a disk riding the floor by its sliding plus
 //! the floor's travel, so the event comes a little early, never late.
 
-use crate::engine::clock::into_period;
 use crate::engine::motion::Images;
 use crate::engine::Simulation;
 use crate::error::Result;
@@ -30,6 +29,7 @@ use crate::neighbours::Mask;
 use crate::physics::disks::PerDisk;
 use crate::physics::flight::Flight;
 use crate::physics::theory::mean_free_path;
+use crate::physics::walls::into_period;
 use crate::physics::walls::{SideBounds, Top};
 
 /// Re-anchorings per disk between two whole re-mappings.
