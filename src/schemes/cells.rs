@@ -201,6 +201,18 @@ impl CellList {
     /// different numbers of disks, and two threads split a dozen rows unevenly); the order is
     /// not shared out.
     pub fn pairs_where<T: Send>(&self, f: impl Fn(usize, usize) -> Option<T> + Sync) -> Vec<T> {
+        let mut found = Vec::new();
+        self.pairs_where_into(&mut found, f);
+        found
+    }
+
+    /// [`pairs_where`](Self::pairs_where) into `out`, whose memory is kept (a list rebuilt at
+    /// every few steps then costs no fresh pages).
+    pub fn pairs_where_into<T: Send>(
+        &self,
+        out: &mut Vec<T>,
+        f: impl Fn(usize, usize) -> Option<T> + Sync,
+    ) {
         let cells = self.nx * self.ny;
         let disks_per_cell = (self.next.len() / cells.max(1)).max(1);
         let pieces: Vec<Vec<T>> = (0..cells)
@@ -211,7 +223,11 @@ impl CellList {
                 found
             })
             .collect();
-        pieces.into_iter().flatten().collect()
+        out.clear();
+        out.reserve(pieces.iter().map(Vec::len).sum());
+        for piece in pieces {
+            out.extend(piece);
+        }
     }
 
     /// The pairs within cell `c` and between it and the cells its half stencil reaches, with

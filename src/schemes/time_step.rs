@@ -226,7 +226,7 @@ impl<F: Flight> TimeStep<F> {
             self.top,
         );
         let (sides, top, skin, radius) = (self.sides, self.top, self.skin, &self.disks.radius);
-        self.pairs = self.cells.pairs_where(|i, j| {
+        self.cells.pairs_where_into(&mut self.pairs, |i, j| {
             let (dx, dy) = min_image(
                 sides,
                 top,
@@ -236,10 +236,11 @@ impl<F: Flight> TimeStep<F> {
             let reach = radius[i] + radius[j] + skin;
             (dx * dx + dy * dy <= reach * reach).then_some((i as u32, j as u32))
         });
-        for (i, m) in motion.iter().enumerate() {
-            self.built_x[i] = m.x;
-            self.built_y[i] = m.y;
-        }
+        (self.built_x.par_iter_mut(), self.built_y.par_iter_mut())
+            .into_par_iter()
+            .zip(motion.par_iter())
+            .with_min_len(MIN_PIECE)
+            .for_each(|((x, y), m)| (*x, *y) = (m.x, m.y));
         self.counts.rebuild += 1;
     }
 
