@@ -532,6 +532,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes
     /// on), any other error ends the run.
     fn checkpoint(&mut self) -> Result<()> {
+        self.settle(); // the averages saved hold every sample taken
         let path = self.checkpoint.as_ref().map(|c| c.path.clone());
         let time = self.sim.time();
         match (self.save_checkpoint(), path) {
