@@ -14,6 +14,24 @@ use vibrobed::engine::Collision;
 use vibrobed::engine::{Scene, Simulation};
 use vibrobed::scenario::RemapChoice;
 
+/// The all-pairs reference started from the engine's disks in `snap` (the engine's time).
+fn reference_from<F: Flight>(
+    sim: &Simulation<F>,
+    scene: &Scene,
+    snap: &vibrobed::engine::Snapshot,
+) -> Reference<F> {
+    Reference::new(
+        sim.flight(),
+        snap,
+        &sim.disks().radius.to_vec(),
+        &sim.disks().mass.to_vec(),
+        scene.sides,
+        scene.top,
+        scene.floor.clone(),
+        scene.restitution,
+    )
+}
+
 fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize) {
     sim.set_logging(true);
     let n = sim.disks().len();
@@ -24,16 +42,7 @@ fn compare<F: Flight>(mut sim: Simulation<F>, scene: &Scene, total_events: usize
     while compared < total_events {
         let t0 = sim.time();
         let snap = sim.snapshot(t0);
-        let mut reference = Reference::new(
-            sim.flight(),
-            &snap,
-            &sim.disks().radius.to_vec(),
-            &sim.disks().mass.to_vec(),
-            scene.sides,
-            scene.top,
-            scene.floor.clone(),
-            scene.restitution,
-        );
+        let mut reference = reference_from(&sim, scene, &snap);
         if let (Some(laws), Some(spins)) = (scene.rough, sim.spins_at(t0)) {
             reference = reference.with_spins(laws, spins.iter().map(|s| s.1).collect());
         }
@@ -241,16 +250,7 @@ fn a_small_pour_between_entries() {
                 let t1 = (t0 + 0.05f64).min(entry);
                 let snap = sim.snapshot(t0);
                 assert_eq!(snap.ids, (0..snap.x.len() as u32).collect::<Vec<_>>());
-                let mut reference = Reference::new(
-                    sim.flight(),
-                    &snap,
-                    &sim.disks().radius.to_vec(),
-                    &sim.disks().mass.to_vec(),
-                    scene.sides,
-                    scene.top,
-                    scene.floor.clone(),
-                    scene.restitution,
-                );
+                let mut reference = reference_from(&sim, &scene, &snap);
                 sim.advance_to(t1).unwrap();
                 let engine_log = sim.take_log();
                 assert_same(&engine_log, &reference.run_until(t1), k);
