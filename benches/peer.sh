@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
-# Side by side with the fastest public 2D event-driven code (harddisks.c, in ../shared/peer-bench/),
+# Side by side with the fastest public 2D event-driven code (harddisks.c, in benches/peer/harddisks/),
 # vibrobed's default engine and Isobe's scheme as published (benches/peer/gas_isobe1999.json:
 # global DUTC re-mapping, complete binary tree, no renumbering), in one table. Each column is one
 # run of the peer benchmark (which re-measures the peer beside it): pair collisions per wall second
-# from runs of T and 2T (set-up cancels), medians of 3, one run per core.
+# from runs of T and 2T (set-up cancels), medians of 3, one run per core. Needs gcc, python3,
+# taskset and /usr/bin/time.
 #
 # Run from the project root:  benches/peer.sh          (N = 2500 and 1e5, ~10 min)
 #                             benches/peer.sh --big    (adds N = 1e6, ~40 min)
 set -euo pipefail
-peer="$(cd "$(dirname "$0")/../../shared/peer-bench" 2>/dev/null && pwd)" || {
-  echo "benches/peer.sh: ../shared/peer-bench not found beside the project" >&2; exit 2; }
+peer="$(cd "$(dirname "$0")/peer" && pwd)"
 work="$(mktemp -d)"
-gcc -Ofast -march=native -funroll-loops "$peer/harddisks.c" -o "$work/mdhdd" -lm 2>/dev/null
+gcc -Ofast -march=native -funroll-loops "$peer/harddisks/harddisks.c" -o "$work/mdhdd" -lm 2>/dev/null
 cargo build --release --no-default-features -q
 bin="${CARGO_TARGET_DIR:-target}/release/vibrobed"
 points="2500:0.3:2e6,2500:0.7:4e6,100000:0.3:3e6,100000:0.7:6e6"
