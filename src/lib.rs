@@ -1,23 +1,27 @@
 //! vibrobed: exact event-driven simulation of hard disks in 2D under gravity, on a vibrating
 //! floor, with an open top — Isobe's (1999) algorithm extended to infinite height.
 //!
-//! The crate is a few layers, each using only those above it (the book's contributing page says
-//! where a new rule, event source or output goes):
-//! - [`physics`]: the disks' state, free flight, pair collisions, restitution and its cures, the
-//!   side walls and the lid, the floor, known results for hard disks;
+//! The crate is a few layers, listed from the bottom up; each uses only the layers below it
+//! (`tests/suite/layers.rs` fails when a module imports one above it). The book's contributing
+//! page lists the same layers and says where a new rule, event source or output goes.
+//! - [`platform`]: allocator settings, prefetch hints, signals;
+//! - [`error`]: bad input (exit 2, naming the field) and failures while running (exit 1);
+//! - [`physics`]: the disks' state, free flight, pair collisions, restitution and its cures,
+//!   rough disks, the side walls and the lid, the floor and its drive, known results;
+//! - [`scheduler`]: the event queue (complete binary tree or calendar);
+//! - [`scenario`]: the scene description (read strictly, overridden with `--set`) and its
+//!   checks;
 //! - [`neighbours`]: who can meet whom — Isobe's grid (dense or hashed for an open top), masks,
 //!   neighbour lists;
-//! - [`scheduler`]: the event queue (complete binary tree or calendar);
 //! - [`engine`]: the exact event-driven engine — the scene and its initial state, the event
 //!   loop, the event kinds and their sources, re-mapping, disks at rest;
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison;
-//! - [`measure`]: what is measured (energies, temperature, profiles);
+//! - [`measure`]: what is measured (energies, temperature, profiles, the phase-resolved motion);
 //! - [`output`]: what is written (summary, recording, trajectories, progress);
-//! - [`scenario`]: the scene description (read strictly, overridden with `--set`) and its checks;
 //! - [`run`]: one run from scenario to outputs (driver, stops, checkpoints);
 //! - [`studies`]: what is made of many runs — accuracy against cost, parameter sweeps on local
 //!   cores or Slurm — and the figures they draw;
-//! - [`platform`]: allocator settings, prefetch hints, signals; [`cli`]: the command line.
+//! - [`cli`]: the command line.
 //!
 //! The brute-force reference engine the tests compare against lives with the tests
 //! (`tests/suite/common/reference.rs`).

@@ -114,31 +114,63 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
         recording_id,
         resume,
     };
-    match scene.gravity {
-        Some(g) => run_with(Ballistic { g }, s, &scene, disks, out, &opts),
-        None => run_with(Straight, s, &scene, disks, out, &opts),
-    }
+    let layout = scene_layout(s, &scene, &disks);
+    let then = Driving {
+        s,
+        scene: &scene,
+        layout,
+        out,
+        opts: &opts,
+    };
+    with_engine(s, &scene, disks, then)
 }
 
 /// Builds the scene and the engine of `engine.scheme` (grid, neighbour lists, first
 /// predictions) without simulating: `vibrobed check` accepts exactly what a run accepts.
 pub fn check(s: &Scenario) -> Result<()> {
     let (scene, disks) = Scene::build(s)?;
-    fn engine<F: Flight>(
+    struct Built;
+    impl WithEngine for Built {
+        type Output = ();
+        fn with<E: Integrator>(self, _: E) -> Result<()> {
+            Ok(())
+        }
+    }
+    with_engine(s, &scene, disks, Built)
+}
+
+/// What is done with the engine once it is built, whichever scheme and flight law it has.
+trait WithEngine {
+    /// What comes of it.
+    type Output;
+    /// Does it with engine `sim`.
+    fn with<E: Integrator>(self, sim: E) -> Result<Self::Output>;
+}
+
+/// Builds the engine of `engine.scheme` with the scene's flight law and hands it to `then`: the
+/// one place where a scheme and a flight law are chosen.
+fn with_engine<W: WithEngine>(
+    s: &Scenario,
+    scene: &Scene,
+    disks: crate::physics::disks::Disks,
+    then: W,
+) -> Result<W::Output> {
+    fn build<F: Flight, W: WithEngine>(
         flight: F,
         s: &Scenario,
         scene: &Scene,
         disks: crate::physics::disks::Disks,
-    ) -> Result<()> {
+        then: W,
+    ) -> Result<W::Output> {
         match s.engine.scheme {
-            Scheme::EventDriven => Simulation::new(flight, scene, disks).map(drop),
-            Scheme::TimeStep => TimeStep::new(flight, scene, disks, &s.engine).map(drop),
-            Scheme::SpaceTime => SpaceTime::new(flight, scene, disks, &s.engine).map(drop),
+            Scheme::EventDriven => then.with(Simulation::new(flight, scene, disks)?),
+            Scheme::TimeStep => then.with(TimeStep::new(flight, scene, disks, &s.engine)?),
+            Scheme::SpaceTime => then.with(SpaceTime::new(flight, scene, disks, &s.engine)?),
         }
     }
     match scene.gravity {
-        Some(g) => engine(Ballistic { g }, s, &scene, disks),
-        None => engine(Straight, s, &scene, disks),
+        Some(g) => build(Ballistic { g }, s, scene, disks, then),
+        None => build(Straight, s, scene, disks, then),
     }
 }
 
@@ -173,32 +205,29 @@ fn sink_for(
     }
 }
 
-/// Builds the engine of `engine.scheme` for the flight law and drives it.
-fn run_with<F: Flight>(
-    flight: F,
-    s: &Scenario,
-    scene: &Scene,
-    disks: crate::physics::disks::Disks,
-    mut out: Outputs,
-    opts: &RunOptions,
-) -> Result<Summary> {
-    let layout = scene_layout(s, scene, &disks);
-    match s.engine.scheme {
-        Scheme::EventDriven => {
-            let sim = Simulation::new(flight, scene, disks)?;
-            let sink = sink_for(&mut out, s, &layout)?;
-            drive(sim, s, scene, &layout, sink, out, opts)
-        }
-        Scheme::TimeStep => {
-            let sim = TimeStep::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(&mut out, s, &layout)?;
-            drive(sim, s, scene, &layout, sink, out, opts)
-        }
-        Scheme::SpaceTime => {
-            let sim = SpaceTime::new(flight, scene, disks, &s.engine)?;
-            let sink = sink_for(&mut out, s, &layout)?;
-            drive(sim, s, scene, &layout, sink, out, opts)
-        }
+/// A run's engine, once built, is driven through the scenario: its frame sink opened only now
+/// that the engine has accepted the initial state.
+struct Driving<'a> {
+    s: &'a Scenario,
+    scene: &'a Scene,
+    layout: SceneLayout,
+    out: Outputs,
+    opts: &'a RunOptions,
+}
+
+impl WithEngine for Driving<'_> {
+    type Output = Summary;
+    fn with<E: Integrator>(mut self, sim: E) -> Result<Summary> {
+        let sink = sink_for(&mut self.out, self.s, &self.layout)?;
+        drive(
+            sim,
+            self.s,
+            self.scene,
+            &self.layout,
+            sink,
+            self.out,
+            self.opts,
+        )
     }
 }
 

@@ -4,9 +4,10 @@
 use crate::engine::placement::{self, Region};
 use crate::engine::pool::{InletPlan, Newcomers};
 use crate::error::{Error, Result};
-use crate::physics::disks::Disks;
+use crate::physics::disks::{Disks, Spins};
 use crate::physics::floor::Floor;
-use crate::physics::rough::{Friction, Roughness, Spins};
+use crate::physics::restitution::Restitution;
+use crate::physics::rough::{Friction, Roughness};
 use crate::physics::walls::{SideBounds, Top};
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
@@ -32,12 +33,8 @@ pub struct Scene {
     pub floor: Option<Floor>,
     /// Gravity, if any.
     pub gravity: Option<f64>,
-    /// Pair restitution.
-    pub restitution: f64,
-    /// TC model duration, if on.
-    pub tc: Option<f64>,
-    /// Normal-speed cutoff of restitution, if on.
-    pub speed_cutoff: Option<f64>,
+    /// Pair restitution, made elastic by the cures of inelastic collapse that are on.
+    pub restitution: Restitution,
     /// Disks landing gently on disks at rest come to rest on them.
     pub resting_contacts: bool,
     /// The tangential laws of rough disks; `None` for smooth ones.
@@ -132,9 +129,11 @@ impl Scene {
             top,
             floor,
             gravity: s.gravity,
-            restitution: s.collisions.restitution,
-            tc: s.collisions.tc,
-            speed_cutoff: s.collisions.speed_cutoff,
+            restitution: Restitution {
+                e: s.collisions.restitution,
+                tc: s.collisions.tc,
+                speed_cutoff: s.collisions.speed_cutoff,
+            },
             resting_contacts: s.collisions.resting_contacts,
             rough: rough_laws(s),
             mask: s.engine.mask,

@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::neighbours::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
-use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::restitution::CollisionLaw;
 use crate::physics::walls::{SideBounds, Top};
 use crate::scenario::{GridChoice, MaskChoice, RemapChoice};
 use std::sync::atomic::AtomicBool;
@@ -218,14 +218,7 @@ impl<F: Flight> Simulation<F> {
                 exit_height: scene.exit_height,
                 outlets: scene.orifice.is_some() || scene.exit_height.is_some(),
             },
-            restitution: CollisionLaw::new(
-                Restitution {
-                    e: scene.restitution,
-                    tc: scene.tc,
-                    speed_cutoff: scene.speed_cutoff,
-                },
-                n,
-            ),
+            restitution: CollisionLaw::new(scene.restitution, n),
             friction: scene.rough,
             rest: Rest::new(scene.resting_contacts),
             tally: Tally::default(),

@@ -17,6 +17,7 @@
 use crate::measure::States;
 use crate::physics::disks::Disks;
 use crate::physics::floor::Floor;
+use crate::scenario::phase_stops::{stride, GROUP};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -51,7 +52,7 @@ impl PhaseClock {
             return None;
         }
         let origin = (floor.phase_origin() / TAU).rem_euclid(1.0);
-        let period = TAU / floor.omega;
+        let period = floor.drive().period();
         Some(PhaseClock {
             bins,
             period,
@@ -135,16 +136,6 @@ pub struct PhaseBins {
     /// A sample's disk bottoms and column sums, kept so that a sample allocates nothing.
     #[serde(skip)]
     scratch: (Vec<f64>, Vec<(f64, f64)>),
-}
-
-/// Periods in a group: motion that repeats every period, every second or every fourth period
-/// (a period-doubled bed whose shape swaps at each landing) is told apart.
-pub const GROUP: usize = 4;
-
-/// Every how many groups of periods of length `period` the phase stops resolve, `bins` a
-/// period, in a run sampled every `sample_dt`: no more phase stops than samples.
-pub fn stride(bins: usize, sample_dt: f64, period: f64) -> u64 {
-    (bins as f64 * sample_dt / period).ceil().max(1.0) as u64
 }
 
 /// The three ways of halving a group of four periods that a shape can swap between: every period
@@ -453,7 +444,7 @@ fn lower_edge(bottoms: &mut [f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::{FloorModel, Waveform};
+    use crate::physics::drive::{FloorModel, Waveform};
 
     fn floor(phase: f64) -> Floor {
         Floor::new(

@@ -9,8 +9,8 @@
 //! The phase `ωt + φ0` is kept reduced modulo 2π and re-based together with the engine's clock,
 //! so long runs keep full precision.
 
+use crate::physics::drive::{Drive, FloorModel, Waveform};
 use crate::physics::flight::time_to_fall;
-use crate::scenario::{FloorModel, Waveform};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// The floor: its motion and restitution.
@@ -105,9 +105,17 @@ impl Floor {
         }
     }
 
+    /// Its amplitude and angular frequency, with what follows from them (Γ, the period).
+    pub fn drive(&self) -> Drive {
+        Drive {
+            amplitude: self.amplitude,
+            omega: self.omega,
+        }
+    }
+
     /// `true` when the floor does not move.
     pub fn is_static(&self) -> bool {
-        self.amplitude == 0.0 || self.omega == 0.0
+        self.drive().is_static()
     }
 
     /// Lowest height the floor reaches (−A).
@@ -241,7 +249,7 @@ impl Floor {
         if self.is_static() {
             1.0
         } else {
-            TAU / self.omega
+            self.drive().period()
         }
     }
 
@@ -258,7 +266,7 @@ impl Floor {
 
     /// Largest |h'| of the floor.
     pub fn max_speed(&self) -> f64 {
-        self.amplitude * self.omega
+        self.drive().peak_velocity()
     }
 
     /// How far a disk riding the floor can move up or down with it, at most (0 in the

@@ -1,7 +1,7 @@
 //! Locals: things a single disk hits — side walls, the lid, the floor.
 
 use crate::physics::disks::Motion;
-use crate::physics::flight::{time_to_fall, time_to_rise};
+use crate::physics::flight::time_to_rise;
 use crate::physics::restitution::CollisionLaw;
 
 /// What bounds the domain in x.
@@ -196,12 +196,6 @@ fn rebound(v: &mut f64, after: f64, m: f64) -> f64 {
     let lost = 0.5 * m * (*v * *v - after * after);
     *v = after;
     lost
-}
-
-/// Time for a disk to fall onto a static plane `h` below it (exported for the reference engine).
-#[inline]
-pub fn static_floor_impact(y: f64, vy: f64, a: f64, g: f64) -> Option<f64> {
-    time_to_fall(y - a, vy, g)
 }
 
 #[cfg(test)]

@@ -745,11 +745,7 @@ fn bed_state(
         return None;
     }
     let indicators = Indicators {
-        gamma: if floor.is_static() {
-            0.0
-        } else {
-            floor.amplitude * floor.omega * floor.omega / g
-        },
+        gamma: floor.drive().gamma(g),
         at_rest: avg.at_rest / avg.samples as f64,
         at_rest_at_end,
         com_locking: phase.and_then(|p| p.com_locking),
@@ -936,7 +932,7 @@ fn forget_factor(scene: &Scene, frame_dt: f64) -> f64 {
 pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
     scene.gravity.is_none()
         && s.domain.y_boundary != YBoundary::Open
-        && scene.restitution == 1.0
+        && scene.restitution.e == 1.0
         && s.domain.wall_restitution == 1.0
         && scene
             .floor

@@ -1,7 +1,7 @@
 //! Physical sense of a typed scenario: every rule names the field it guards.
 
 use super::*;
-use crate::measure::phase::GROUP;
+use crate::scenario::phase_stops::{stride, GROUP};
 
 /// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
 pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
@@ -1048,13 +1048,14 @@ fn few_resolved_periods(s: &Scenario) -> Option<String> {
     let floor = s.floor.as_ref()?;
     s.gravity?;
     let shaken = floor.amplitude.or(floor.gamma).is_some_and(|a| a > 0.0);
-    let period = 1.0 / floor.frequency.filter(|f| *f > 0.0)?;
+    floor.frequency.filter(|f| *f > 0.0)?;
+    let period = floor.drive(s.gravity).period();
     let window = s.run.duration - s.run.warmup;
     if !shaken || window <= 0.0 {
         return None;
     }
     let bins = s.output.phase_bins;
-    let stride = crate::measure::phase::stride(bins, s.sample_interval(), period);
+    let stride = stride(bins, s.sample_interval(), period);
     let groups = (window / period / (GROUP as f64 * stride as f64)).floor();
     (groups < FEW_GROUPS).then(|| {
         format!(
@@ -1074,12 +1075,10 @@ fn can_rest(s: &Scenario) -> bool {
     let (Some(floor), Some(g)) = (s.floor.as_ref(), s.gravity.filter(|&g| g > 0.0)) else {
         return false;
     };
-    let gamma = match (floor.gamma, floor.frequency) {
-        (Some(gamma), _) => gamma,
-        (None, Some(f)) => s.floor_amplitude() * (2.0 * std::f64::consts::PI * f).powi(2) / g,
-        (None, None) => 0.0,
-    };
-    gamma < 1.0
+    floor
+        .gamma
+        .unwrap_or_else(|| floor.drive(s.gravity).gamma(g))
+        < 1.0
 }
 
 /// Fewest disks the collapse advisory calls a bed.
@@ -1108,9 +1107,8 @@ const DEEP: f64 = 15.0;
 
 /// A deep pile that can come to rest, its collapse cured by the speed cutoff: collisions slower
 /// than v_min are elastic, so motion between the sleep speed (≈ 10⁻³ √(g a), below which
-/// disks come to rest) and v_min is never dissipated (of twelve 400-disk piles, about 20
-/// layers, two kept rattling until the event limit — four before the resting-contact rules of
-/// the stop that added this note; every one with TC came to rest).
+/// disks come to rest) and v_min is never dissipated: piles about 20 layers deep may rattle
+/// until the event limit, where TC settles them (the book's speed-cutoff page).
 fn cutoff_in_a_deep_pile(s: &Scenario) -> Option<String> {
     let c = &s.collisions;
     let v_min = c.speed_cutoff?;

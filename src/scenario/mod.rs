@@ -7,8 +7,11 @@
 
 pub mod json;
 pub mod overrides;
+pub mod phase_stops;
 
 use crate::error::{Error, Result};
+use crate::physics::drive::Drive;
+pub use crate::physics::drive::{FloorModel, Waveform};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -195,6 +198,21 @@ pub struct Floor {
     pub orifice: Option<Orifice>,
 }
 
+impl Floor {
+    /// The drive this floor asks for under gravity `gravity`: `amplitude` at `frequency`, or
+    /// the amplitude of peak acceleration `gamma` (which needs gravity); static without either.
+    pub fn drive(&self, gravity: Option<f64>) -> Drive {
+        let f = self.frequency.unwrap_or(0.0);
+        match (self.amplitude, self.gamma, gravity) {
+            (Some(a), _, _) => Drive::new(a, f),
+            (None, Some(gamma), Some(g)) if self.frequency.is_some() => {
+                Drive::of_gamma(gamma, f, g)
+            }
+            _ => Drive::new(0.0, f),
+        }
+    }
+}
+
 /// A gap in the floor whose two edges are corners (points) the disks collide with; a disk that
 /// falls through it wholly below the floor leaves the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -204,30 +222,6 @@ pub struct Orifice {
     pub from: f64,
     /// Right edge x1 > x0.
     pub to: f64,
-}
-
-/// Shape of the floor vibration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum Waveform {
-    /// `A sin(ωt + φ0)`.
-    #[default]
-    Sine,
-    /// Piecewise-linear triangle wave with the same amplitude, period and phase convention.
-    Triangle,
-    /// Sawtooth: slow linear rise from −A to A over a period, then an instantaneous drop.
-    Sawtooth,
-}
-
-/// How floor impacts are located.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "kebab-case")]
-pub enum FloorModel {
-    /// The moving floor, exactly.
-    #[default]
-    Exact,
-    /// The floor stays at y = 0 for finding impacts; impacts use the moving floor's velocity.
-    FixedPosition,
 }
 
 /// The disks: how many, their sizes and masses, where they start and how fast.
@@ -874,17 +868,14 @@ impl Scenario {
         checks::advisories(self)
     }
 
+    /// The floor's drive, its amplitude given or from Γ (`None` without a floor).
+    pub fn floor_drive(&self) -> Option<Drive> {
+        self.floor.as_ref().map(|f| f.drive(self.gravity))
+    }
+
     /// Vibration amplitude of the floor (0 for a static floor or no floor).
     pub fn floor_amplitude(&self) -> f64 {
-        let Some(floor) = &self.floor else { return 0.0 };
-        match (floor.amplitude, floor.gamma, floor.frequency, self.gravity) {
-            (Some(a), _, _, _) => a,
-            (None, Some(gamma), Some(f), Some(g)) => {
-                let w = 2.0 * std::f64::consts::PI * f;
-                gamma * g / (w * w)
-            }
-            _ => 0.0,
-        }
+        self.floor_drive().map_or(0.0, |d| d.amplitude)
     }
 }
 

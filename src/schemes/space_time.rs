@@ -32,7 +32,7 @@
 //! again and collides at once if it approaches (a late collision, counted as missed). The
 //! strips' disks are copies, numbered in the order of their numbers in the scene; their tallies
 //! (counts, energy, virial) are added in the order of the strips, so the results do not depend
-//! on the threads. One strip is the scheme as before, bit for bit.
+//! on the threads. One strip is the undivided scheme: one event loop over every cell.
 
 use super::cells::CellList;
 use super::cores::{Cores, MIN_PIECE};
@@ -44,7 +44,7 @@ use crate::physics::disks::{Disks, Motion};
 use crate::physics::flight::Flight;
 use crate::physics::floor::{Floor, FloorEvent};
 use crate::physics::pair::{collide, contact_time};
-use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::restitution::CollisionLaw;
 use crate::physics::rough::Boundary;
 use crate::physics::walls::{Side, SideBounds, Top};
 use crate::scenario::Engine;
@@ -216,14 +216,7 @@ impl<F: Flight> SpaceTime<F> {
                 ));
             }
         }
-        let restitution = CollisionLaw::new(
-            Restitution {
-                e: scene.restitution,
-                tc: scene.tc,
-                speed_cutoff: scene.speed_cutoff,
-            },
-            n,
-        );
+        let restitution = CollisionLaw::new(scene.restitution, n);
         let event_limit = scene.max_events.unwrap_or(u64::MAX);
         let strip = Strip::empty(
             flight,

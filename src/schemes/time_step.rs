@@ -26,13 +26,14 @@ use super::{free_flight_visit, min_image, wrap, wrap_positions, Integrator, Sche
 use crate::engine::{EnergyFlow, EventCounts, Progress, Scene};
 use crate::error::{Error, Result};
 use crate::physics::disks::{Disks, Motion};
+use crate::physics::drive::FloorModel;
 use crate::physics::flight::Flight;
 use crate::physics::floor::Floor;
 use crate::physics::pair::{collide, contact_time};
-use crate::physics::restitution::{CollisionLaw, Restitution};
+use crate::physics::restitution::CollisionLaw;
 use crate::physics::rough::Boundary;
 use crate::physics::walls::{Side, SideBounds, Top};
-use crate::scenario::{Engine, FloorModel};
+use crate::scenario::Engine;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -157,14 +158,7 @@ impl<F: Flight> TimeStep<F> {
             sides: scene.sides,
             top: scene.top,
             floor: scene.floor.clone(),
-            restitution: CollisionLaw::new(
-                Restitution {
-                    e: scene.restitution,
-                    tc: scene.tc,
-                    speed_cutoff: scene.speed_cutoff,
-                },
-                n,
-            ),
+            restitution: CollisionLaw::new(scene.restitution, n),
             rub: Rub::new(scene.rough),
             dt,
             skin,

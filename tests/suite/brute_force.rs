@@ -28,7 +28,7 @@ fn reference_from<F: Flight>(
         scene.sides,
         scene.top,
         scene.floor.clone(),
-        scene.restitution,
+        scene.restitution.e,
     )
 }
 

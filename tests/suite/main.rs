@@ -20,6 +20,7 @@ mod gravity;
 mod grids;
 mod hard_cases;
 mod invariants;
+mod layers;
 mod pools;
 mod queues;
 mod record_e2e;

@@ -8,6 +8,7 @@
 use super::ensemble::{Ensemble, Measured};
 use super::{say, with_sets, EffectRow, Options};
 use crate::error::Result;
+use crate::physics::drive::Drive;
 use crate::run::{run, RunOptions};
 use crate::scenario::{Scenario, XBoundary, YBoundary};
 use serde_json::Value;
@@ -169,7 +170,7 @@ impl Scenes {
     fn floor_effects(&self) -> Vec<Effect<'_>> {
         let (floor_box, a, g) = (&self.floor_box, self.a, self.g);
         let freq = (g / a).sqrt() / 10.0;
-        let gamma_amp = |gamma: f64| gamma * g / (std::f64::consts::TAU * freq).powi(2);
+        let gamma_amp = |gamma: f64| Drive::of_gamma(gamma, freq, g).amplitude;
         let gravity = vec![format!("gravity={g:e}")];
         let vib = vec![
             format!("gravity={g:e}"),

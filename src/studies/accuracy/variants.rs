@@ -6,7 +6,8 @@ use super::ensemble::Ensemble;
 use super::fmt_g;
 use crate::engine::Scene;
 use crate::physics::disks::Disks;
-use crate::scenario::{FloorModel, Scenario, Waveform};
+use crate::physics::drive::{FloorModel, Waveform};
+use crate::scenario::Scenario;
 use crate::schemes::time_step;
 
 /// A variant: a family, a label and the overrides that make it.

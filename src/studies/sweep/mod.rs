@@ -5,7 +5,8 @@
 //! - [`local`]: one run into its folder, and the pool of worker threads (`sweep run`);
 //! - [`slurm`]: the job-array script and its submission (`sweep slurm`, `sweep task`);
 //! - [`collect`]: `runs.csv` and `points.csv` (`sweep collect`), with [`fit`] (power law) and
-//!   [`plot`] (SVG with error bars) and [`state_map`] (the phase diagram of the bed's states);
+//!   [`plot`] (SVG with error bars) and [`state_map`] (the phase diagram of the bed's states),
+//!   their axes described by [`quantities`] (each field's meaning and unit);
 //! - [`command`]: the `vibrobed sweep …` subcommands.
 
 pub mod collect;
@@ -14,5 +15,6 @@ pub mod fit;
 pub mod local;
 pub mod plan;
 pub mod plot;
+pub mod quantities;
 pub mod slurm;
 pub mod state_map;

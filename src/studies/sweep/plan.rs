@@ -118,13 +118,13 @@ pub struct RunSpec {
     pub sets: Vec<String>,
     /// The floor's drive at this point (scenes with a vibrating floor and gravity).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub drive: Option<Drive>,
+    pub drive: Option<PointDrive>,
 }
 
-/// The floor's drive, whichever fields the scenario sets: amplitude A, frequency f,
+/// The floor's drive at a point, whichever fields the scenario sets: amplitude A, frequency f,
 /// Γ = Aω²/g, peak velocity Aω (ω = 2πf).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Drive {
+pub struct PointDrive {
     /// Vibration amplitude A.
     pub amplitude: f64,
     /// Frequency f (cycles per unit time).
@@ -135,21 +135,19 @@ pub struct Drive {
     pub peak_velocity: f64,
 }
 
-impl Drive {
+impl PointDrive {
     /// The drive of a scenario with gravity and a vibrating floor.
-    pub fn of(s: &Scenario) -> Option<Drive> {
-        let (floor, g) = (s.floor.as_ref()?, s.gravity?);
-        let a = s.floor_amplitude();
-        let f = floor.frequency?;
-        if a <= 0.0 {
+    pub fn of(s: &Scenario) -> Option<PointDrive> {
+        let (drive, g) = (s.floor_drive()?, s.gravity?);
+        let frequency = s.floor.as_ref()?.frequency?;
+        if drive.amplitude <= 0.0 {
             return None;
         }
-        let w = 2.0 * std::f64::consts::PI * f;
-        Some(Drive {
-            amplitude: a,
-            frequency: f,
-            gamma: a * w * w / g,
-            peak_velocity: a * w,
+        Some(PointDrive {
+            amplitude: drive.amplitude,
+            frequency,
+            gamma: drive.gamma(g),
+            peak_velocity: drive.peak_velocity(),
         })
     }
 }
@@ -517,7 +515,7 @@ fn expand_runs(
                 seed: *seed,
                 values: values.clone(),
                 sets: run_sets,
-                drive: Drive::of(&scenario),
+                drive: PointDrive::of(&scenario),
             });
             scenarios.push(scenario);
         }

@@ -9,6 +9,7 @@ use crate::studies::figure::{
 };
 use crate::studies::sweep::collect::Stat;
 use crate::studies::sweep::fit::PowerFit;
+use crate::studies::sweep::quantities::{axis_label, quantity};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -36,92 +37,6 @@ const ROOM: Room = Room {
 const CAPTION: u32 = 32;
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
-
-/// What a field or sweep key means and its unit, in the scenario's units of length, time and
-/// mass. A name ending in `.` stands for every field under it.
-const QUANTITIES: [(&str, &str, &str); 34] = [
-    ("drive.amplitude", "floor amplitude A", "length"),
-    ("drive.frequency", "floor frequency f", "1/time"),
-    ("drive.gamma", "Γ = Aω²/g", "dimensionless"),
-    (
-        "drive.peak_velocity",
-        "peak floor velocity Aω",
-        "length/time",
-    ),
-    ("floor.amplitude", "floor amplitude A", "length"),
-    ("floor.frequency", "floor frequency f", "1/time"),
-    ("floor.gamma", "Γ = Aω²/g", "dimensionless"),
-    ("floor.restitution", "floor restitution", "dimensionless"),
-    ("floor.phase", "floor phase", "rad"),
-    ("collisions.restitution", "restitution e", "dimensionless"),
-    ("collisions.tc", "TC duration", "time"),
-    ("collisions.speed_cutoff", "speed cutoff", "length/time"),
-    ("particles.count", "disks", "count"),
-    ("particles", "disks", "count"),
-    ("particles.radius", "disk radius", "length"),
-    (
-        "particles.packing_fraction",
-        "packing fraction",
-        "dimensionless",
-    ),
-    (
-        "particles.temperature",
-        "initial temperature",
-        "mass·length²/time²",
-    ),
-    ("gravity", "gravity g", "length/time²"),
-    ("domain.width", "width", "length"),
-    ("domain.height", "height", "length"),
-    ("run.duration", "duration", "time"),
-    ("sim_time", "simulated time", "time"),
-    ("wall_seconds", "wall-clock time", "s"),
-    (
-        "collisions_per_second",
-        "collisions per wall-clock second",
-        "1/s",
-    ),
-    ("temperature.", "granular temperature", "mass·length²/time²"),
-    ("energy.", "energy", "mass·length²/time²"),
-    ("com_height", "centre-of-mass height", "length"),
-    (
-        "impacts_per_unit_time",
-        "floor impacts per unit time",
-        "1/time",
-    ),
-    (
-        "floor_pressure.",
-        "floor pressure (force per width)",
-        "mass/time²",
-    ),
-    ("packing_fraction", "packing fraction", "dimensionless"),
-    ("compressibility_factor", "Z = PA/(NkT)", "dimensionless"),
-    ("max_overlap", "largest overlap", "length"),
-    ("at_rest_since", "time to rest", "time"),
-    ("events.", "event count", "count"),
-];
-
-/// The meaning and unit of a summary field or sweep key (`None` if not known).
-fn quantity(name: &str) -> Option<(&'static str, &'static str)> {
-    QUANTITIES
-        .iter()
-        .find(|(key, ..)| {
-            if key.ends_with('.') {
-                name.starts_with(key)
-            } else {
-                name == *key
-            }
-        })
-        .map(|&(_, meaning, unit)| (meaning, unit))
-}
-
-/// The axis description of a field or sweep key: its name and unit, e.g.
-/// `drive.peak_velocity (length/time)`; `scenario units` when the unit is not known.
-pub fn axis_label(name: &str) -> String {
-    format!(
-        "{name} ({})",
-        quantity(name).map_or("scenario units", |q| q.1)
-    )
-}
 
 /// Axis range padded by a margin: a factor on log axes, a fraction of the span on linear ones.
 fn padded(lo: f64, hi: f64, log: bool) -> (f64, f64) {

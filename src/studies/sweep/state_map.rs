@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::studies::figure::{chart, legend, Axis, Key, Room, Shape, X_LABEL_GAP, Y_LABEL_GAP};
-use crate::studies::sweep::plot::axis_label;
+use crate::studies::sweep::quantities::axis_label;
 use plotters::prelude::*;
 use std::path::Path;
 
