@@ -150,21 +150,27 @@ pub enum Command {
     },
 }
 
-/// The output files a command line asks for.
+/// The output files a command line (or the Python package) asks for.
 #[derive(Default)]
-struct OutputArgs<'a> {
-    rrd: Option<&'a Path>,
-    summary: Option<&'a Path>,
-    profiles: Option<&'a Path>,
-    fields: Option<&'a Path>,
-    trajectory: Option<&'a Path>,
-    checkpoint: Option<&'a Path>,
+pub struct OutputArgs<'a> {
+    /// `--rrd`.
+    pub rrd: Option<&'a Path>,
+    /// `--summary`.
+    pub summary: Option<&'a Path>,
+    /// `--profiles`.
+    pub profiles: Option<&'a Path>,
+    /// `--fields`.
+    pub fields: Option<&'a Path>,
+    /// `--trajectory`.
+    pub trajectory: Option<&'a Path>,
+    /// `--checkpoint`.
+    pub checkpoint: Option<&'a Path>,
 }
 
 /// Refuses, before anything runs, output files that cannot be written: a path that is a
 /// directory or lies in a directory that does not exist, profiles of a scene without gravity,
 /// a recording from a build without recording. A run that starts can write all it was asked for.
-fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
+pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
     let scenario_rrd = s.output.rrd.as_deref().map(Path::new);
     let scenario_trajectory = s.output.trajectory.as_deref().map(Path::new);
     let files = [
@@ -403,12 +409,7 @@ fn run_scenario(
         Some(path) => Some(CheckpointPlan {
             path,
             every: checkpoint_every,
-            scenario: std::fs::read_to_string(scenario).map_err(|e| {
-                Error::input(
-                    "SCENARIO",
-                    format!("cannot read {}: {e}", scenario.display()),
-                )
-            })?,
+            scenario: Scenario::read_text(scenario)?,
             source: scenario.to_path_buf(),
             sets: sets.to_vec(),
         }),
@@ -423,28 +424,18 @@ fn run_scenario(
 fn resume(
     checkpoint_file: &Path,
     sets: &[String],
-    mut files: RunFiles,
+    files: RunFiles,
     checkpoint_every: Option<f64>,
     quiet: bool,
 ) -> Result<i32> {
-    check_resume_sets(sets)?;
-    let ck = Checkpoint::read(checkpoint_file)?;
-    if let Some(path) = &files.rrd {
-        refuse_earlier_recording(&ck, path)?;
-    }
-    let all_sets: Vec<String> = ck.sets.iter().chain(sets).cloned().collect();
-    let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+    let (s, plan, ck) = resumed(
+        checkpoint_file,
+        sets,
+        files.rrd.as_deref(),
+        files.checkpoint.clone(),
+        checkpoint_every,
+    )?;
     output_paths(&s, &files.as_output_args())?;
-    let plan = CheckpointPlan {
-        path: files
-            .checkpoint
-            .take()
-            .unwrap_or_else(|| checkpoint_file.to_path_buf()),
-        every: checkpoint_every.or(ck.every),
-        scenario: ck.scenario.clone(),
-        source: ck.source.clone(),
-        sets: all_sets,
-    };
     if !quiet {
         eprintln!(
             "resuming {} (scenario {}) at t = {}",
@@ -453,7 +444,35 @@ fn resume(
             ck.driver.time()
         );
     }
-    simulate(&s, files, Some(plan), Some(Box::new(ck)), quiet)
+    simulate(&s, files, Some(plan), Some(ck), quiet)
+}
+
+/// What a resume continues: the checkpoint read from `checkpoint_file`, its scene with the
+/// resume's overrides (`run.duration` and `run.max_events` only) after the run's own, and where
+/// and how often to go on checkpointing (by default into the same file at the saved interval).
+/// Refuses a recording `rrd` that holds an earlier part of the run.
+pub fn resumed(
+    checkpoint_file: &Path,
+    sets: &[String],
+    rrd: Option<&Path>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: Option<f64>,
+) -> Result<(Scenario, CheckpointPlan, Box<Checkpoint>)> {
+    check_resume_sets(sets)?;
+    let ck = Checkpoint::read(checkpoint_file)?;
+    if let Some(path) = rrd {
+        refuse_earlier_recording(&ck, path)?;
+    }
+    let all_sets: Vec<String> = ck.sets.iter().chain(sets).cloned().collect();
+    let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+    let plan = CheckpointPlan {
+        path: checkpoint.unwrap_or_else(|| checkpoint_file.to_path_buf()),
+        every: checkpoint_every.or(ck.every),
+        scenario: ck.scenario.clone(),
+        source: ck.source.clone(),
+        sets: all_sets,
+    };
+    Ok((s, plan, Box::new(ck)))
 }
 
 /// Refuses to record the resumed part into a file that holds an earlier part of the run:

@@ -1,6 +1,7 @@
 //! What the machine and the operating system offer the run: allocator settings for large scenes,
-//! memory prefetch hints, and the signals that stop a run.
+//! memory prefetch hints, the signals that stop a run, and the file the code was loaded from.
 
+pub mod binary;
 pub mod memory;
 pub mod prefetch;
 pub mod signals;

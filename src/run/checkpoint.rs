@@ -58,14 +58,12 @@ pub struct Checkpoint {
     pub engine: EngineState,
 }
 
-/// A hash of this executable: checkpoints are exact only on the build that wrote them.
+/// A hash of the file this code was loaded from (the executable, or the Python package's
+/// extension module): checkpoints are exact only on the build that wrote them.
 static BUILD_ID: LazyLock<u64> = LazyLock::new(|| {
     let mut h = std::hash::DefaultHasher::new();
     h.write(env!("CARGO_PKG_VERSION").as_bytes());
-    if let Some(bytes) = std::env::current_exe()
-        .ok()
-        .and_then(|p| std::fs::read(p).ok())
-    {
+    if let Some(bytes) = crate::platform::binary::own_file().and_then(|p| std::fs::read(p).ok()) {
         h.write(&bytes);
     }
     h.finish()

@@ -763,10 +763,13 @@ impl Scenario {
 
     /// Reads, overrides and validates a scenario file.
     pub fn load(path: &std::path::Path, sets: &[String]) -> Result<Scenario> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::input("SCENARIO", format!("cannot read {}: {e}", path.display()))
-        })?;
-        Scenario::from_json_with_overrides(&text, sets)
+        Scenario::from_json_with_overrides(&Scenario::read_text(path)?, sets)
+    }
+
+    /// The text of a scenario file; one that cannot be read is bad input (`SCENARIO`).
+    pub fn read_text(path: &std::path::Path) -> Result<String> {
+        std::fs::read_to_string(path)
+            .map_err(|e| Error::input("SCENARIO", format!("cannot read {}: {e}", path.display())))
     }
 
     /// Typed view of a JSON value; errors name the dotted path of the offending field.

@@ -214,7 +214,7 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32
 }
 
 /// Refuses (exit 2) an output directory that cannot be created or written in, before any run.
-fn writable_out(out: &Path) -> Result<()> {
+pub fn writable_out(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)
         .map_err(|e| Error::input("--out", format!("cannot create {}: {e}", out.display())))?;
     crate::output::writable_directory(&out.join("plan.json"))

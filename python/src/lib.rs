@@ -1,0 +1,156 @@
+//! `vibrobed._vibrobed`: the native part of the Python package. It calls the vibrobed library as
+//! the command line does — the same checks, messages, engine and outputs — and hands results
+//! back as JSON text and numpy arrays; python/vibrobed/ wraps it into the Python API (dicts,
+//! DataFrames, the `Result` and `Frame` types).
+
+mod detached;
+mod errors;
+mod files;
+mod frames;
+mod given;
+mod running;
+mod sweep;
+
+use errors::IntoPy;
+use files::Files;
+use given::Given;
+use pyo3::prelude::*;
+use running::{simulate, Ran, Start};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use vibrobed::cli::{output_paths, resumed, OutputArgs};
+use vibrobed::run::CheckpointPlan;
+
+/// The typed scenario as JSON (every default filled in) and its advisories (what the command
+/// line prints as notes).
+#[pyfunction]
+#[pyo3(signature = (path=None, text=None, sets=Vec::new()))]
+fn load(
+    path: Option<PathBuf>,
+    text: Option<String>,
+    sets: Vec<String>,
+) -> PyResult<(String, Vec<String>)> {
+    let s = Given::new(path, text, sets)
+        .and_then(|g| g.scenario())
+        .py()?;
+    let json = serde_json::to_string(&s).expect("a scenario serialises");
+    Ok((json, s.advisories()))
+}
+
+/// `vibrobed check`: the scenario, its scene and engine built without running; the disk count.
+#[pyfunction]
+#[pyo3(signature = (path=None, text=None, sets=Vec::new()))]
+fn check(
+    py: Python<'_>,
+    path: Option<PathBuf>,
+    text: Option<String>,
+    sets: Vec<String>,
+) -> PyResult<usize> {
+    let s = Given::new(path, text, sets)
+        .and_then(|g| g.scenario())
+        .py()?;
+    py.detach(|| vibrobed::run::check(&s)).py()?;
+    output_paths(&s, &OutputArgs::default()).py()?;
+    Ok(s.disk_count())
+}
+
+/// `vibrobed run`: `files` maps option names (`rrd`, `summary`, `profiles`, `fields`,
+/// `trajectory`, `checkpoint`) to paths.
+#[pyfunction]
+#[pyo3(signature = (path=None, text=None, sets=Vec::new(), files=HashMap::new(),
+                    checkpoint_every=None, measure_fields=false, progress=false))]
+#[allow(clippy::too_many_arguments)]
+fn run(
+    py: Python<'_>,
+    path: Option<PathBuf>,
+    text: Option<String>,
+    sets: Vec<String>,
+    files: HashMap<String, PathBuf>,
+    checkpoint_every: Option<f64>,
+    measure_fields: bool,
+    progress: bool,
+) -> PyResult<Ran> {
+    let given = Given::new(path, text, sets).py()?;
+    let s = given.scenario().py()?;
+    let files = Files::from_map(files).py()?;
+    output_paths(&s, &files.args()).py()?;
+    let checkpoint = files.checkpoint.clone().map(|path| CheckpointPlan {
+        path,
+        every: checkpoint_every,
+        scenario: given.text.clone(),
+        source: given.source.clone(),
+        sets: given.sets.clone(),
+    });
+    let start = Start {
+        checkpoint,
+        resume: None,
+        measure_fields,
+        progress,
+    };
+    simulate(py, &s, &files, start)
+}
+
+/// `vibrobed resume`: continues the run a checkpoint holds (`sets`: only `run.duration` and
+/// `run.max_events`).
+#[pyfunction]
+#[pyo3(signature = (checkpoint_file, sets=Vec::new(), files=HashMap::new(),
+                    checkpoint_every=None, progress=false))]
+fn resume(
+    py: Python<'_>,
+    checkpoint_file: PathBuf,
+    sets: Vec<String>,
+    files: HashMap<String, PathBuf>,
+    checkpoint_every: Option<f64>,
+    progress: bool,
+) -> PyResult<Ran> {
+    let files = Files::from_map(files).py()?;
+    let (s, plan, ck) = resumed(
+        &checkpoint_file,
+        &sets,
+        files.rrd.as_deref(),
+        files.checkpoint.clone(),
+        checkpoint_every,
+    )
+    .py()?;
+    output_paths(&s, &files.args()).py()?;
+    let start = Start {
+        checkpoint: Some(plan),
+        resume: Some(ck),
+        measure_fields: false,
+        progress,
+    };
+    simulate(py, &s, &files, start)
+}
+
+/// `vibrobed sweep run`: (ran now, done before, interrupted, failed).
+#[pyfunction]
+#[pyo3(signature = (sweep, out, jobs=None, progress=false))]
+fn sweep_run(
+    py: Python<'_>,
+    sweep: PathBuf,
+    out: PathBuf,
+    jobs: Option<usize>,
+    progress: bool,
+) -> PyResult<sweep::Report> {
+    sweep::run(py, &sweep, &out, jobs, progress)
+}
+
+/// `vibrobed sweep collect` without a plot: `runs.csv` and `points.csv` as text.
+#[pyfunction]
+fn sweep_collect(py: Python<'_>, out: PathBuf) -> PyResult<(String, String)> {
+    py.detach(|| sweep::collect(&out)).py()
+}
+
+#[pymodule]
+fn _vibrobed(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
+    m.add_class::<frames::Frames>()?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(resume, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_run, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_collect, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! One run from Python, as `vibrobed run` and `vibrobed resume` run it: the outputs checked
+//! before it starts, the engine off the GIL on its own thread (Ctrl-C stops it cleanly), the
+//! files written at the end, and the summary and the 2D fields handed back.
+
+use crate::detached;
+use crate::errors::IntoPy;
+use crate::files::Files;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vibrobed::measure::fields::Fields;
+use vibrobed::output::summary::Summary;
+use vibrobed::run::checkpoint::Checkpoint;
+use vibrobed::run::{CheckpointPlan, RunOptions};
+use vibrobed::Scenario;
+
+/// What a run hands back: the summary's JSON (the command line's, byte for byte) and the 2D
+/// fields when they were measured.
+pub type Ran = (String, Option<Py<PyDict>>);
+
+/// What a run starts from, beside its scenario and its files.
+pub struct Start {
+    /// Where and how often to checkpoint.
+    pub checkpoint: Option<CheckpointPlan>,
+    /// The checkpoint a resume continues.
+    pub resume: Option<Box<Checkpoint>>,
+    /// Measure the 2D fields even when no file is asked for.
+    pub measure_fields: bool,
+    /// Progress on stderr.
+    pub progress: bool,
+}
+
+/// Runs `s` (its outputs already checked), writes the files of `files`, and hands back the
+/// summary and the fields.
+pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> PyResult<Ran> {
+    let stop = detached::stop_flag();
+    let Start {
+        checkpoint,
+        resume,
+        measure_fields,
+        progress,
+    } = start;
+    let (rrd, trajectory) = (files.rrd.clone(), files.trajectory.clone());
+    let written_after = files.written_after();
+    let fields = measure_fields || files.fields.is_some();
+    let summary = detached::run(py, stop, move || {
+        vibrobed::run::run(
+            s,
+            RunOptions {
+                rrd,
+                trajectory,
+                sink: None,
+                interrupt: Some(stop),
+                checkpoint,
+                resume,
+                progress,
+                fields,
+                written_after,
+            },
+        )
+    })?
+    .py()?;
+    files.write(&summary).py()?;
+    ran(py, &summary)
+}
+
+/// The summary's JSON and the fields as numpy arrays.
+pub fn ran(py: Python<'_>, summary: &Summary) -> PyResult<Ran> {
+    let fields = summary
+        .fields
+        .as_ref()
+        .map(|f| fields_dict(py, f))
+        .transpose()?;
+    Ok((summary.to_json(), fields))
+}
+
+/// The 2D fields: `x` (the cells' centres across, `nx`) and `y` (up, `ny`), and each quantity
+/// as an `ny × nx` array (row j at height `y[j]`; NaN where it is undefined).
+fn fields_dict(py: Python<'_>, f: &Fields) -> PyResult<Py<PyDict>> {
+    let g = *f.grid();
+    let out = PyDict::new(py);
+    let x: Vec<f64> = (0..g.nx).map(|i| g.centre(i, 0)[0]).collect();
+    let y: Vec<f64> = (0..g.ny).map(|j| g.centre(0, j)[1]).collect();
+    out.set_item("x", PyArray1::from_vec(py, x))?;
+    out.set_item("y", PyArray1::from_vec(py, y))?;
+    for (name, values) in vibrobed::output::fields::columns(f) {
+        let grid = PyArray1::from_vec(py, values).reshape([g.ny, g.nx])?;
+        out.set_item(name, grid)?;
+    }
+    Ok(out.unbind())
+}

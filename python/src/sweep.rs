@@ -1,0 +1,54 @@
+//! A sweep from Python, as `vibrobed sweep run` runs it on this machine's cores, and its tables
+//! as `vibrobed sweep collect` makes them. The Slurm path stays the command line's.
+
+use crate::detached;
+use crate::errors::IntoPy;
+use pyo3::prelude::*;
+use std::path::Path;
+use std::sync::atomic::Ordering;
+use vibrobed::platform::signals::stop_flag;
+use vibrobed::studies::sweep::command::writable_out;
+use vibrobed::studies::sweep::local::run_pool;
+use vibrobed::studies::sweep::plan::expand;
+use vibrobed::{Error, Result};
+
+/// How a sweep went: runs completed now, done before, interrupted, and the failed ones (index
+/// and message).
+pub type Report = (usize, usize, usize, Vec<(usize, String)>);
+
+/// Runs every run of the sweep file `sweep` not yet done into `out` on `jobs` workers (default:
+/// every core), off the GIL; Ctrl-C stops the pool as SIGINT stops `sweep run`.
+pub fn run(
+    py: Python<'_>,
+    sweep: &Path,
+    out: &Path,
+    jobs: Option<usize>,
+    progress: bool,
+) -> PyResult<Report> {
+    if jobs == Some(0) {
+        return Err(Error::input("--jobs", "must be at least 1")).py();
+    }
+    let exp = expand(sweep).py()?;
+    exp.check_scenes().py()?;
+    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    writable_out(out).py()?;
+    // The pool and its runs watch the process's stop flag (the signal handlers' on the command
+    // line): raised by Ctrl-C here, lowered again once the pool has stopped.
+    let flag = stop_flag();
+    let report = detached::run(py, flag, || run_pool(&exp, out, jobs, progress));
+    flag.store(false, Ordering::Relaxed);
+    let report = report?.py()?;
+    Ok((
+        report.ran,
+        report.skipped,
+        report.interrupted,
+        report.failed,
+    ))
+}
+
+/// `runs.csv` and `points.csv` of the sweep in `out`, as text (also written into `out`).
+pub fn collect(out: &Path) -> Result<(String, String)> {
+    let collected = vibrobed::studies::sweep::collect::collect(out)?;
+    collected.write_tables(out)?;
+    Ok((collected.runs_csv(), collected.points_csv()))
+}

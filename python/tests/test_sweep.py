@@ -1,0 +1,44 @@
+"""A local sweep from Python: its runs, and its tables as DataFrames."""
+
+import json
+
+import pytest
+
+import vibrobed
+from conftest import ROOT
+
+
+def test_a_sweep_and_its_tables(tmp_path, bed):
+    pd = pytest.importorskip("pandas")
+    spec = {
+        "name": "gamma",
+        "scenario": str(bed),
+        "set": ["run.duration=4", "run.warmup=1"],
+        "axes": [{"key": "floor.gamma", "values": [2, 4]}],
+        "seeds": 2,
+    }
+    s = vibrobed.sweep(spec, tmp_path / "out", jobs=2)
+    assert (s.ran, s.skipped, s.interrupted) == (4, 0, 0)
+    assert isinstance(s.points, pd.DataFrame) and len(s.points) == 2
+    assert len(s.runs) == 4 and set(s.runs["ending"]) == {"completed"}
+    assert list(s.points["floor.gamma"]) == [2, 4]
+    # The tables are the files `sweep collect` writes.
+    assert pd.read_csv(tmp_path / "out" / "points.csv").equals(s.points)
+    # Run again: every run is done.
+    again = vibrobed.sweep(spec, tmp_path / "out")
+    assert (again.ran, again.skipped) == (0, 4)
+    # A run's summary is the one a run from Python gives.
+    summary = json.loads((tmp_path / "out" / "0" / "summary.json").read_text())
+    assert summary["ending"] == "completed"
+
+
+def test_a_shipped_sweep_file_is_checked_first(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({
+        "scenario": str(ROOT / "scenarios" / "vibrated_bed.json"),
+        "axes": [{"key": "particles.radius", "values": [-1]}],
+    }))
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.sweep(bad, tmp_path / "out")
+    assert "particles.radius" in str(e.value)
+    assert not (tmp_path / "out" / "0").exists()

@@ -1,0 +1,413 @@
+"""vibrobed from Python: run a scenario as the command line runs it, and read its results as
+arrays.
+
+The engine, the checks and the messages are the command line's (``vibrobed run``, ``check``,
+``resume``, ``sweep run``); the results come back as a dict (the summary, bit for bit the
+command line's), pandas DataFrames (profiles, sweep tables; dicts of numpy arrays without
+pandas) and numpy arrays (2D fields, velocity distributions, frames).
+
+    import vibrobed
+    r = vibrobed.run("scenarios/vibrated_bed.json", set={"floor.gamma": 4})
+    r.summary["temperature"]["mean"], r.profiles["packing_fraction"]
+
+A scenario is a file's path or a dict; overrides (``set``) are ``KEY=VALUE`` strings, as
+``--set`` takes them, or a dict from dotted path to value. Bad input raises ``ScenarioError`` (a
+``ValueError``) with the command line's message; its ``field`` names the culprit. A file that
+cannot be read or written raises ``OSError``. Ctrl-C stops a run cleanly at its next event: the
+result covers the time simulated so far (``result.ending == "interrupted"``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from typing import Any, Dict, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _vibrobed as _native
+from ._vibrobed import ScenarioError, __version__
+
+__all__ = [
+    "ScenarioError",
+    "load",
+    "check",
+    "run",
+    "resume",
+    "frames",
+    "sweep",
+    "collect",
+    "Result",
+    "Fields",
+    "Frame",
+    "Frames",
+    "Sweep",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+Scenario = Union[PathLike, Mapping[str, Any]]
+Sets = Union[None, str, Sequence[str], Mapping[str, Any]]
+
+
+def _given(scenario: Scenario) -> Dict[str, Any]:
+    """The native functions' ``path`` or ``text`` for a file's path or a dict."""
+    if isinstance(scenario, Mapping):
+        return {"text": json.dumps(scenario)}
+    return {"path": os.fspath(scenario)}
+
+
+def _sets(sets: Sets) -> List[str]:
+    """``--set`` overrides: ``KEY=VALUE`` strings as given, or a dict's items with their values
+    written as JSON (``{"floor.gamma": 4}`` is ``floor.gamma=4``)."""
+    if sets is None:
+        return []
+    if isinstance(sets, str):
+        return [sets]
+    if isinstance(sets, Mapping):
+        return [f"{key}={json.dumps(value)}" for key, value in sets.items()]
+    return [str(s) for s in sets]
+
+
+def _files(**paths: Optional[PathLike]) -> Dict[str, str]:
+    return {name: os.fspath(p) for name, p in paths.items() if p is not None}
+
+
+def _table(columns: Mapping[str, Sequence[Any]]):
+    """A DataFrame of ``columns`` with pandas, else a dict of numpy arrays."""
+    try:
+        import pandas as pd
+    except ImportError:
+        return {name: np.asarray(values) for name, values in columns.items()}
+    return pd.DataFrame({name: np.asarray(values) for name, values in columns.items()})
+
+
+def _csv_table(text: str):
+    """A CSV table (the sweep's ``runs.csv``, ``points.csv``) as :func:`_table` gives it."""
+    try:
+        import pandas as pd
+    except ImportError:
+        import csv
+        import io
+
+        rows = list(csv.reader(io.StringIO(text)))
+        header, body = rows[0], rows[1:]
+        out = {}
+        for k, name in enumerate(header):
+            values = [row[k] for row in body]
+            try:
+                out[name] = np.array([float(v) if v != "" else np.nan for v in values])
+            except ValueError:
+                out[name] = np.array(values, dtype=object)
+        return out
+    import io
+
+    return pd.read_csv(io.StringIO(text))
+
+
+def _arrays(value: Any) -> Any:
+    """``value`` with every list of numbers (or of such lists) as a numpy array."""
+    if isinstance(value, dict):
+        return {k: _arrays(v) for k, v in value.items()}
+    if isinstance(value, list):
+        items = [_arrays(v) for v in value]
+        try:
+            return np.asarray(items, dtype=float)
+        except (TypeError, ValueError):
+            return items
+    return value
+
+
+def _advise(notes: Sequence[str]) -> None:
+    for note in notes:
+        warnings.warn(f"vibrobed: note: {note}", stacklevel=3)
+
+
+class Fields:
+    """The time-averaged 2D fields (``run(fields=...)``): ``x`` (cell centres across, nx) and
+    ``y`` (up, ny), and each quantity as an ``ny × nx`` array, row j at height ``y[j]``, NaN
+    where undefined; ``fields["packing_fraction"]``, ``fields.names``."""
+
+    def __init__(self, arrays: Dict[str, np.ndarray]):
+        self.x = arrays.pop("x")
+        self.y = arrays.pop("y")
+        self._arrays = arrays
+
+    @property
+    def names(self) -> List[str]:
+        return list(self._arrays)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self._arrays[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._arrays
+
+    def __repr__(self) -> str:
+        return f"Fields({len(self.y)} x {len(self.x)} cells: {', '.join(self.names)})"
+
+
+class Result:
+    """What a run made: ``summary`` (the command line's summary as a dict), ``ending``,
+    ``profiles`` (height profiles, gravity scenes), ``fields`` (when measured),
+    ``velocity_distribution`` and ``phase`` (when the scenario measures them), ``summary_json``
+    (the summary's text, byte for byte the command line's)."""
+
+    def __init__(self, summary_json: str, fields: Optional[Dict[str, np.ndarray]]):
+        self.summary_json = summary_json
+        self.summary: Dict[str, Any] = json.loads(summary_json)
+        self.fields = Fields(fields) if fields is not None else None
+
+    @property
+    def ending(self) -> str:
+        """``completed``, ``interrupted``, ``event-limit`` or ``stalled``."""
+        return self.summary["ending"]
+
+    @property
+    def profiles(self):
+        """The time-averaged profiles against height, one row per bin (None without gravity)."""
+        p = self.summary.get("profiles")
+        if p is None:
+            return None
+        return _table({k: v for k, v in p.items() if isinstance(v, list)})
+
+    @property
+    def velocity_distribution(self) -> Optional[Dict[str, Any]]:
+        """The scaled velocities' distributions (``c``, and per axis ``x``, ``y``) as arrays."""
+        v = self.summary.get("velocity_distribution")
+        return None if v is None else _arrays(v)
+
+    @property
+    def phase(self) -> Optional[Dict[str, Any]]:
+        """The motion against the floor's phase, as arrays (a vibrating floor under gravity)."""
+        p = self.summary.get("phase")
+        return None if p is None else _arrays(p)
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return (
+            f"Result({s['scenario']!r}: {s['ending']} at t = {s['sim_time']}, "
+            f"{s['particles']} disks)"
+        )
+
+
+def _result(ran, what: str) -> Result:
+    result = Result(*ran)
+    s = result.summary
+    if s["ending"] == "interrupted":
+        warnings.warn(
+            f"vibrobed: {what} interrupted at t = {s['sim_time']}: the result covers the "
+            "time simulated so far",
+            stacklevel=3,
+        )
+    for failure in s.get("output_failures", []):
+        warnings.warn(f"vibrobed: the {failure['output']} was not written: {failure['error']}",
+                      stacklevel=3)
+    return result
+
+
+def load(scenario: Scenario, set: Sets = None) -> Dict[str, Any]:
+    """The scenario, overrides applied, checked and typed: a dict with every default filled in.
+    Its advisories (likely unintended settings) come as warnings."""
+    text, notes = _native.load(**_given(scenario), sets=_sets(set))
+    _advise(notes)
+    return json.loads(text)
+
+
+def check(scenario: Scenario, set: Sets = None) -> int:
+    """``vibrobed check``: builds the scene and its engine without running; returns the number
+    of disks, or raises ``ScenarioError`` naming the field."""
+    given, sets = _given(scenario), _sets(set)
+    _advise(_native.load(**given, sets=sets)[1])
+    return _native.check(**given, sets=sets)
+
+
+def run(
+    scenario: Scenario,
+    set: Sets = None,
+    *,
+    rrd: Optional[PathLike] = None,
+    summary: Optional[PathLike] = None,
+    profiles: Optional[PathLike] = None,
+    fields: Union[None, bool, PathLike] = None,
+    trajectory: Optional[PathLike] = None,
+    checkpoint: Optional[PathLike] = None,
+    checkpoint_every: Optional[float] = None,
+    progress: bool = False,
+) -> Result:
+    """``vibrobed run``: runs the scenario and returns its :class:`Result`. Each path writes the
+    file the command line's option of that name writes (``fields`` a CSV, or VTK for
+    ``*.vti``); ``fields=True`` measures the 2D fields without writing them. ``progress`` shows
+    the command line's progress on stderr. The GIL is released while the engine runs."""
+    given, sets = _given(scenario), _sets(set)
+    _advise(_native.load(**given, sets=sets)[1])
+    measure = fields is True
+    files = _files(
+        rrd=rrd,
+        summary=summary,
+        profiles=profiles,
+        fields=None if isinstance(fields, bool) else fields,
+        trajectory=trajectory,
+        checkpoint=checkpoint,
+    )
+    ran = _native.run(
+        **given,
+        sets=sets,
+        files=files,
+        checkpoint_every=checkpoint_every,
+        measure_fields=measure,
+        progress=progress,
+    )
+    return _result(ran, "run")
+
+
+def resume(
+    checkpoint: PathLike,
+    set: Sets = None,
+    *,
+    rrd: Optional[PathLike] = None,
+    summary: Optional[PathLike] = None,
+    profiles: Optional[PathLike] = None,
+    fields: Optional[PathLike] = None,
+    trajectory: Optional[PathLike] = None,
+    checkpoint_to: Optional[PathLike] = None,
+    checkpoint_every: Optional[float] = None,
+    progress: bool = False,
+) -> Result:
+    """``vibrobed resume``: continues the run the checkpoint holds, bit for bit as if it had not
+    stopped; ``set`` may change only ``run.duration`` and ``run.max_events``. Checkpoints go on
+    into the same file (or ``checkpoint_to``). Only a checkpoint written by this build resumes."""
+    files = _files(
+        rrd=rrd,
+        summary=summary,
+        profiles=profiles,
+        fields=fields,
+        trajectory=trajectory,
+        checkpoint=checkpoint_to,
+    )
+    ran = _native.resume(
+        os.fspath(checkpoint),
+        sets=_sets(set),
+        files=files,
+        checkpoint_every=checkpoint_every,
+        progress=progress,
+    )
+    return _result(ran, "resumed run")
+
+
+class Frame(NamedTuple):
+    """One frame: the disks in the scene at ``time``, one row each."""
+
+    index: int
+    time: float
+    ids: np.ndarray
+    """Each row's disk id (uint32)."""
+    positions: np.ndarray
+    """``x, y`` (n × 2)."""
+    velocities: np.ndarray
+    """``vx, vy`` (n × 2)."""
+    spins: Optional[np.ndarray]
+    """``angle, ω`` (n × 2), rough disks only."""
+    floor_height: Optional[float]
+    series: Dict[str, float]
+    """The recording's time series at this frame (energies, temperature, centre of mass)."""
+
+
+class Frames:
+    """A run under way, iterated frame by frame (at ``output.frame_interval``) without a file.
+    The run waits while ``queue`` frames are unread. ``result()`` waits for the end (frames not
+    read are dropped) and returns the :class:`Result`; ``stop()`` ends the run early. Ctrl-C
+    while waiting for a frame stops the run and raises ``KeyboardInterrupt``; ``result()`` then
+    gives what was computed."""
+
+    def __init__(self, scenario: Scenario, set: Sets = None, *, queue: int = 4):
+        given, sets = _given(scenario), _sets(set)
+        _advise(_native.load(**given, sets=sets)[1])
+        self._native = _native.Frames(**given, sets=sets, queue=queue)
+        self._result: Optional[Result] = None
+
+    def __iter__(self) -> Iterator[Frame]:
+        return self
+
+    def __next__(self) -> Frame:
+        return Frame(**next(self._native))
+
+    def stop(self) -> None:
+        self._native.stop()
+
+    def result(self) -> Result:
+        if self._result is None:
+            self._result = _result(self._native.finish(), "run")
+        return self._result
+
+    def __enter__(self) -> "Frames":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._result is None:
+            self.stop()
+            self.result()
+
+
+def frames(scenario: Scenario, set: Sets = None, *, queue: int = 4) -> Frames:
+    """The frames of a run of ``scenario`` as it goes: see :class:`Frames`."""
+    return Frames(scenario, set, queue=queue)
+
+
+class Sweep:
+    """A sweep's results in ``out``: ``runs`` (one row per run) and ``points`` (each point's
+    means and standard errors over its seeds), as ``vibrobed sweep collect`` writes them into
+    ``runs.csv`` and ``points.csv``; and, after :func:`sweep`, how many runs ran now, were done
+    before, or were interrupted."""
+
+    def __init__(self, out: PathLike, ran: int = 0, skipped: int = 0, interrupted: int = 0):
+        self.out = os.fspath(out)
+        runs_csv, points_csv = _native.sweep_collect(self.out)
+        self.runs = _csv_table(runs_csv)
+        self.points = _csv_table(points_csv)
+        self.ran, self.skipped, self.interrupted = ran, skipped, interrupted
+
+    def __repr__(self) -> str:
+        return (
+            f"Sweep({self.out!r}: {len(self.runs['index'])} runs, {self.ran} ran now, "
+            f"{self.skipped} done before, {self.interrupted} interrupted)"
+        )
+
+
+def sweep(
+    sweep: Union[PathLike, Mapping[str, Any]],
+    out: PathLike,
+    *,
+    jobs: Optional[int] = None,
+    progress: bool = False,
+) -> Sweep:
+    """``vibrobed sweep run`` on this machine's cores (``jobs`` workers, default all), then its
+    tables. ``sweep`` is a sweep file or a dict of one (written to ``out/sweep.json``, its
+    scenario path taken from the working directory). Runs done before are skipped; a failed run
+    raises ``RuntimeError`` once the others are done."""
+    out = os.fspath(out)
+    if isinstance(sweep, Mapping):
+        spec = dict(sweep)
+        if "scenario" in spec:
+            spec["scenario"] = os.path.abspath(spec["scenario"])
+        os.makedirs(out, exist_ok=True)
+        path = os.path.join(out, "sweep.json")
+        with open(path, "w") as f:
+            json.dump(spec, f, indent=2)
+    else:
+        path = os.fspath(sweep)
+    ran, skipped, interrupted, failed = _native.sweep_run(path, out, jobs=jobs, progress=progress)
+    if failed:
+        i, first = failed[0]
+        total = ran + skipped + interrupted + len(failed)
+        raise RuntimeError(
+            f"{len(failed)} of {total} runs failed (their folders hold error.txt); run {i}: {first}"
+        )
+    if interrupted:
+        warnings.warn(f"vibrobed: sweep interrupted ({interrupted} runs)", stacklevel=2)
+    return Sweep(out, ran, skipped, interrupted)
+
+
+def collect(out: PathLike) -> Sweep:
+    """The tables of the sweep in ``out`` (``vibrobed sweep collect``, without the plot)."""
+    return Sweep(out)
