@@ -143,7 +143,7 @@ impl<F: Flight> Simulation<F> {
         let now = self.now;
         self.bring(i, now);
         let on_floor = self.rest.riders.on_floor(i);
-        self.rest.riders.dismount(i);
+        self.rest.riders.leave(i);
         let floor = self.bounds.floor.as_ref().expect("riders need a floor");
         let g = self.flight.g();
         let kick = self.events.counter[i] == 1;
@@ -228,7 +228,8 @@ impl<F: Flight> Simulation<F> {
             self.tally.flow.floor_impulse += mass * (hd_ride - m.vy);
             m.y = h + above;
             m.vy = hd_ride;
-            self.rest.riders.mount_on_floor(i, above);
+            let t = self.time();
+            self.rest.riders.mount_on_floor(i, above, t);
             self.tally.counts.rest += 1;
             self.slide_on_floor(i);
             if self.rest.resting_contacts && self.disks.motion[i].vx.abs() < self.sleep_speed(i) {

@@ -280,6 +280,18 @@ impl<F: Flight> Simulation<F> {
         self.rest.riders.count()
     }
 
+    /// The time the last disk came to rest, while every disk is at rest (`None` while a disk
+    /// moves): the end of the last motion, exact to the event.
+    pub fn at_rest_since(&self) -> Option<f64> {
+        self.rest.riders.at_rest_since()
+    }
+
+    /// Disks released from a bed all at rest by the rest rules or a collision (not by the
+    /// floor, an outlet or an arriving disk) since the start.
+    pub fn rest_wakes(&self) -> u64 {
+        self.rest.riders.wakes()
+    }
+
     /// Number of disks resting on other disks now (part of [`riders`](Self::riders)).
     pub fn stacked(&self) -> usize {
         self.rest.riders.stacked()

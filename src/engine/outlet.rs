@@ -119,7 +119,7 @@ impl<F: Flight> Simulation<F> {
     /// energy gained booked as work of the floor.
     pub(super) fn slide_over_edge(&mut self, i: usize) {
         self.bring(i, self.now);
-        self.rest.riders.dismount(i);
+        self.rest.riders.leave(i);
         let (g, a) = (self.flight.g(), self.disks.radius[i]);
         let least = (g * a).sqrt();
         let m = &mut self.disks.motion[i];

@@ -160,11 +160,15 @@ pub struct Summary {
     /// Pressure on the floor (after warm-up), scenes with gravity and a floor.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub floor_pressure: Option<FloorPressure>,
-    /// Time to rest: the first sample time from which every disk was at rest (riding the floor
-    /// or resting on disks at rest, resting contacts) at every sample to the end of the run;
-    /// absent if some disk still moved at the last sample.
+    /// Time to rest: the time the last disk came to rest (riding the floor or resting on disks
+    /// at rest, resting contacts), every disk at rest from then to the end of the run — exact
+    /// to the event in the event-driven engine; absent if some disk still moved at the end.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub at_rest_since: Option<f64>,
+    /// Disks released from a bed all at rest by the rest rules or a collision, not by the
+    /// floor, an outlet or an arriving disk; absent when none was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rest_wakes: Option<u64>,
     /// Height profiles (gravity scenes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,

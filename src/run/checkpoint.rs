@@ -33,8 +33,9 @@ const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// 13: the numbering holds its interval; 14: the calendar says whether it keeps events ahead;
 /// 15: rough disks' spins, the rotational energy and temperature; 16: slides on a rough floor;
 /// 17: the 2D fields; 18: the pool of live and dead disks, and the phase bins by place in a
-/// group of four periods; 19: the pool counts exits at the top, and its inlets bring sizes).
-const FORMAT_VERSION: u32 = 19;
+/// group of four periods; 19: the pool counts exits at the top, and its inlets bring sizes; 20: the riders keep the time
+/// every disk came to rest and the wakes).
+const FORMAT_VERSION: u32 = 20;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

@@ -375,7 +375,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.stops.k_sample += 1;
         let at_rest = self.sim.disks_at_rest();
         self.at_rest_since = if at_rest == self.sim.disks().len() {
-            self.at_rest_since.or(Some(self.now))
+            // The engine knows the end of the last motion to the event; else the sample.
+            self.sim
+                .at_rest_since()
+                .or(self.at_rest_since)
+                .or(Some(self.now))
         } else {
             None
         };
@@ -642,6 +646,10 @@ impl<'a, E: Integrator> Driver<'a, E> {
         };
         let counts = sim.counts();
         let setup = sim.setup();
+        // The engine knows the end of the last motion to the event, up to the end of the run.
+        let at_rest_since = sim
+            .at_rest_since()
+            .or(self.at_rest_since.filter(|_| sim.disks_at_rest() == n));
         let profiles = avg.profiles.as_ref().map(|p| p.table());
         let phase = match (&scene.floor, &avg.phase) {
             (Some(floor), Some(bins)) => {
@@ -656,7 +664,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             scene,
             mean_disk_area(s),
             avg,
-            self.at_rest_since.is_some(),
+            at_rest_since.is_some(),
             (profiles.as_ref(), phase.as_ref()),
         );
         Summary {
@@ -703,7 +711,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 }
                 _ => None,
             },
-            at_rest_since: self.at_rest_since,
+            at_rest_since,
+            rest_wakes: Some(sim.rest_wakes()).filter(|&w| w > 0),
             profiles,
             phase,
             state,

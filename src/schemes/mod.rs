@@ -149,6 +149,15 @@ pub trait Integrator {
     fn disks_at_rest(&self) -> usize {
         0
     }
+    /// The time the last disk came to rest while every disk is at rest, exact to the event
+    /// (`None`: a disk moves, or the scheme has no rest).
+    fn at_rest_since(&self) -> Option<f64> {
+        None
+    }
+    /// Disks released from a bed all at rest by the rest rules or a collision.
+    fn rest_wakes(&self) -> u64 {
+        0
+    }
     /// The engine's complete state between events, for a checkpoint (`None`: this scheme has
     /// none; only the exact engine can be checkpointed).
     fn saved_state(&self) -> Option<EngineState> {
@@ -214,6 +223,12 @@ impl<F: Flight> Integrator for Simulation<F> {
     }
     fn disks_at_rest(&self) -> usize {
         self.riders()
+    }
+    fn at_rest_since(&self) -> Option<f64> {
+        Simulation::at_rest_since(self)
+    }
+    fn rest_wakes(&self) -> u64 {
+        Simulation::rest_wakes(self)
     }
     fn check_state(&self, t: f64) -> Result<()> {
         self.check_no_overlap(t)

@@ -5,6 +5,7 @@ mod common;
 mod guarded;
 
 mod accuracy;
+mod at_rest;
 mod bad_input;
 mod bed_state;
 mod book;

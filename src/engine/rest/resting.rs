@@ -179,12 +179,12 @@ impl<F: Flight> Simulation<F> {
         supports: [u32; 2],
         (vx, hd): (f64, f64),
     ) -> bool {
-        let mk = self.disks.motion[k];
+        let (mk, now) = (self.disks.motion[k], self.time());
         if supports == [NO_DISK; 2] {
             // On the floor itself, where it is (within TOUCH radii of the surface: moving it
             // down could push it into a smaller neighbour).
-            self.rest.riders.mount_on_floor(k, mk.y - h);
-        } else if !self.rest.riders.mount_on_disks(k, mk.y - h, supports) {
+            self.rest.riders.mount_on_floor(k, mk.y - h, now);
+        } else if !self.rest.riders.mount_on_disks(k, mk.y - h, supports, now) {
             return false;
         }
         self.take_velocity(k, (vx, hd));

@@ -48,6 +48,12 @@ pub struct Riders {
     /// How many disks slide (kept with `slides`; recounted after a checkpoint is read).
     #[serde(skip)]
     sliding_count: usize,
+    /// The (absolute) time the last disk came to rest while every disk is at rest: the end of
+    /// the last motion. `None` while a disk moves.
+    at_rest_since: Option<f64>,
+    /// Disks released from a bed all at rest by the rules or a collision, not by the floor
+    /// (a take-off or a kick) nor through an outlet.
+    wakes: u64,
 }
 
 impl Riders {
@@ -72,6 +78,8 @@ impl Riders {
             carries: vec![NO_DISK; n * room],
             slides: Vec::new(),
             sliding_count: 0,
+            at_rest_since: None,
+            wakes: 0,
         }
     }
 
@@ -146,18 +154,21 @@ impl Riders {
         self.support[i]
     }
 
-    /// Disk `i` starts riding the floor directly, its centre `lift` above the floor's surface.
-    pub fn mount_on_floor(&mut self, i: usize, lift: f64) {
+    /// Disk `i` starts riding the floor directly at (absolute) time `now`, its centre `lift`
+    /// above the floor's surface.
+    pub fn mount_on_floor(&mut self, i: usize, lift: f64, now: f64) {
         self.set_riding(i, true);
+        self.note_rest(now);
         self.set_slide(i, None);
         self.lift[i] = lift;
         self.support[i] = [NO_DISK; 2];
     }
 
-    /// Disk `k` starts resting on `supports` (disks or walls), `lift` above the floor's surface.
-    /// Refused (returns `false`, nothing changes) when a supporting disk's slots are full (which
-    /// the geometry forbids when the room comes from [`carried_room`]).
-    pub fn mount_on_disks(&mut self, k: usize, lift: f64, supports: [u32; 2]) -> bool {
+    /// Disk `k` starts resting on `supports` (disks or walls) at (absolute) time `now`, `lift`
+    /// above the floor's surface. Refused (returns `false`, nothing changes) when a supporting
+    /// disk's slots are full (which the geometry forbids when the room comes from
+    /// [`carried_room`]).
+    pub fn mount_on_disks(&mut self, k: usize, lift: f64, supports: [u32; 2], now: f64) -> bool {
         let disks = || supports.into_iter().filter(|&s| s < RIGHT_WALL);
         for s in disks() {
             self.purge(s as usize);
@@ -166,6 +177,7 @@ impl Riders {
             }
         }
         self.set_riding(k, true);
+        self.note_rest(now);
         self.set_slide(k, None);
         self.lift[k] = lift;
         self.support[k] = supports;
@@ -200,10 +212,41 @@ impl Riders {
         self.riding[k] && self.support[k].contains(&(s as u32))
     }
 
-    /// Disk `i` stops riding.
+    /// Disk `i` stops riding, released by a rule or a collision: counted as a wake when every
+    /// disk was at rest.
     #[inline]
     pub fn dismount(&mut self, i: usize) {
+        if self.riding[i] && self.riding_count == self.riding.len() {
+            self.wakes += 1;
+        }
         self.set_riding(i, false);
+    }
+
+    /// Disk `i` stops riding, thrown off by the floor or leaving through an outlet: something
+    /// acts on it, no wake.
+    #[inline]
+    pub fn leave(&mut self, i: usize) {
+        self.set_riding(i, false);
+    }
+
+    /// A disk came to rest at `now`: if every disk now rests, the bed has been at rest since.
+    #[inline]
+    fn note_rest(&mut self, now: f64) {
+        if self.riding_count == self.riding.len() {
+            self.at_rest_since = Some(now);
+        }
+    }
+
+    /// The time since which every disk has been at rest (`None` while a disk moves, or when the
+    /// last motion ended as a disk left the scene).
+    pub fn at_rest_since(&self) -> Option<f64> {
+        self.at_rest_since
+            .filter(|_| !self.riding.is_empty() && self.riding_count == self.riding.len())
+    }
+
+    /// Disks released from a bed all at rest by the rules or a collision.
+    pub fn wakes(&self) -> u64 {
+        self.wakes
     }
 
     /// Marks disk `i` riding or not, keeping the count.
@@ -218,6 +261,7 @@ impl Riders {
                 self.riding_count += 1;
             } else {
                 self.riding_count -= 1;
+                self.at_rest_since = None;
             }
         }
     }
@@ -277,6 +321,7 @@ impl Riders {
         if self.riding.is_empty() && self.room == 0 {
             return;
         }
+        self.at_rest_since = None;
         self.riding.push(false);
         self.lift.push(0.0);
         self.support.push([NO_DISK; 2]);
@@ -305,6 +350,7 @@ impl Riders {
             return;
         }
         self.set_riding(k, false);
+        self.at_rest_since = None;
         let last = self.riding.len() - 1;
         let renamed = |d: u32| {
             if d == k as u32 {
@@ -377,16 +423,36 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_bed_is_at_rest_from_the_last_disk_that_came_to_rest() {
+        let mut r = Riders::new(2, carried_room(0.5, 0.5));
+        r.mount_on_floor(0, 0.5, 1.0);
+        assert_eq!(r.at_rest_since(), None);
+        assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK], 2.0));
+        assert_eq!(r.at_rest_since(), Some(2.0));
+        // Released from a bed at rest by a rule: a wake, and the bed moves.
+        r.dismount(1);
+        assert_eq!((r.at_rest_since(), r.wakes()), (None, 1));
+        assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK], 3.0));
+        assert_eq!(r.at_rest_since(), Some(3.0));
+        // Thrown off by the floor: no wake.
+        r.leave(0);
+        assert_eq!((r.at_rest_since(), r.wakes()), (None, 1));
+        // Released while a disk flies: no wake either.
+        r.dismount(1);
+        assert_eq!(r.wakes(), 1);
+    }
+
+    #[test]
     fn carried_lists_follow_the_supports() {
         let mut r = Riders::new(4, 4);
-        r.mount_on_floor(0, 0.5);
-        assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK]));
+        r.mount_on_floor(0, 0.5, 0.0);
+        assert!(r.mount_on_disks(1, 1.5, [0, NO_DISK], 0.0));
         assert!(r.carries_any(0));
         // Disk 1 leaves and lands elsewhere: 0 no longer carries it.
         r.dismount(1);
         assert!(!r.carries_any(0));
-        r.mount_on_floor(2, 0.5);
-        assert!(r.mount_on_disks(1, 1.4, [2, LEFT_WALL]));
+        r.mount_on_floor(2, 0.5, 0.0);
+        assert!(r.mount_on_disks(1, 1.4, [2, LEFT_WALL], 0.0));
         let mut out = Vec::new();
         r.take_carried(0, &mut out);
         assert!(out.is_empty());
@@ -401,11 +467,11 @@ mod tests {
         assert_eq!(room, 6);
         assert_eq!(carried_room(0.4, 0.6), 7);
         let mut r = Riders::new(room + 2, room);
-        r.mount_on_floor(0, 0.5);
+        r.mount_on_floor(0, 0.5, 0.0);
         for k in 1..=room {
-            assert!(r.mount_on_disks(k, 1.5, [0, NO_DISK]));
+            assert!(r.mount_on_disks(k, 1.5, [0, NO_DISK], 0.0));
         }
-        assert!(!r.mount_on_disks(room + 1, 1.5, [0, NO_DISK]));
+        assert!(!r.mount_on_disks(room + 1, 1.5, [0, NO_DISK], 0.0));
         assert!(!r.is_riding(room + 1));
         assert_eq!(r.count(), 1 + room);
         assert_eq!(r.stacked(), room);

@@ -60,7 +60,11 @@ impl<F: Flight> Simulation<F> {
                 self.disks.motion[m].y = y;
                 self.wrap_position(m);
                 moved += (x - x0).hypot(y - y0);
-                if self.rest.riders.mount_on_disks(m, y - h, [seat, NO_DISK]) {
+                if self
+                    .rest
+                    .riders
+                    .mount_on_disks(m, y - h, [seat, NO_DISK], self.time())
+                {
                     self.tally.counts.rest += 1;
                 }
             }
