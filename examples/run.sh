@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The Python example end to end: a virtual environment with examples/requirements.txt (pip's
+# The Python example end to end (with the vibrobed on PATH if there is one, else the
+# repository's built by cargo): a virtual environment with examples/requirements.txt (pip's
 # cache and the environment live outside the clone, so later runs are fast), a short vibrated-bed
 # run writing every output, examples/analyse.py on them, examples/convection.py on a short run of
 # the convection scene, and the trajectory test with ASE.
@@ -27,15 +28,22 @@ else
   trap 'rm -rf "$out"' EXIT
 fi
 
-cargo run --release --quiet -- run scenarios/vibrated_bed.json --quiet \
-  --set run.duration=20 --set run.warmup=5 \
+# A vibrobed on PATH is used as it is; otherwise the repository's, built with cargo.
+if command -v vibrobed > /dev/null; then
+  vibrobed() { command vibrobed "$@"; }
+else
+  vibrobed() { cargo run --release --quiet -- "$@"; }
+fi
+
+vibrobed run scenarios/vibrated_bed.json --quiet \
+  --set run.duration=50 --set run.warmup=10 \
   --rrd "$out/recording.rrd" --trajectory "$out/trajectory.xyz" \
   --summary "$out/summary.json" --profiles "$out/profiles.csv"
 "$venv/bin/python" examples/analyse.py "$out"
 test -s "$out/analyse.png"
 
 # The convection rolls' measure (examples/convection.py) on a short run of the convection scene.
-cargo run --release --quiet -- run scenarios/convection.json --quiet \
+vibrobed run scenarios/convection.json --quiet \
   --set run.duration=40 --set run.warmup=10 --set 'output.field_bins=[20,20]' \
   --fields "$out/convection.csv" --summary "$out/convection.json"
 "$venv/bin/python" examples/convection.py "$out/convection.csv" \

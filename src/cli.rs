@@ -3,13 +3,14 @@
 //! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects] [--cores C]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
-//! failure (or a summary or profiles that could not be written), 3 an output (recording,
-//! trajectory, checkpoint) that could not be written while the run went on, 128 + n stopped by
-//! signal n (130 Ctrl-C; the summary so far is still written, marked
-//! `"ending": "interrupted"`, and the recording is closed properly).
+//! failure (or a summary or profiles that could not be written, or a clock that stalled), 3 an
+//! output (recording, trajectory, checkpoint) that could not be written while the run went on,
+//! 4 stopped by `run.max_events`, 5 stopped by `run.max_wall_seconds`, 128 + n stopped by
+//! signal n (130 Ctrl-C). A run that ends early still writes its summary (marked with its
+//! `ending`) and closes its recording properly.
 
 use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
-use crate::output::summary::Ending;
+use crate::output::summary::{Ending, Summary, EXIT_EVENT_LIMIT, EXIT_WALL_LIMIT};
 use crate::platform::signals;
 use crate::run::checkpoint::{check_resume_sets, Checkpoint};
 use crate::run::{run, CheckpointPlan, RunOptions};
@@ -67,6 +68,9 @@ pub enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Off a terminal, a progress line every SECONDS of wall time (default 60).
+        #[arg(long, value_name = "SECONDS")]
+        progress_every: Option<f64>,
     },
     /// Continue a run from its checkpoint: the same events, bit for bit, as if it had not
     /// stopped. The summary and profiles cover the whole run; a recording or trajectory holds
@@ -102,6 +106,9 @@ pub enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Off a terminal, a progress line every SECONDS of wall time (default 60).
+        #[arg(long, value_name = "SECONDS")]
+        progress_every: Option<f64>,
     },
     /// Show what accuracy costs in time: run the exact engine as reference and each variant
     /// (approximate schemes with a sweep of their step, floor models, dissipation cures,
@@ -283,6 +290,7 @@ fn execute(cli: Cli) -> Result<i32> {
             checkpoint,
             checkpoint_every,
             quiet,
+            progress_every,
         } => {
             let files = RunFiles {
                 rrd,
@@ -292,7 +300,8 @@ fn execute(cli: Cli) -> Result<i32> {
                 trajectory,
                 checkpoint,
             };
-            run_scenario(&scenario, &sets, files, checkpoint_every, quiet)
+            let shown = Shown::new(quiet, progress_every)?;
+            run_scenario(&scenario, &sets, files, checkpoint_every, shown)
         }
         Command::Resume {
             checkpoint_file,
@@ -305,6 +314,7 @@ fn execute(cli: Cli) -> Result<i32> {
             checkpoint,
             checkpoint_every,
             quiet,
+            progress_every,
         } => {
             let files = RunFiles {
                 rrd,
@@ -314,7 +324,8 @@ fn execute(cli: Cli) -> Result<i32> {
                 trajectory,
                 checkpoint,
             };
-            resume(&checkpoint_file, &sets, files, checkpoint_every, quiet)
+            let shown = Shown::new(quiet, progress_every)?;
+            resume(&checkpoint_file, &sets, files, checkpoint_every, shown)
         }
     }
 }
@@ -368,6 +379,32 @@ fn accuracy(
     Ok(0)
 }
 
+/// What a `run` or `resume` shows while it runs: nothing (`--quiet`), or its progress with a line
+/// every `--progress-every` seconds off a terminal.
+struct Shown {
+    quiet: bool,
+    every: Option<f64>,
+}
+
+impl Shown {
+    /// Refuses a `--progress-every` that is not a positive number of seconds.
+    fn new(quiet: bool, every: Option<f64>) -> Result<Shown> {
+        check_progress_every(every)?;
+        Ok(Shown { quiet, every })
+    }
+}
+
+/// Refuses a `--progress-every` that is not a positive finite number of seconds.
+pub fn check_progress_every(every: Option<f64>) -> Result<()> {
+    match every {
+        Some(e) if !(e.is_finite() && e > 0.0) => Err(Error::input(
+            "--progress-every",
+            format!("must be a positive number of seconds (got {e})"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// The files a `run` or `resume` command line asks for.
 struct RunFiles {
     rrd: Option<PathBuf>,
@@ -400,7 +437,7 @@ fn run_scenario(
     sets: &[String],
     mut files: RunFiles,
     checkpoint_every: Option<f64>,
-    quiet: bool,
+    shown: Shown,
 ) -> Result<i32> {
     let s = Scenario::load(scenario, sets)?;
     output_paths(&s, &files.as_output_args())?;
@@ -415,7 +452,7 @@ fn run_scenario(
         }),
         None => None,
     };
-    simulate(&s, files, checkpoint, None, quiet)
+    simulate(&s, files, checkpoint, None, shown)
 }
 
 /// `vibrobed resume`: rebuilds the scene from the checkpoint (its scenario text and overrides,
@@ -426,7 +463,7 @@ fn resume(
     sets: &[String],
     files: RunFiles,
     checkpoint_every: Option<f64>,
-    quiet: bool,
+    shown: Shown,
 ) -> Result<i32> {
     let (s, plan, ck) = resumed(
         checkpoint_file,
@@ -436,7 +473,7 @@ fn resume(
         checkpoint_every,
     )?;
     output_paths(&s, &files.as_output_args())?;
-    if !quiet {
+    if !shown.quiet {
         eprintln!(
             "resuming {} (scenario {}) at t = {}",
             checkpoint_file.display(),
@@ -444,7 +481,7 @@ fn resume(
             ck.driver.time()
         );
     }
-    simulate(&s, files, Some(plan), Some(ck), quiet)
+    simulate(&s, files, Some(plan), Some(ck), shown)
 }
 
 /// What a resume continues: the checkpoint read from `checkpoint_file`, its scene with the
@@ -498,7 +535,7 @@ fn simulate(
     files: RunFiles,
     checkpoint: Option<CheckpointPlan>,
     resume: Option<Box<Checkpoint>>,
-    quiet: bool,
+    shown: Shown,
 ) -> Result<i32> {
     signals::install();
     let written_after = [
@@ -516,7 +553,9 @@ fn simulate(
             trajectory: files.trajectory,
             sink: None,
             interrupt: Some(signals::stop_flag()),
-            progress: !quiet,
+            progress: !shown.quiet,
+            progress_every: shown.every,
+            progress_label: None,
             checkpoint,
             resume,
             written_after,
@@ -548,9 +587,8 @@ fn same_file(a: &Path, b: &Path) -> bool {
 
 /// Writes a run's profiles, fields and summary, each whatever becomes of the other; a summary that
 /// cannot be written goes to stdout instead (a batch job's log keeps it). Returns the exit code:
-/// 1 when one of them could not be written, else 128 + the signal that stopped the run, else
-/// [`EXIT_OUTPUT_FAILED`] when an output failed during the run, else 0.
-fn write_results(result: &crate::output::summary::Summary, files: Written) -> Result<i32> {
+/// 1 when one of them could not be written, else that of the run's ending ([`ending_code`]).
+fn write_results(result: &Summary, files: Written) -> Result<i32> {
     let Written {
         profiles,
         fields,
@@ -558,27 +596,25 @@ fn write_results(result: &crate::output::summary::Summary, files: Written) -> Re
     } = files;
     let mut lost = false;
     if let Some(path) = profiles {
-        let Some(p) = &result.profiles else {
-            return Err(Error::input(
-                "--profiles",
-                "this scene has no height profiles (they need gravity)",
-            ));
-        };
-        if let Err(e) = crate::output::write_atomic(path, &p.to_csv()) {
-            eprintln!("vibrobed: {e}");
-            lost = true;
+        match &result.profiles {
+            Some(p) => {
+                if let Err(e) = crate::output::write_atomic(path, &p.to_csv()) {
+                    eprintln!("vibrobed: {e}");
+                    lost = true;
+                }
+            }
+            None => not_measured("profiles", path, result),
         }
     }
     if let Some(path) = fields {
-        let Some(f) = &result.fields else {
-            return Err(Error::input(
-                "--fields",
-                "this scene has no 2D fields (they need gravity)",
-            ));
-        };
-        if let Err(e) = crate::output::fields::write(path, f) {
-            eprintln!("vibrobed: {e}");
-            lost = true;
+        match &result.fields {
+            Some(f) => {
+                if let Err(e) = crate::output::fields::write(path, f) {
+                    eprintln!("vibrobed: {e}");
+                    lost = true;
+                }
+            }
+            None => not_measured("fields", path, result),
         }
     }
     let json = result.to_json();
@@ -591,13 +627,31 @@ fn write_results(result: &crate::output::summary::Summary, files: Written) -> Re
             lost = true;
         }
     }
-    Ok(if lost || result.ending == Ending::Stalled {
-        1
-    } else if result.ending == Ending::Interrupted {
-        signals::exit_code()
-    } else if !result.output_failures.is_empty() {
-        EXIT_OUTPUT_FAILED
-    } else {
-        0
-    })
+    Ok(if lost { 1 } else { ending_code(result) })
+}
+
+/// The exit code of a run's ending: 0 completed (or [`EXIT_OUTPUT_FAILED`] when an output
+/// failed during it), 1 stalled, 128 + the signal that interrupted it, [`EXIT_EVENT_LIMIT`],
+/// [`EXIT_WALL_LIMIT`]: a run that did not complete never exits 0.
+fn ending_code(result: &Summary) -> i32 {
+    match result.ending {
+        Ending::Completed if !result.output_failures.is_empty() => EXIT_OUTPUT_FAILED,
+        Ending::Completed => 0,
+        Ending::Stalled => 1,
+        Ending::Interrupted => signals::exit_code(),
+        Ending::EventLimit => EXIT_EVENT_LIMIT,
+        Ending::WallLimit => EXIT_WALL_LIMIT,
+    }
+}
+
+/// Says that `output` (profiles, fields), asked for at `path`, was not written: the run ended
+/// before it measured any (no sample after the warm-up), and zeros would read as a measurement.
+fn not_measured(output: &str, path: &Path, result: &Summary) {
+    eprintln!(
+        "vibrobed: warning: no {output} measured (the run ended, {}, at t = {} before any \
+         sample after its warm-up): {} not written",
+        result.ending.words(),
+        result.sim_time,
+        path.display()
+    );
 }

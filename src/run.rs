@@ -4,7 +4,7 @@
 use crate::engine::{Scene, Simulation};
 use crate::error::{Error, Result};
 use crate::output::frame::{FrameView, SceneLayout};
-use crate::output::progress::{ProgressMode, ProgressReport};
+use crate::output::progress::{ProgressMode, ProgressReport, DEFAULT_EVERY};
 use crate::output::summary::Summary;
 use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::{Target, Watch};
@@ -22,8 +22,10 @@ mod driver;
 mod failures;
 pub mod state;
 mod stops;
+mod wall_limit;
 
 use driver::Driver;
+use wall_limit::WallLimit;
 
 /// Where frames go (the Rerun recorder, or a test's collector).
 pub trait FrameSink {
@@ -55,8 +57,15 @@ pub struct RunOptions {
     pub checkpoint: Option<CheckpointPlan>,
     /// Continue the run a checkpoint holds (`vibrobed resume`) instead of starting afresh.
     pub resume: Option<Box<Checkpoint>>,
-    /// Show progress on stderr: a bar on a terminal, a start and an end line otherwise.
+    /// Show progress on stderr: a bar on a terminal, a start line, a line every
+    /// `progress_every` seconds and an end line otherwise.
     pub progress: bool,
+    /// Wall seconds between progress lines off a terminal (default
+    /// [`DEFAULT_EVERY`](crate::output::progress::DEFAULT_EVERY)).
+    pub progress_every: Option<f64>,
+    /// The name of a sweep's run: with `progress`, only its lines every `progress_every` seconds
+    /// off a terminal, named so (the sweep tells when each run starts and ends), none on one.
+    pub progress_label: Option<String>,
     /// Measure the 2D fields after the warm-up (`run --fields`; gravity scenes).
     pub fields: bool,
     /// Files written once the run has ended (`summary`, `profiles`: the output and its path),
@@ -388,14 +397,37 @@ fn drive<E: Integrator>(
         driver.rrd = Some(rrd);
     }
     driver.watch = Watch::start(watch_targets(&driver, opts));
+    let limit = s
+        .run
+        .max_wall_seconds
+        .map(|seconds| WallLimit::start(seconds, opts.interrupt));
+    if let Some(l) = &limit {
+        driver.sim.set_interrupt(l.flag());
+        driver.interrupt = Some(l.flag());
+    }
     let progress = ProgressReport::start(
-        ProgressMode::for_stderr(opts.progress),
-        &s.name,
+        progress_mode(opts),
+        opts.progress_label.as_deref().unwrap_or(&s.name),
         driver.sim.disks().len(),
         s.run.duration,
+        opts.progress_every.unwrap_or(DEFAULT_EVERY),
     );
     driver.clock = Instant::now();
     let ending = driver.run(&progress)?;
+    let ending = limit.as_ref().map_or(ending, |l| l.ending(ending));
+    drop(limit);
     let wall = driver.clock.elapsed().as_secs_f64();
     driver.finish(ending, wall, progress)
+}
+
+/// How a run shows its progress: not at all unless asked; a sweep's run only by lines off a
+/// terminal (its pool draws the bar on one); a run of its own as [`ProgressMode::for_stderr`].
+fn progress_mode(opts: &RunOptions) -> ProgressMode {
+    use std::io::IsTerminal;
+    match (opts.progress, &opts.progress_label) {
+        (false, _) => ProgressMode::Quiet,
+        (true, Some(_)) if std::io::stderr().is_terminal() => ProgressMode::Quiet,
+        (true, Some(_)) => ProgressMode::Periodic,
+        (true, None) => ProgressMode::for_stderr(true),
+    }
 }

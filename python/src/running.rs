@@ -54,6 +54,8 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
                 checkpoint,
                 resume,
                 progress,
+                progress_every: None,
+                progress_label: None,
                 fields,
                 written_after,
             },

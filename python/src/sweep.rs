@@ -8,7 +8,8 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 use vibrobed::platform::signals::stop_flag;
 use vibrobed::studies::sweep::command::writable_out;
-use vibrobed::studies::sweep::local::run_pool;
+use vibrobed::output::progress::DEFAULT_EVERY;
+use vibrobed::studies::sweep::local::{run_pool, PoolOptions};
 use vibrobed::studies::sweep::plan::expand;
 use vibrobed::{Error, Result};
 
@@ -35,7 +36,13 @@ pub fn run(
     // The pool and its runs watch the process's stop flag (the signal handlers' on the command
     // line): raised by Ctrl-C here, lowered again once the pool has stopped.
     let flag = stop_flag();
-    let report = detached::run(py, flag, || run_pool(&exp, out, jobs, progress));
+    let options = PoolOptions {
+        jobs,
+        progress,
+        progress_every: DEFAULT_EVERY,
+        max_run_seconds: None,
+    };
+    let report = detached::run(py, flag, || run_pool(&exp, out, options));
     flag.store(false, Ordering::Relaxed);
     let report = report?.py()?;
     Ok((

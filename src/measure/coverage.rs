@@ -1,6 +1,6 @@
 //! How much of a disk's area lies in a cell: the exact split of each disk over the bins of the
 //! height profiles (horizontal strips) and the cells of the 2D fields (rectangles), so that a
-//! packing fraction never exceeds the densest packing and the parts add up to the disk.
+//! packing fraction never exceeds 1 (the cell covered whole) and the parts add up to the disk.
 
 /// Area of a disk of radius `a` below a horizontal line at height `z` above its centre:
 /// `a² (u √(1 − u²) + asin u + π/2)` with `u = z/a` clamped to [−1, 1].

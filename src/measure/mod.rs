@@ -136,7 +136,8 @@ pub struct ProfileTable {
     /// Number of disk centres per unit area.
     pub density: Vec<f64>,
     /// Fraction of the bin's area covered by disks: each disk's area is split exactly over
-    /// the bins it covers, so the fraction never exceeds the densest packing.
+    /// the bins it covers, so the fraction never exceeds 1 (a bin thinner than a disk may exceed
+    /// the densest packing, which bounds averages over several diameters only).
     pub packing_fraction: Vec<f64>,
     /// Granular temperature in x, relative to the bin's mean velocity (mass-weighted).
     pub temperature_x: Vec<f64>,
@@ -285,6 +286,20 @@ impl Profiles {
 }
 
 impl ProfileTable {
+    /// The local granular temperature: each bin's temperature ((x + y)/2, about the bin's own
+    /// mean velocity) averaged over the bins with their density as weight; unlike the whole
+    /// bed's temperature it leaves out the flow between heights (the bed's rise and fall with
+    /// the floor), as the literature's T(h) fits do. `None` when no bin held a disk.
+    pub fn local_temperature(&self) -> Option<f64> {
+        let (mut sum, mut weight) = (0.0, 0.0);
+        for k in 0..self.height.len() {
+            let t = 0.5 * (self.temperature_x[k] + self.temperature_y[k]);
+            sum += self.density[k] * t;
+            weight += self.density[k];
+        }
+        (weight > 0.0).then(|| sum / weight)
+    }
+
     /// The profiles as CSV, one row per bin.
     /// Rough disks add a last column, `temperature_rotational`.
     pub fn to_csv(&self) -> String {

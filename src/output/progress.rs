@@ -1,8 +1,12 @@
 //! What a run tells the user on stderr while it goes: a progress bar on a terminal (elapsed
-//! wall time, ETA, simulated time over the duration, collisions per second), one start line and
-//! one end line otherwise (logs of batch jobs), nothing with `--quiet`. Both forms end with the
-//! run's ending: completed, interrupted or stopped by the event limit, at which simulated time.
+//! wall time, ETA, simulated time over the duration, collisions per second); otherwise (logs of
+//! batch jobs) one start line, a line every `--progress-every` seconds (simulated time,
+//! collisions per second, the wall time to go) and one end line; nothing with `--quiet`. Both
+//! forms end with the run's ending, at which simulated time; both say once when the run's wall
+//! time per unit of simulated time has grown far above its start (a bed freezing into a
+//! collapse), naming the cures.
 
+use std::cell::Cell;
 use std::io::IsTerminal;
 use std::time::Instant;
 
@@ -15,8 +19,12 @@ pub enum ProgressMode {
     Quiet,
     /// A bar redrawn in place (stderr is a terminal).
     Bar,
-    /// One line at the start, one at the end (stderr is a file or a pipe).
+    /// One line at the start, one every few seconds, one at the end (stderr is a file or a
+    /// pipe).
     Lines,
+    /// Only the lines every few seconds, each named (a sweep's run in a log: the sweep says
+    /// when each run starts and ends).
+    Periodic,
 }
 
 impl ProgressMode {
@@ -43,6 +51,13 @@ fn rate(per_second: f64) -> String {
     }
 }
 
+/// Default wall seconds between progress lines off a terminal.
+pub const DEFAULT_EVERY: f64 = 60.0;
+
+/// How many times its start's wall time per unit of simulated time a run may come to cost before
+/// the note on a freezing bed.
+const COST_GROWTH: f64 = 10.0;
+
 /// Progress of one run (see the [module documentation](self)).
 #[derive(Debug)]
 pub struct ProgressReport {
@@ -50,6 +65,16 @@ pub struct ProgressReport {
     bar: Option<indicatif::ProgressBar>,
     duration: f64,
     clock: Instant,
+    /// Wall seconds between lines (and between the cost's readings).
+    every: f64,
+    /// What the lines are named (`Periodic`: the sweep's run).
+    label: String,
+    /// The last reading: wall seconds, simulated time, collisions.
+    last: Cell<(f64, f64, u64)>,
+    /// Wall time per unit of simulated time over the first reading, once taken.
+    start_cost: Cell<Option<f64>>,
+    /// The note on a growing cost was given.
+    noted: Cell<bool>,
 }
 
 /// Bar resolution: positions per run.
@@ -57,8 +82,15 @@ const STEPS: u64 = 10_000;
 
 impl ProgressReport {
     /// Starts reporting a run of `duration` simulated time units of scene `name` with `disks`
-    /// disks (prints the start line in `Lines` mode).
-    pub fn start(mode: ProgressMode, name: &str, disks: usize, duration: f64) -> ProgressReport {
+    /// disks, a line (or a reading of the cost) every `every` wall seconds (prints the start
+    /// line in `Lines` mode; `Periodic` lines are named `name`).
+    pub fn start(
+        mode: ProgressMode,
+        name: &str,
+        disks: usize,
+        duration: f64,
+        every: f64,
+    ) -> ProgressReport {
         let bar = (mode == ProgressMode::Bar).then(|| {
             let bar = indicatif::ProgressBar::new(STEPS);
             bar.set_style(
@@ -79,19 +111,77 @@ impl ProgressReport {
             bar,
             duration,
             clock: Instant::now(),
+            every,
+            label: name.to_string(),
+            last: Cell::new((0.0, 0.0, 0)),
+            start_cost: Cell::new(None),
+            noted: Cell::new(false),
         }
     }
 
     /// The run has reached simulated time `t` after `collisions` collisions.
     pub fn update(&self, t: f64, collisions: u64) {
+        if self.mode == ProgressMode::Quiet {
+            return;
+        }
+        let elapsed = self.clock.elapsed().as_secs_f64().max(1e-9);
         if let Some(bar) = &self.bar {
-            let elapsed = self.clock.elapsed().as_secs_f64().max(1e-9);
             bar.set_position((STEPS as f64 * t / self.duration).clamp(0.0, STEPS as f64) as u64);
             bar.set_message(format!(
                 "t {t:.2}/{} · {} coll/s",
                 self.duration,
                 rate(collisions as f64 / elapsed)
             ));
+        }
+        let (wall0, t0, collisions0) = self.last.get();
+        if elapsed - wall0 < self.every || t <= t0 {
+            return;
+        }
+        self.last.set((elapsed, t, collisions));
+        let (wall, simulated) = (elapsed - wall0, t - t0);
+        let cost = wall / simulated;
+        if self.bar.is_none() {
+            eprintln!(
+                "vibrobed: {}t = {t:.6} of {} ({:.1}%), {} collisions/s, {} to go",
+                self.name_part(),
+                self.duration,
+                100.0 * t / self.duration,
+                rate((collisions - collisions0) as f64 / wall),
+                clock_time(cost * (self.duration - t).max(0.0)),
+            );
+        }
+        self.watch_cost(t, cost);
+    }
+
+    /// `name: ` on a sweep's lines, nothing on a run's own.
+    fn name_part(&self) -> String {
+        match self.mode {
+            ProgressMode::Periodic => format!("{}: ", self.label),
+            _ => String::new(),
+        }
+    }
+
+    /// Keeps the first reading's cost, and says once when a later one is far above it.
+    fn watch_cost(&self, t: f64, cost: f64) {
+        let Some(start) = self.start_cost.get() else {
+            self.start_cost.set(Some(cost));
+            return;
+        };
+        if cost > COST_GROWTH * start && !self.noted.replace(true) {
+            let note = format!(
+                "vibrobed: note: {}at t = {t:.6} a unit of simulated time costs {:.0} times the \
+                 wall time it cost at the start: the bed may be freezing into an inelastic \
+                 collapse (or a pile rattling without coming to rest); cures: collisions.tc \
+                 (the TC model, 10⁻³ √(d/g) is a good start) or collisions.speed_cutoff, and \
+                 run.max_wall_seconds to bound the run (see the book's page Stability models \
+                 and hard cases)",
+                self.name_part(),
+                cost / start
+            );
+            match &self.bar {
+                Some(bar) => bar.println(note),
+                None => eprintln!("{note}"),
+            }
         }
     }
 
@@ -101,21 +191,28 @@ impl ProgressReport {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
-        if self.mode == ProgressMode::Quiet {
+        if matches!(self.mode, ProgressMode::Quiet | ProgressMode::Periodic) {
             return;
         }
         let wall = self.clock.elapsed().as_secs_f64();
-        let how = match ending {
-            Ending::Completed => "completed",
-            Ending::Interrupted => "interrupted",
-            Ending::EventLimit => "stopped by the event limit",
-            Ending::Stalled => "stopped: simulated time stalled",
-        };
+        let how = ending.words();
         eprintln!(
             "vibrobed: {how} at t = {t} of {} in {wall:.1} s: {collisions} collisions ({}/s)",
             self.duration,
             rate(collisions as f64 / wall.max(1e-9))
         );
+    }
+}
+
+/// Wall seconds as `42 s`, `3 min 20 s` or `5 h 07 min`.
+fn clock_time(seconds: f64) -> String {
+    let s = seconds.round() as u64;
+    if s < 60 {
+        format!("{s} s")
+    } else if s < 3600 {
+        format!("{} min {:02} s", s / 60, s % 60)
+    } else {
+        format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
     }
 }
 
@@ -128,6 +225,13 @@ mod tests {
         assert_eq!(rate(850.4), "850");
         assert_eq!(rate(12_345.0), "12.3k");
         assert_eq!(rate(4_561_000.0), "4.56M");
+    }
+
+    #[test]
+    fn times_to_go_are_short() {
+        assert_eq!(clock_time(42.4), "42 s");
+        assert_eq!(clock_time(200.0), "3 min 20 s");
+        assert_eq!(clock_time(5.0 * 3600.0 + 7.0 * 60.0), "5 h 07 min");
     }
 
     #[test]

@@ -14,9 +14,30 @@ pub enum Ending {
     Interrupted,
     /// Stopped by `run.max_events`.
     EventLimit,
+    /// Stopped by `run.max_wall_seconds` (or `sweep run --max-run-seconds`): the wall-clock
+    /// time allowed for the run was spent; the summary covers the time simulated so far.
+    WallLimit,
     /// Simulated time stopped advancing (a bug of the engine's rules, reported on standard
     /// error with the disks and rules involved); the summary covers the time simulated so far.
     Stalled,
+}
+
+/// Exit code of a run stopped by `run.max_events`.
+pub const EXIT_EVENT_LIMIT: i32 = 4;
+/// Exit code of a run stopped by `run.max_wall_seconds`.
+pub const EXIT_WALL_LIMIT: i32 = 5;
+
+impl Ending {
+    /// How the run ended, in words (progress lines, sweep logs, the recording's last note).
+    pub fn words(self) -> &'static str {
+        match self {
+            Ending::Completed => "completed",
+            Ending::Interrupted => "interrupted",
+            Ending::EventLimit => "stopped by the event limit (run.max_events)",
+            Ending::WallLimit => "stopped by the wall-clock limit (run.max_wall_seconds)",
+            Ending::Stalled => "stopped: simulated time stalled",
+        }
+    }
 }
 
 /// Kinetic and potential energy at one time.
@@ -91,6 +112,12 @@ pub struct Temperature {
     /// ⟨Σ I ω²⟩/N (rough disks only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rotational: Option<f64>,
+    /// The local temperature (gravity scenes): each height bin's temperature about its own
+    /// mean velocity, averaged over the bins weighted by their density; `x`, `y` and `mean`
+    /// are about the whole bed's mean velocity at each sample, so they also count the motion
+    /// of one height against another.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub local: Option<f64>,
 }
 
 /// How the engine was set up.
@@ -141,8 +168,10 @@ pub struct Summary {
     pub collisions_per_second: f64,
     /// Energy budget.
     pub energy: EnergySummary,
-    /// Granular temperature (averaged after warm-up).
-    pub temperature: Temperature,
+    /// Granular temperature (averaged after warm-up); absent when no sample was taken after it
+    /// (a run that ended before its warm-up did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<Temperature>,
     /// Z = PA/(NkT) from the pair collision virial, for a closed elastic box without gravity.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub compressibility_factor: Option<f64>,
@@ -151,7 +180,8 @@ pub struct Summary {
     pub packing_fraction: Option<f64>,
     /// Largest overlap seen at a contact (distance units).
     pub max_overlap: f64,
-    /// Mean centre-of-mass height (averaged after warm-up), gravity scenes.
+    /// Mean centre-of-mass height (averaged after warm-up), gravity scenes; absent before the
+    /// first sample after the warm-up.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub com_height: Option<f64>,
     /// Floor impacts per unit simulated time (after warm-up), scenes with a floor.
@@ -169,7 +199,7 @@ pub struct Summary {
     /// floor, an outlet or an arriving disk; absent when none was.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rest_wakes: Option<u64>,
-    /// Height profiles (gravity scenes).
+    /// Height profiles (gravity scenes; absent before the first sample after the warm-up).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileTable>,
     /// The motion against the floor's phase (after warm-up): a vibrating floor under gravity.

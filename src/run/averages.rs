@@ -73,14 +73,27 @@ impl Averages {
         }
     }
 
-    pub(super) fn temperature(&self) -> Temperature {
-        let n = self.samples.max(1) as f64;
-        Temperature {
+    /// The temperatures averaged over the samples; `None` before the first.
+    pub(super) fn temperature(&self) -> Option<Temperature> {
+        if self.samples == 0 {
+            return None;
+        }
+        let n = self.samples as f64;
+        Some(Temperature {
             x: self.temperature[0] / n,
             y: self.temperature[1] / n,
             mean: 0.5 * (self.temperature[0] + self.temperature[1]) / n,
             rotational: self.rotational.map(|t| t / n),
-        }
+            local: self
+                .profiles
+                .as_ref()
+                .and_then(|p| p.table().local_temperature()),
+        })
+    }
+
+    /// The mean centre-of-mass height over the samples; `None` before the first.
+    pub(super) fn com_height(&self) -> Option<f64> {
+        (self.samples > 0).then(|| self.com_height / self.samples as f64)
     }
 }
 

@@ -163,7 +163,7 @@ impl Checkpoint {
 }
 
 /// The only scenario fields a resume may change: how long the run goes on.
-pub const RESUMABLE_FIELDS: [&str; 2] = ["run.duration", "run.max_events"];
+pub const RESUMABLE_FIELDS: [&str; 3] = ["run.duration", "run.max_events", "run.max_wall_seconds"];
 
 /// Checks that resume overrides touch only [`RESUMABLE_FIELDS`].
 pub fn check_resume_sets(sets: &[String]) -> Result<()> {
@@ -175,7 +175,7 @@ pub fn check_resume_sets(sets: &[String]) -> Result<()> {
                 format!(
                     "a resumed run can change only {} (got `{set}`): the rest of the scene is \
                      the checkpoint's",
-                    RESUMABLE_FIELDS.join(" and ")
+                    RESUMABLE_FIELDS.join(", ")
                 ),
             ));
         }

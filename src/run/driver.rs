@@ -578,6 +578,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 Ending::Completed => "run completed".to_string(),
                 Ending::Interrupted => format!("interrupted at t = {end_time}"),
                 Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+                Ending::WallLimit => format!("wall-clock limit reached at t = {end_time}"),
                 Ending::Stalled => format!("simulated time stopped advancing at t = {end_time}"),
             };
             let level = if ending == Ending::Completed {
@@ -650,7 +651,12 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let at_rest_since = sim
             .at_rest_since()
             .or(self.at_rest_since.filter(|_| sim.disks_at_rest() == n));
-        let profiles = avg.profiles.as_ref().map(|p| p.table());
+        // Profiles and fields only once measured: a run that ended before its warm-up has none.
+        let profiles = avg
+            .profiles
+            .as_ref()
+            .filter(|p| p.samples() > 0)
+            .map(|p| p.table());
         let phase = match (&scene.floor, &avg.phase) {
             (Some(floor), Some(bins)) => {
                 // The piece of a bin from the last edge to the end.
@@ -694,9 +700,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             compressibility_factor,
             packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
             max_overlap: sim.max_overlap(),
-            com_height: scene
-                .gravity
-                .map(|_| avg.com_height / avg.samples.max(1) as f64),
+            com_height: scene.gravity.and(avg.com_height()),
             impacts_per_unit_time: match (&scene.floor, measured) {
                 (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
                 _ => None,
@@ -716,7 +720,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             profiles,
             phase,
             state,
-            fields: avg.fields.clone(),
+            fields: avg.fields.clone().filter(|f| f.samples() > 0),
             velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
             engine: EngineSummary {
                 scheme: setup.scheme.into(),

@@ -560,6 +560,9 @@ fn validate_run(r: &Run) -> Result<()> {
             ),
         ));
     }
+    if let Some(seconds) = r.max_wall_seconds {
+        positive("run.max_wall_seconds", seconds)?;
+    }
     Ok(())
 }
 

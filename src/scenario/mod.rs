@@ -402,6 +402,11 @@ pub struct Run {
     /// Stop after this many events (a safety net; absent: no limit).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_events: Option<u64>,
+    /// Stop after this many wall-clock seconds of running (absent: no limit); the run ends
+    /// `wall-limit` with its summary, checkpoint and recording kept. A resumed run's part
+    /// counts from its resume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_wall_seconds: Option<f64>,
 }
 
 /// What to measure and write.

@@ -343,7 +343,12 @@ fn an_event_budget_can_be_raised_on_resume() {
         "run.max_events=500",
     ];
     cut.extend(base);
-    assert_ok(&vibrobed(&dir, &cut));
+    let cut = vibrobed(&dir, &cut);
+    assert_eq!(
+        cut.status.code(),
+        Some(4),
+        "the event limit's own exit code"
+    );
     assert_eq!(physics(&dir.join("cut.json"))["ending"], "event-limit");
     assert_ok(&vibrobed(
         &dir,

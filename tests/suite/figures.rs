@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use vibrobed::studies::accuracy::{Errors, Report, Row};
 use vibrobed::studies::sweep::collect::Stat;
 use vibrobed::studies::sweep::fit::power_law;
-use vibrobed::studies::sweep::plot::{draw, Panel};
+use vibrobed::studies::sweep::plot::{draw, Panel, Series};
 
 fn out(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
@@ -156,13 +156,19 @@ fn the_sweep_figures_can_be_read_on_log_and_linear_axes() {
     let panels = [
         Panel {
             field: "temperature.mean",
-            series: &t,
-            fit: fit(&t),
+            series: vec![Series {
+                label: "all points",
+                points: &t,
+                fit: fit(&t),
+            }],
         },
         Panel {
             field: "com_height",
-            series: &z,
-            fit: fit(&z),
+            series: vec![Series {
+                label: "all points",
+                points: &z,
+                fit: fit(&z),
+            }],
         },
     ];
     for (log, name) in [(true, "log"), (false, "linear")] {
@@ -193,8 +199,11 @@ fn the_sweep_figures_can_be_read_on_log_and_linear_axes() {
     let path = out("unknown");
     let panel = [Panel {
         field: "something.new",
-        series: &w,
-        fit: None,
+        series: vec![Series {
+            label: "all points",
+            points: &w,
+            fit: None,
+        }],
     }];
     draw(&path, "sweep test", "floor.gamma", &panel, true, true).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();

@@ -70,7 +70,10 @@ fn same_seed_same_result_bit_for_bit() {
         a.energy.final_.kinetic.to_bits(),
         b.energy.final_.kinetic.to_bits()
     );
-    assert_eq!(a.temperature.x.to_bits(), b.temperature.x.to_bits());
+    assert_eq!(
+        a.temperature.unwrap().x.to_bits(),
+        b.temperature.unwrap().x.to_bits()
+    );
     let c = run(
         &common::scenario(&json.replace("\"seed\": 9", "\"seed\": 10")),
         RunOptions::default(),

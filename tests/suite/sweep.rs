@@ -777,3 +777,254 @@ fn a_sweep_over_two_axes_draws_the_states() {
     assert!(texts.contains(&"particles.count (count)"), "{texts:?}");
     assert!(texts.contains(&"floor.gamma (dimensionless)"), "{texts:?}");
 }
+
+/// A two-axis sweep (Γ × depth, two seeds), as a study of T against Aω for two depths meets it:
+/// collected against x without `--by` it is refused (exit 2, naming the other axis) rather than
+/// pooled into one fit; `--by particles.count` gives a series and a fit per depth, with the
+/// exponent's error from the seeds beside the scatter's, a legend naming each series, and fits
+/// over an x range and of y − y₀; two sweep folders are overlaid in one plot.
+#[test]
+fn a_two_axis_sweep_is_grouped_and_fitted_per_group() {
+    let dir = scratch("groups");
+    let sweep = r#"{
+      "name": "depths",
+      "scenario": "bed.json",
+      "set": ["run.duration=3"],
+      "axes": [
+        { "key": "floor.gamma", "values": [2.5, 4.0, 6.0] },
+        { "key": "particles.count", "values": [30, 60] }
+      ],
+      "seeds": [5, 6]
+    }"#;
+    std::fs::write(dir.join("depths.json"), sweep).unwrap();
+    assert_ok(&vibrobed(
+        &dir,
+        &["sweep", "run", "depths.json", "--out", "out", "--jobs", "2"],
+    ));
+    let collect = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "collect",
+            "out",
+            "--x",
+            "drive.peak_velocity",
+            "--y",
+            "temperature.mean",
+            "--fit",
+            "power",
+        ];
+        args.extend(extra);
+        vibrobed(&dir, &args)
+    };
+    let pooled = collect(&[]);
+    assert_eq!(pooled.status.code(), Some(2), "{}", describe(&pooled));
+    let err = String::from_utf8_lossy(&pooled.stderr).into_owned();
+    assert!(
+        err.contains(
+            "--by: the axis particles.count also varies (30, 60) at one drive.peak_velocity"
+        ),
+        "{err}"
+    );
+    assert!(!dir.join("out/fit.json").exists(), "nothing written");
+
+    let grouped = collect(&["--by", "particles.count"]);
+    assert_ok(&grouped);
+    let text = String::from_utf8_lossy(&grouped.stdout).into_owned();
+    for depth in ["30", "60"] {
+        let line =
+            format!("temperature.mean [particles.count={depth}] = c·(drive.peak_velocity)^δ");
+        assert!(text.contains(&line), "{text}");
+    }
+    assert!(
+        text.contains("(scatter)") && text.contains("(seeds)"),
+        "{text}"
+    );
+    let fits = read_json(&dir.join("out/fit.json"));
+    let fits = fits["power_law"].as_array().unwrap();
+    assert_eq!(fits.len(), 2);
+    for f in fits {
+        assert_eq!(f["fit"]["points"], 3, "{f}");
+        assert!(f["fit"]["exponent_seed_se"].as_f64().unwrap() > 0.0, "{f}");
+    }
+    assert_ne!(fits[0]["fit"]["exponent"], fits[1]["fit"]["exponent"]);
+    let svg = std::fs::read_to_string(dir.join("out/plot.svg")).unwrap();
+    let fig = svg::parse(&svg);
+    let texts: Vec<&str> = fig.texts.iter().map(|t| t.content.trim()).collect();
+    for label in ["particles.count=30", "particles.count=60"] {
+        assert!(texts.contains(&label), "legend lacks {label}: {texts:?}");
+    }
+
+    // An x range keeps two of the three points; a given offset is taken off y.
+    let ranged = collect(&[
+        "--by",
+        "particles.count",
+        "--fit-range",
+        "0.0",
+        "1.5",
+        "--offset",
+        "0.01",
+    ]);
+    assert_ok(&ranged);
+    let fits = read_json(&dir.join("out/fit.json"));
+    for f in fits["power_law"].as_array().unwrap() {
+        assert_eq!(f["fit"]["points"], 2, "{f}");
+        assert_eq!(f["fit"]["offset"], 0.01, "{f}");
+    }
+    let vs: Vec<f64> = (0..6)
+        .map(|p| {
+            let (header, rows) = read_csv(&dir.join("out/points.csv"));
+            let col = header
+                .iter()
+                .position(|h| h == "drive.peak_velocity")
+                .unwrap();
+            rows[p][col].parse().unwrap()
+        })
+        .collect();
+    assert_eq!(vs.iter().filter(|v| **v <= 1.5).count(), 4, "{vs:?}");
+
+    // Two folders overlaid: the same sweep run again into another folder, a series each.
+    assert_ok(&vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "run",
+            "depths.json",
+            "--out",
+            "again",
+            "--jobs",
+            "2",
+        ],
+    ));
+    let both = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "collect",
+            "out",
+            "again",
+            "--x",
+            "floor.gamma",
+            "--y",
+            "com_height",
+            "--by",
+            "particles.count",
+            "--plot",
+            "both.svg",
+        ],
+    );
+    assert_ok(&both);
+    let svg = std::fs::read_to_string(dir.join("both.svg")).unwrap();
+    let fig = svg::parse(&svg);
+    let texts: Vec<&str> = fig.texts.iter().map(|t| t.content.trim()).collect();
+    for label in ["out: particles.count=30", "again: particles.count=60"] {
+        assert!(texts.contains(&label), "legend lacks {label}: {texts:?}");
+    }
+    assert!(dir.join("again/points.csv").exists());
+}
+
+/// A sweep whose first point ends at its event limit before its warm-up (the shipped bed's
+/// Γ = 0.8 at a small `run.max_events`): its runs leave the measurements out of runs.csv (empty,
+/// not 0), and `sweep collect` names the point, how its runs ended, and the fit it left out.
+#[test]
+fn incomplete_points_are_named_with_the_fits_they_left_out() {
+    let dir = scratch("incomplete");
+    let sweep = r#"{
+      "name": "early",
+      "scenario": "bed.json",
+      "set": ["run.duration=3"],
+      "combine": "zip",
+      "axes": [
+        { "key": "floor.gamma", "values": [0.8, 2.5, 4.0] },
+        { "key": "run.max_events", "values": [100, 100000000, 100000000] }
+      ],
+      "seeds": [5, 6]
+    }"#;
+    std::fs::write(dir.join("early.json"), sweep).unwrap();
+    let ran = vibrobed(&dir, &["sweep", "run", "early.json", "--out", "out"]);
+    assert_ok(&ran);
+    let err = String::from_utf8_lossy(&ran.stderr).into_owned();
+    assert!(
+        err.contains("run 0 stopped by the event limit (run.max_events)"),
+        "{err}"
+    );
+    let out = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "collect",
+            "out",
+            "--x",
+            "floor.gamma",
+            "--y",
+            "temperature.mean",
+            "--fit",
+            "power",
+        ],
+    );
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        err.contains(
+            "point 0 (floor.gamma=0.8, run.max_events=100): 0 of 2 runs completed (2 event-limit)"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("temperature.mean: the fit leaves out point 0 (floor.gamma=0.8"),
+        "{err}"
+    );
+    let (header, rows) = read_csv(&dir.join("out/runs.csv"));
+    let t = header.iter().position(|h| h == "temperature.mean").unwrap();
+    assert_eq!(rows[0][t], "", "no temperature measured: {:?}", rows[0]);
+    assert!(!rows[2][t].is_empty());
+}
+
+/// `sweep run --max-run-seconds` ends each run at that wall time (`wall-limit`, the summary
+/// kept) and says so; off a terminal each run prints its progress lines, named.
+#[test]
+fn a_sweep_bounds_the_wall_time_of_each_run() {
+    let dir = scratch("max-run-seconds");
+    let long = SWEEP.replace("run.duration=3", "run.duration=100000");
+    std::fs::write(dir.join("long.json"), long).unwrap();
+    let out = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "run",
+            "long.json",
+            "--out",
+            "out",
+            "--jobs",
+            "2",
+            "--max-run-seconds",
+            "0.6",
+            "--progress-every",
+            "0.2",
+        ],
+    );
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    for i in 0..4 {
+        let s = read_json(&dir.join(format!("out/{i}/summary.json")));
+        assert_eq!(s["ending"], "wall-limit", "run {i}");
+        assert!(
+            err.contains(&format!("run {i} stopped by the wall-clock limit")),
+            "{err}"
+        );
+    }
+    assert!(err.contains("vibrobed: run 0: t = "), "{err}");
+    let bad = vibrobed(
+        &dir,
+        &[
+            "sweep",
+            "run",
+            "long.json",
+            "--out",
+            "o2",
+            "--max-run-seconds",
+            "0",
+        ],
+    );
+    assert_eq!(bad.status.code(), Some(2), "{}", describe(&bad));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--max-run-seconds: "));
+}

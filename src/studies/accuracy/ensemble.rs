@@ -41,7 +41,7 @@ impl Measured {
                     .collect()
             }),
             com_height: s.com_height,
-            temperature: s.temperature.mean,
+            temperature: s.temperature.map_or(f64::NAN, |t| t.mean),
             energy_input: has_floor.then(|| s.energy.injected / t),
             collision_rate: s.events.pair as f64 / t,
             wall_per_time: s.wall_seconds / t,

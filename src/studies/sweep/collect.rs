@@ -294,6 +294,28 @@ impl Collected {
         }
     }
 
+    /// The value of a point-level column at `point` as text (numbers as JSON writes them,
+    /// strings bare; empty when absent), to group and label points by.
+    pub fn point_cell(&self, column: &str, point: usize) -> String {
+        let run = self.plan.runs.iter().find(|r| r.point == point);
+        match self.plan.axes.iter().position(|a| a == column) {
+            Some(k) => run
+                .and_then(|r| r.values.get(k))
+                .map_or(String::new(), value_cell),
+            None => float_cell(self.point_value(column, point)),
+        }
+    }
+
+    /// The values of numeric field `field` in `point`'s completed runs, in run order.
+    pub fn run_values(&self, point: usize, field: &str) -> Vec<f64> {
+        self.runs
+            .iter()
+            .filter(|r| r.point == point && r.ending == "completed")
+            .filter_map(|r| r.fields.iter().find(|(k, _)| k == field))
+            .filter_map(|(_, v)| v.as_f64())
+            .collect()
+    }
+
     /// Whether `column` is an axis key or (with a drive) a drive column.
     pub fn is_point_column(&self, column: &str) -> bool {
         self.plan.axes.iter().any(|a| a == column)
@@ -387,6 +409,12 @@ impl Collected {
     /// The statistics of numeric field `field` at each point, with the x value from `x`
     /// (points without completed runs or without an x value are left out).
     pub fn series(&self, x: &str, field: &str) -> Result<Vec<(f64, Stat)>> {
+        let all: Vec<usize> = self.points.iter().map(|p| p.point).collect();
+        self.series_of(x, field, &all)
+    }
+
+    /// [`series`](Self::series) over the points `points` only (a group).
+    pub fn series_of(&self, x: &str, field: &str, points: &[usize]) -> Result<Vec<(f64, Stat)>> {
         if !self.is_point_column(x) {
             return Err(Error::input(
                 "--x",
@@ -418,6 +446,7 @@ impl Collected {
         let mut out: Vec<(f64, Stat)> = self
             .points
             .iter()
+            .filter(|p| points.contains(&p.point))
             .filter_map(|p| Some((self.point_value(x, p.point)?, p.stats[k]?)))
             .collect();
         out.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -456,6 +485,63 @@ impl Collected {
     pub fn write_tables(&self, dir: &Path) -> Result<()> {
         write_atomic(&dir.join("runs.csv"), &self.runs_csv())?;
         write_atomic(&dir.join("points.csv"), &self.points_csv())
+    }
+
+    /// The label of `point`: its axes' values, e.g. `floor.gamma=0.8, particles.count=60`.
+    pub fn point_label(&self, point: usize) -> String {
+        let values = self
+            .plan
+            .runs
+            .iter()
+            .find(|r| r.point == point)
+            .map_or(&[][..], |r| &r.values[..]);
+        crate::studies::sweep::plan::point_label(&self.plan.axes, values)
+    }
+
+    /// The points some of whose runs did not complete, each with a line that names it and says
+    /// how its runs ended, e.g. `point 3 (floor.gamma=0.8): 0 of 2 runs completed (2
+    /// event-limit)`; their statistics cover only their completed runs.
+    pub fn incomplete(&self) -> Vec<(usize, String)> {
+        self.points
+            .iter()
+            .filter_map(|p| {
+                let runs: Vec<&RunRow> = self.runs.iter().filter(|r| r.point == p.point).collect();
+                if p.completed == runs.len() {
+                    return None;
+                }
+                let mut endings: Vec<(&str, usize)> = Vec::new();
+                for r in runs.iter().filter(|r| r.ending != "completed") {
+                    match endings.iter_mut().find(|(e, _)| *e == r.ending) {
+                        Some((_, n)) => *n += 1,
+                        None => endings.push((&r.ending, 1)),
+                    }
+                }
+                let endings: Vec<String> =
+                    endings.iter().map(|(e, n)| format!("{n} {e}")).collect();
+                Some((
+                    p.point,
+                    format!(
+                        "point {} ({}): {} of {} runs completed ({})",
+                        p.point,
+                        self.point_label(p.point),
+                        p.completed,
+                        runs.len(),
+                        endings.join(", ")
+                    ),
+                ))
+            })
+            .collect()
+    }
+
+    /// The points where no completed run measured numeric field `field` (none completed, or
+    /// the field is absent from their summaries): a fit of it leaves them out.
+    pub fn left_out(&self, field: &str) -> Vec<usize> {
+        let k = self.numeric.iter().position(|f| f == field);
+        self.points
+            .iter()
+            .filter(|p| k.is_none_or(|k| p.stats[k].is_none()))
+            .map(|p| p.point)
+            .collect()
     }
 
     /// How many runs ended each way, e.g. `18 completed` or `16 completed, 2 missing`.

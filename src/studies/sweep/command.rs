@@ -1,15 +1,16 @@
 //! `vibrobed sweep plan|run|slurm|task|collect`: the sweep subcommands of the command line.
 
 use crate::error::{Error, Result};
-use crate::output::summary::Ending;
+use crate::output::progress::DEFAULT_EVERY;
+use crate::output::summary::{Ending, EXIT_EVENT_LIMIT, EXIT_WALL_LIMIT};
 use crate::scenario::Scheme;
 use crate::studies::sweep::collect::collect;
-use crate::studies::sweep::fit::{power_law, PowerFit};
+use crate::studies::sweep::fit::{FitOptions, Offset};
 use crate::studies::sweep::local::{
-    check_plan, ending_word, is_done, run_one, run_pool, write_atomic, write_plan, PoolReport,
+    check_plan, is_done, run_one, run_pool, write_atomic, write_plan, PoolOptions, PoolReport,
 };
 use crate::studies::sweep::plan::{expand, point_label, Expanded, Plan};
-use crate::studies::sweep::plot::{draw, Panel};
+use crate::studies::sweep::report::{collect_command, Asked};
 use crate::studies::sweep::slurm::{script, submit, SlurmOptions};
 use crate::studies::sweep::state_map::draw_states;
 use clap::{Subcommand, ValueEnum};
@@ -42,6 +43,13 @@ pub enum SweepCommand {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Off a terminal, each run's progress line every SECONDS of wall time (default 60).
+        #[arg(long, value_name = "SECONDS")]
+        progress_every: Option<f64>,
+        /// Stop each run after SECONDS of wall time (ending `wall-limit`; sets
+        /// run.max_wall_seconds of every run); a later `sweep run` runs such runs again.
+        #[arg(long, value_name = "SECONDS")]
+        max_run_seconds: Option<f64>,
     },
     /// Write DIR/sweep.sbatch, a Slurm job array with one task per run, and submit it with
     /// --submit (prints the job id).
@@ -81,8 +89,10 @@ pub enum SweepCommand {
     /// Gather the runs' summaries under DIR into DIR/runs.csv and DIR/points.csv; with --x and
     /// --y, plot the fields' means (± standard error) against an axis into an SVG file.
     Collect {
-        /// The sweep's output directory.
-        dir: PathBuf,
+        /// The sweep's output directory; several: each gets its tables, and their series are
+        /// overlaid in one plot (written into the first unless --plot).
+        #[arg(required = true, num_args = 1..)]
+        dirs: Vec<PathBuf>,
         /// Axis of the plot: a key of the sweep's axes, or drive.amplitude, drive.frequency,
         /// drive.gamma, drive.peak_velocity (Aω) for a vibrating floor.
         #[arg(long)]
@@ -90,9 +100,19 @@ pub enum SweepCommand {
         /// Summary field to plot (repeatable: one panel each), e.g. temperature.mean.
         #[arg(long)]
         y: Vec<String>,
+        /// Group the points by this axis (repeatable): one series each, in its colour, fitted
+        /// apart. Needed when another axis than --x varies.
+        #[arg(long, value_name = "KEY")]
+        by: Vec<String>,
         /// Fit each plotted field against x: `power` fits y = c·x^δ (log–log least squares).
         #[arg(long, value_enum)]
         fit: Option<Fit>,
+        /// Fit only the points with x in [LO, HI].
+        #[arg(long, num_args = 2, value_names = ["LO", "HI"], requires = "fit")]
+        fit_range: Option<Vec<f64>>,
+        /// Fit y − Y0 = c·x^δ: a value (e.g. the bed's height at rest), or `fit` to fit Y0 too.
+        #[arg(long, value_name = "Y0", requires = "fit")]
+        offset: Option<String>,
         /// Logarithmic x and y axes.
         #[arg(long)]
         log: bool,
@@ -134,7 +154,24 @@ impl SweepCommand {
                 out,
                 jobs,
                 quiet,
-            } => run(&sweep, &out, jobs, quiet),
+                progress_every,
+                max_run_seconds,
+            } => {
+                crate::cli::check_progress_every(progress_every)?;
+                if let Some(m) = max_run_seconds.filter(|m| !(m.is_finite() && *m > 0.0)) {
+                    return Err(Error::input(
+                        "--max-run-seconds",
+                        format!("must be a positive number of seconds (got {m})"),
+                    ));
+                }
+                let options = PoolOptions {
+                    jobs: jobs.unwrap_or(0),
+                    progress: !quiet,
+                    progress_every: progress_every.unwrap_or(DEFAULT_EVERY),
+                    max_run_seconds,
+                };
+                run(&sweep, &out, jobs, options)
+            }
             SweepCommand::Task { sweep, index, out } => task(&sweep, index, &out),
             SweepCommand::Slurm {
                 sweep,
@@ -154,24 +191,64 @@ impl SweepCommand {
                 slurm(&sweep, &out, &opts, submit)
             }
             SweepCommand::Collect {
-                dir,
+                dirs,
                 x,
                 y,
+                by,
                 fit,
+                fit_range,
+                offset,
                 log,
                 plot,
                 states,
             } => {
                 // --log with --states alone is the map's (logarithmic x), not a plot's.
                 let plot_log = log && (x.is_some() || states.is_none());
-                let drawn = collect_command(&dir, x, y, fit, plot_log, plot)?;
+                let asked = Asked {
+                    x,
+                    ys: y,
+                    by,
+                    fit: fit.map(|_| fit_options(fit_range, offset)).transpose()?,
+                    log: plot_log,
+                    plot,
+                };
+                let drawn = collect_command(&dirs, asked)?;
                 match states {
-                    Some(axes) => states_command(&dir, &axes[0], &axes[1], log),
+                    Some(axes) => states_command(&dirs[0], &axes[0], &axes[1], log),
                     None => Ok(drawn),
                 }
             }
         }
     }
+}
+
+/// The fit's options from `--fit-range LO HI` and `--offset Y0|fit`, refused when they make no
+/// sense (a range not from low to high, an offset that is neither a number nor `fit`).
+fn fit_options(range: Option<Vec<f64>>, offset: Option<String>) -> Result<FitOptions> {
+    let range = match range.as_deref() {
+        None => None,
+        Some(&[lo, hi]) if lo < hi => Some((lo, hi)),
+        Some(r) => {
+            return Err(Error::input(
+                "--fit-range",
+                format!("give LO < HI (got {r:?})"),
+            ))
+        }
+    };
+    let offset = match offset.as_deref() {
+        None => None,
+        Some("fit") => Some(Offset::Fitted),
+        Some(text) => match text.parse::<f64>() {
+            Ok(y0) if y0.is_finite() => Some(Offset::Given(y0)),
+            _ => {
+                return Err(Error::input(
+                    "--offset",
+                    format!("a number or `fit` (got `{text}`)"),
+                ))
+            }
+        },
+    };
+    Ok(FitOptions { range, offset })
 }
 
 /// `sweep plan`: expands the sweep, builds every run's scene as `check` does, and lists the runs.
@@ -189,7 +266,7 @@ fn plan(sweep: &Path, out: Option<&Path>) -> Result<i32> {
 
 /// `sweep run`: every run not yet completed, on a pool of worker threads. A signal stops the
 /// pool (exit 128 + its number); a failed run fails the sweep once the others are done.
-fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32> {
+fn run(sweep: &Path, out: &Path, jobs: Option<usize>, options: PoolOptions) -> Result<i32> {
     if jobs == Some(0) {
         return Err(Error::input("--jobs", "must be at least 1"));
     }
@@ -198,7 +275,7 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, quiet: bool) -> Result<i32
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     writable_out(out)?;
     crate::platform::signals::install();
-    let report = run_pool(&exp, out, jobs, !quiet)?;
+    let report = run_pool(&exp, out, PoolOptions { jobs, ..options })?;
     eprintln!("{}", pool_tally(&exp.plan, &report, jobs, out));
     if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
         return Ok(crate::platform::signals::exit_code());
@@ -226,8 +303,18 @@ pub fn writable_out(out: &Path) -> Result<()> {
 fn pool_tally(plan: &Plan, report: &PoolReport, jobs: usize, out: &Path) -> String {
     let n = plan.runs.len();
     let not_started = n - report.skipped - report.ran - report.failed.len() - report.interrupted;
+    let early = if report.ended_early.is_empty() {
+        String::new()
+    } else {
+        let runs: Vec<String> = report
+            .ended_early
+            .iter()
+            .map(|(i, e)| format!("run {i} {}", e.words()))
+            .collect();
+        format!(" (of them ended early: {})", runs.join("; "))
+    };
     format!(
-        "sweep {}: {} runs: {} ran now, {} done before{}{}{} ({})",
+        "sweep {}: {} runs: {} ran now{early}, {} done before{}{}{} ({})",
         plan.name,
         n,
         report.ran,
@@ -272,19 +359,26 @@ fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
     }
     crate::platform::signals::install();
     let spec = &exp.plan.runs[index];
-    let ending = run_one(&exp.plan, spec, &exp.scenarios[index], out)?;
+    let ending = run_one(
+        &exp.plan,
+        spec,
+        &exp.scenarios[index],
+        out,
+        Some(DEFAULT_EVERY),
+    )?;
     eprintln!(
         "run {index} (point {}: {}, seed {}): {}",
         spec.point,
         point_label(&exp.plan.axes, &spec.values),
         spec.seed
             .map_or("of the scenario".into(), |s| s.to_string()),
-        ending_word(ending)
+        ending.words()
     );
-    Ok(if ending == Ending::Interrupted {
-        130
-    } else {
-        0
+    Ok(match ending {
+        Ending::Interrupted => crate::platform::signals::exit_code(),
+        Ending::EventLimit => EXIT_EVENT_LIMIT,
+        Ending::WallLimit => EXIT_WALL_LIMIT,
+        Ending::Completed | Ending::Stalled => 0,
     })
 }
 
@@ -355,72 +449,6 @@ fn task_cpus(exp: &Expanded, pending: &[usize]) -> usize {
         .unwrap_or(1)
 }
 
-/// `sweep collect`: gathers the runs into `DIR/runs.csv` and `DIR/points.csv`; with `--x` and
-/// `--y`, plots each field's point means against x (and with `--fit`, fits and reports them).
-/// The plot's fields are checked before anything is written.
-fn collect_command(
-    dir: &Path,
-    x: Option<String>,
-    ys: Vec<String>,
-    fit: Option<Fit>,
-    log: bool,
-    plot: Option<PathBuf>,
-) -> Result<i32> {
-    let c = collect(dir)?;
-    let x = match (x, ys.is_empty()) {
-        (Some(x), false) => Some(x),
-        (None, true) if fit.is_none() && plot.is_none() && !log => None,
-        (None, _) => return Err(Error::input("--x", "needed to plot or fit (with --y)")),
-        (Some(_), true) => return Err(Error::input("--y", "needed with --x")),
-    };
-    let series = match &x {
-        Some(x) => ys
-            .iter()
-            .map(|y| c.series(x, y))
-            .collect::<Result<Vec<_>>>()?,
-        None => Vec::new(),
-    };
-    c.write_tables(dir)?;
-    eprintln!(
-        "{}: {} runs ({}); wrote runs.csv, points.csv",
-        dir.display(),
-        c.runs.len(),
-        c.endings()
-    );
-    let Some(x) = x else { return Ok(0) };
-    let fits: Vec<Option<PowerFit>> = series
-        .iter()
-        .map(|s| match fit {
-            Some(Fit::Power) => {
-                power_law(&s.iter().map(|(x, st)| (*x, st.mean)).collect::<Vec<_>>())
-            }
-            None => None,
-        })
-        .collect();
-    if fit.is_some() {
-        report_fits(dir, &x, &ys, &fits)?;
-    }
-    let panels: Vec<Panel> = ys
-        .iter()
-        .zip(&series)
-        .zip(&fits)
-        .map(|((y, s), f)| Panel {
-            field: y,
-            series: s,
-            fit: *f,
-        })
-        .collect();
-    let path = plot.unwrap_or_else(|| dir.join("plot.svg"));
-    let title = format!(
-        "sweep {}: against {x} ({} seeds per point)",
-        c.plan.name,
-        c.plan.seeds_per_point()
-    );
-    draw(&path, &title, &x, &panels, log, log)?;
-    eprintln!("wrote {}", path.display());
-    Ok(0)
-}
-
 /// `sweep collect --states X Y`: the map of the points' bed states over X and Y into
 /// `DIR/states.svg` (logarithmic x with `--log`).
 fn states_command(dir: &Path, x: &str, y: &str, log: bool) -> Result<i32> {
@@ -441,32 +469,4 @@ fn states_command(dir: &Path, x: &str, y: &str, log: bool) -> Result<i32> {
     draw_states(&path, &title, (x, y), &points, log)?;
     eprintln!("wrote {}", path.display());
     Ok(0)
-}
-
-/// Prints each field's power-law fit y = c·x^δ (or why it has none) and writes them all to
-/// `DIR/fit.json`.
-fn report_fits(dir: &Path, x: &str, ys: &[String], fits: &[Option<PowerFit>]) -> Result<()> {
-    let mut json = serde_json::Map::new();
-    for (y, f) in ys.iter().zip(fits) {
-        match f {
-            Some(f) => {
-                println!(
-                    "{y} = c·({x})^δ: δ = {:.4}{}, c = {:.4} ({} points, log–log least squares)",
-                    f.exponent,
-                    f.exponent_se
-                        .map_or(" (no error with two points)".into(), |se| format!(
-                            " ± {se:.4}"
-                        )),
-                    f.prefactor,
-                    f.points
-                );
-                json.insert(y.clone(), serde_json::to_value(f).expect("fit serialises"));
-            }
-            None => println!("{y}: no fit (it needs two points with positive x and y)"),
-        }
-    }
-    let text = serde_json::to_string_pretty(&serde_json::json!({ "x": x, "power_law": json }))
-        .expect("fit serialises")
-        + "\n";
-    write_atomic(&dir.join("fit.json"), &text)
 }

@@ -83,7 +83,16 @@ pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
 /// `error.txt` (and no summary) in the run's folder; an output the run could not write (its
 /// recording), or a clock that stopped (the stall's report), leaves `error.txt` beside the
 /// summary, and the run counts as failed: a rerun runs it again.
-pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> Result<Ending> {
+///
+/// `progress_every`: off a terminal, a progress line named `run <index>` every so many wall
+/// seconds (`None`: silent).
+pub fn run_one(
+    plan: &Plan,
+    spec: &RunSpec,
+    scenario: &Scenario,
+    out: &Path,
+    progress_every: Option<f64>,
+) -> Result<Ending> {
     let dir = run_dir(out, spec.index);
     std::fs::create_dir_all(&dir)
         .map_err(|e| Error::Io(format!("cannot create {}: {e}", dir.display())))?;
@@ -96,7 +105,9 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
         RunOptions {
             rrd: plan.record.then(|| rrd.clone()),
             interrupt: Some(crate::platform::signals::stop_flag()),
-            progress: false,
+            progress: progress_every.is_some(),
+            progress_every,
+            progress_label: Some(format!("run {}", spec.index)),
             written_after: vec![("summary", summary_path.clone())],
             ..Default::default()
         },
@@ -113,13 +124,16 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
             return failed(e);
         }
     };
-    let written = summary
-        .profiles
-        .as_ref()
-        .map_or(Ok(()), |p| {
-            write_atomic(&dir.join("profiles.csv"), &p.to_csv())
-        })
-        .and_then(|()| write_atomic(&summary_path, &summary.to_json()));
+    let profiles_path = dir.join("profiles.csv");
+    let written = match &summary.profiles {
+        Some(p) => write_atomic(&profiles_path, &p.to_csv()),
+        None => {
+            // None measured (the run ended before its warm-up): an earlier attempt's are stale.
+            let _ = std::fs::remove_file(&profiles_path);
+            Ok(())
+        }
+    }
+    .and_then(|()| write_atomic(&summary_path, &summary.to_json()));
     if let Err(e) = written {
         return failed(e);
     }
@@ -129,16 +143,6 @@ pub fn run_one(plan: &Plan, spec: &RunSpec, scenario: &Scenario, out: &Path) -> 
     match &summary.stall {
         Some(report) => failed(Error::Runtime(report.clone())),
         None => Ok(summary.ending),
-    }
-}
-
-/// How a run ended, in words.
-pub fn ending_word(ending: Ending) -> &'static str {
-    match ending {
-        Ending::Completed => "completed",
-        Ending::Interrupted => "interrupted",
-        Ending::EventLimit => "stopped at the event limit",
-        Ending::Stalled => "stopped: simulated time stalled",
     }
 }
 
@@ -153,13 +157,30 @@ pub struct PoolReport {
     pub failed: Vec<(usize, String)>,
     /// Runs stopped by Ctrl-C (their summaries say so).
     pub interrupted: usize,
+    /// Runs that ended before their duration (an event or wall-clock limit): index and ending.
+    pub ended_early: Vec<(usize, Ending)>,
+}
+
+/// How a pool runs its runs.
+#[derive(Debug, Clone, Copy)]
+pub struct PoolOptions {
+    /// Worker threads.
+    pub jobs: usize,
+    /// A bar over the runs on a terminal; off one, a line per run and progress lines.
+    pub progress: bool,
+    /// Wall seconds between a run's progress lines off a terminal.
+    pub progress_every: f64,
+    /// Wall-clock limit of each run (`--max-run-seconds`), in place of `run.max_wall_seconds`.
+    pub max_run_seconds: Option<f64>,
 }
 
 /// Runs every run of the plan that is not done yet on `jobs` worker threads, with a progress bar
-/// over runs on stderr when `progress` (hidden when stderr is not a terminal). The runs of an
-/// approximate scheme that leave `engine.threads` unset share the cores: each gets
-/// cores / jobs threads (at least one), so that the pool does not oversubscribe the machine.
-pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Result<PoolReport> {
+/// over runs on stderr when `progress` (hidden when stderr is not a terminal, where each run
+/// writes progress lines instead). The runs of an approximate scheme that leave
+/// `engine.threads` unset share the cores: each gets cores / jobs threads (at least one), so that
+/// the pool does not oversubscribe the machine.
+pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<PoolReport> {
+    let PoolOptions { jobs, progress, .. } = options;
     write_plan(&exp.plan, out)?;
     let runs = &exp.plan.runs;
     let pending: Vec<usize> = (0..runs.len()).filter(|&i| !is_done(out, i)).collect();
@@ -194,15 +215,19 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
                 }
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&i) = pending.get(k) else { break };
-                let scenario = share(&exp.scenarios[i], jobs, cores);
-                let outcome = run_one(&exp.plan, &runs[i], &scenario, out);
+                let mut scenario = share(&exp.scenarios[i], jobs, cores);
+                if let Some(seconds) = options.max_run_seconds {
+                    scenario.run.max_wall_seconds = Some(seconds);
+                }
+                let lines = (progress && bar.is_hidden()).then_some(options.progress_every);
+                let outcome = run_one(&exp.plan, &runs[i], &scenario, out, lines);
                 bar.inc(1);
                 let line = match &outcome {
                     Err(e) => Some(format!("vibrobed: run {i} failed: {e}")),
                     // Without a terminal (a log file), one line per run instead of the bar.
                     Ok(ending) if progress && bar.is_hidden() => Some(format!(
                         "run {i}: {} ({}/{} runs)",
-                        ending_word(*ending),
+                        ending.words(),
                         bar.position(),
                         runs.len()
                     )),
@@ -230,7 +255,11 @@ pub fn run_pool(exp: &Expanded, out: &Path, jobs: usize, progress: bool) -> Resu
     for (i, outcome) in outcomes {
         match outcome {
             Ok(Ending::Interrupted) => report.interrupted += 1,
-            Ok(_) => report.ran += 1,
+            Ok(Ending::Completed) => report.ran += 1,
+            Ok(early) => {
+                report.ran += 1;
+                report.ended_early.push((i, early));
+            }
             Err(e) => report.failed.push((i, e.to_string())),
         }
     }

@@ -1,7 +1,8 @@
 //! The sweep's plot: one panel per summary field, its mean over seeds against a sweep axis, with
-//! error bars of one standard error and, when asked, the fitted power law. Axes are labelled with
-//! the field and its unit ([`axis_label`]); the legend sits in a strip of its own under the
-//! title, so that it never covers a point.
+//! error bars of one standard error and, when asked, the fitted power law; one series per group
+//! (`--by`) or sweep folder, each in its colour and marker. Axes are labelled with the field and
+//! its unit ([`axis_label`]); the legend sits in a strip of its own under the title, so that it
+//! never covers a point.
 
 use crate::error::{Error, Result};
 use crate::studies::figure::{
@@ -14,14 +15,39 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// One panel: a field's statistics per point, and its fit.
+/// One series of a panel: a group's statistics per point, and its fit.
+pub struct Series<'a> {
+    /// The group's name in the legend (`all points` for a sweep not grouped).
+    pub label: &'a str,
+    /// (x, statistics) per point, sorted by x.
+    pub points: &'a [(f64, Stat)],
+    /// The fitted power law, drawn as a line.
+    pub fit: Option<PowerFit>,
+}
+
+/// One panel: a field's series.
 pub struct Panel<'a> {
     /// Summary field (y axis).
     pub field: &'a str,
-    /// (x, statistics) per point, sorted by x.
-    pub series: &'a [(f64, Stat)],
-    /// The fitted power law, drawn as a line.
-    pub fit: Option<PowerFit>,
+    /// One per group, in the legend's order.
+    pub series: Vec<Series<'a>>,
+}
+
+/// The colours and markers of the series, in turn.
+const PALETTE: [(RGBColor, Shape); 8] = [
+    (BLUE, Shape::Circle),
+    (RGBColor(255, 127, 14), Shape::Square),
+    (RGBColor(44, 160, 44), Shape::Triangle),
+    (RGBColor(148, 103, 189), Shape::Diamond),
+    (RGBColor(140, 86, 75), Shape::Circle),
+    (RGBColor(227, 119, 194), Shape::Square),
+    (RGBColor(127, 127, 127), Shape::Triangle),
+    (RGBColor(23, 190, 207), Shape::Diamond),
+];
+
+/// The colour and marker of series `k`.
+fn style(k: usize) -> (RGBColor, Shape) {
+    PALETTE[k % PALETTE.len()]
 }
 
 /// Width of the figure, height of the title and legend strip and of each panel, in pixels.
@@ -37,6 +63,8 @@ const ROOM: Room = Room {
 const CAPTION: u32 = 32;
 const BLUE: RGBColor = RGBColor(31, 119, 180);
 const RED: RGBColor = RGBColor(214, 39, 40);
+/// The keys that stand for every series (markers and fit lines) when each has its colour.
+const GREY: RGBColor = RGBColor(96, 96, 96);
 
 /// Axis range padded by a margin: a factor on log axes, a fraction of the span on linear ones.
 fn padded(lo: f64, hi: f64, log: bool) -> (f64, f64) {
@@ -61,28 +89,21 @@ pub fn draw(
     log_y: bool,
 ) -> Result<()> {
     let err = |e: String| Error::Io(format!("cannot draw {}: {e}", path.display()));
-    let height = HEAD + PANEL_HEIGHT * panels.len().max(1) as u32;
+    let entries = legend_entries(panels);
+    let columns = if entries.len() > 3 { 2 } else { 1 };
+    let head = HEAD + 22 * (entries.len().div_ceil(columns).saturating_sub(2)) as u32;
+    let height = head + PANEL_HEIGHT * panels.len().max(1) as u32;
     let root = SVGBackend::new(path, (WIDTH, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
     let root = root
         .titled(title, ("sans-serif", 24))
         .map_err(|e| err(e.to_string()))?;
-    let (head, body) = root.split_vertically(HEAD - 30);
-    let mut entries = vec![(
-        Key::ErrorBar(Shape::Circle, BLUE),
-        "mean over seeds, bar ± one standard error (hidden by the dot when smaller)".to_owned(),
-    )];
-    if panels.iter().any(|p| p.fit.is_some()) {
-        entries.push((
-            Key::Line(RED),
-            "power-law fit c·x^δ (least squares on ln x, ln y)".to_owned(),
-        ));
-    }
+    let (head, body) = root.split_vertically(head - 30);
     legend(
         &head.margin(4, 0, ROOM.y_area + ROOM.margin, 0),
         None,
         &entries,
-        1,
+        columns,
     )
     .map_err(err)?;
     let areas = body.split_evenly((panels.len().max(1), 1));
@@ -93,10 +114,44 @@ pub fn draw(
     Ok(())
 }
 
-/// The panel's points `(x, mean, standard error)` that its axes can show.
-fn points(panel: &Panel, (log_x, log_y): (bool, bool)) -> Vec<(f64, f64, f64)> {
-    panel
-        .series
+/// The legend: what the markers and bars are, a series' name by its colour when there are
+/// several, and the fit's line.
+fn legend_entries(panels: &[Panel]) -> Vec<(Key, String)> {
+    let bars = "mean over seeds, bar ± one standard error (hidden by the dot when smaller)";
+    let series = panels.first().map_or(&[][..], |p| &p.series[..]);
+    let mut entries = match series {
+        [_] | [] => vec![(Key::ErrorBar(Shape::Circle, BLUE), bars.to_owned())],
+        several => several
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let (colour, shape) = style(k);
+                (Key::ErrorBar(shape, colour), s.label.to_owned())
+            })
+            .collect(),
+    };
+    if series.len() > 1 {
+        entries.push((Key::ErrorBar(Shape::Circle, GREY), bars.to_owned()));
+    }
+    if panels
+        .iter()
+        .any(|p| p.series.iter().any(|s| s.fit.is_some()))
+    {
+        let line = if series.len() > 1 {
+            "power-law fit of each series, in its colour"
+        } else {
+            "power-law fit c·x^δ (least squares on ln x, ln y)"
+        };
+        let colour = if series.len() > 1 { GREY } else { RED };
+        entries.push((Key::Line(colour), line.to_owned()));
+    }
+    entries
+}
+
+/// A series' points `(x, mean, standard error)` that the axes can show.
+fn points(series: &Series, (log_x, log_y): (bool, bool)) -> Vec<(f64, f64, f64)> {
+    series
+        .points
         .iter()
         .map(|(x, s)| (*x, s.mean, s.se.unwrap_or(0.0)))
         .filter(|(x, y, _)| x.is_finite() && y.is_finite())
@@ -104,20 +159,30 @@ fn points(panel: &Panel, (log_x, log_y): (bool, bool)) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
-/// The caption of a panel: the field, its meaning, and the fitted exponent.
+/// The caption of a panel: the field, its meaning, and the fitted exponents (in the series'
+/// order).
 fn caption(panel: &Panel) -> String {
     let name = match quantity(panel.field) {
         Some((meaning, _)) => format!("{}: {meaning}", panel.field),
         None => panel.field.to_owned(),
     };
-    match panel.fit {
-        Some(f) => format!(
-            "{name}; fit ∝ x^δ, δ = {:.3}{}",
-            f.exponent,
-            f.exponent_se
-                .map_or(String::new(), |se| format!(" ± {se:.3}"))
-        ),
-        None => name,
+    let exponents: Vec<String> = panel
+        .series
+        .iter()
+        .filter_map(|s| s.fit)
+        .map(|f| {
+            format!(
+                "{:.3}{}",
+                f.exponent,
+                f.exponent_se
+                    .map_or(String::new(), |se| format!(" ± {se:.3}"))
+            )
+        })
+        .collect();
+    match exponents.len() {
+        0 => name,
+        1 => format!("{name}; fit ∝ x^δ, δ = {}", exponents[0]),
+        _ => format!("{name}; δ = {}", exponents.join(", ")),
     }
 }
 
@@ -130,7 +195,7 @@ fn fit_line(f: PowerFit, x: &Axis, y: &Axis) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// One panel: the means with their error bars and the fit, against the sweep axis.
+/// One panel: each series' means with their error bars and its fit, against the sweep axis.
 fn draw_panel(
     area: &DrawingArea<SVGBackend, Shift>,
     x_name: &str,
@@ -138,15 +203,19 @@ fn draw_panel(
     (log_x, log_y): (bool, bool),
 ) -> std::result::Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let pts = points(panel, (log_x, log_y));
-    if pts.is_empty() {
+    let all: Vec<(f64, f64, f64)> = panel
+        .series
+        .iter()
+        .flat_map(|s| points(s, (log_x, log_y)))
+        .collect();
+    if all.is_empty() {
         let text = format!("{}: no completed runs to plot", panel.field);
         return area
             .draw(&Text::new(text, (20, 40), ("sans-serif", FONT)))
             .map_err(e);
     }
     let range = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
-        pts.iter()
+        all.iter()
             .map(f)
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                 (a.min(v), b.max(v))
@@ -170,22 +239,27 @@ fn draw_panel(
     let descriptions = (axis_label(x_name), axis_label(panel.field));
     let descriptions = (descriptions.0.as_str(), descriptions.1.as_str());
     let mut chart = chart(area, &caption(panel), (&x, &y), descriptions, ROOM)?;
-    if let Some(f) = panel.fit {
-        let line = LineSeries::new(fit_line(f, &x, &y), RED.stroke_width(2));
-        chart.draw_series(line).map_err(|e| e.to_string())?;
+    let several = panel.series.len() > 1;
+    for (k, series) in panel.series.iter().enumerate() {
+        let (colour, shape) = style(k);
+        if let Some(f) = series.fit {
+            let line_colour = if several { colour } else { RED };
+            let line = LineSeries::new(fit_line(f, &x, &y), line_colour.stroke_width(2));
+            chart.draw_series(line).map_err(|e| e.to_string())?;
+        }
+        let plotted: Vec<(f64, f64, f64, f64)> = points(series, (log_x, log_y))
+            .iter()
+            .filter_map(|&(xv, m, se)| {
+                let lo = y.to(m - se).unwrap_or(y.lo).max(y.lo);
+                Some((x.to(xv)?, lo, y.to(m)?, y.to(m + se)?))
+            })
+            .collect();
+        let bars = plotted.iter().map(|&(p, lo, m, hi)| {
+            ErrorBar::new_vertical(p, lo, m, hi, colour.stroke_width(1), 10)
+        });
+        chart.draw_series(bars).map_err(|e| e.to_string())?;
+        let marks: Vec<(f64, f64)> = plotted.iter().map(|&(p, _, m, _)| (p, m)).collect();
+        draw_markers(&mut chart, shape, &marks, colour, 5)?;
     }
-    let plotted: Vec<(f64, f64, f64, f64)> = pts
-        .iter()
-        .filter_map(|&(xv, m, se)| {
-            let lo = y.to(m - se).unwrap_or(y.lo).max(y.lo);
-            Some((x.to(xv)?, lo, y.to(m)?, y.to(m + se)?))
-        })
-        .collect();
-    let bars = plotted
-        .iter()
-        .map(|&(p, lo, m, hi)| ErrorBar::new_vertical(p, lo, m, hi, BLUE.stroke_width(1), 10));
-    chart.draw_series(bars).map_err(|e| e.to_string())?;
-    let marks: Vec<(f64, f64)> = plotted.iter().map(|&(p, _, m, _)| (p, m)).collect();
-    draw_markers(&mut chart, Shape::Circle, &marks, BLUE, 5)?;
     Ok(())
 }

@@ -1,0 +1,208 @@
+//! Runs that end before their duration, as a user meets them on the real binary: a quantity
+//! never measured is absent from the summary, never 0; each ending has its own exit code; a
+//! wall-clock limit ends a run with its outputs kept; a long run off a terminal says how far it
+//! is.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// A fresh, empty scratch directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("endings-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// The shipped vibrated bed.
+fn bed() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios/vibrated_bed.json")
+        .display()
+        .to_string()
+}
+
+fn vibrobed(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrobed"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the vibrobed binary starts")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn describe(out: &Output) -> String {
+    format!(
+        "exit {:?}\n--- stdout ---\n{}\n--- stderr ---\n{}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout),
+        stderr(out)
+    )
+}
+
+fn read_json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The shipped bed at Γ = 0.8, stopped by its event limit long before its warm-up (t = 50):
+/// exit 4, `"ending": "event-limit"`, and no temperature, centre of mass, profiles or state in
+/// the summary (never a 0 that reads as a measurement); the profiles asked for are not written,
+/// and stderr says why.
+#[test]
+fn a_run_stopped_by_its_event_limit_before_the_warm_up_measures_nothing() {
+    let dir = scratch("event-limit");
+    let bed = bed();
+    let out = vibrobed(
+        &dir,
+        &[
+            "run",
+            &bed,
+            "--quiet",
+            "--set",
+            "floor.gamma=0.8",
+            "--set",
+            "run.max_events=20000",
+            "--summary",
+            "s.json",
+            "--profiles",
+            "p.csv",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(4), "{}", describe(&out));
+    let s = read_json(&dir.join("s.json"));
+    assert_eq!(s["ending"], "event-limit");
+    let t = s["sim_time"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 50.0, "ends before the warm-up: t = {t}");
+    for never in ["temperature", "com_height", "profiles", "state", "phase"] {
+        assert!(s.get(never).is_none(), "{never} in {s:#}");
+    }
+    assert_eq!(s["engine"]["samples"], 0);
+    assert!(!dir.join("p.csv").exists());
+    assert!(
+        stderr(&out).contains("no profiles measured") && stderr(&out).contains("p.csv"),
+        "{}",
+        describe(&out)
+    );
+}
+
+/// `run.max_wall_seconds` ends a long run after that much wall time with its own ending and
+/// exit code 5, its summary and checkpoint written; what it measured after the warm-up is
+/// reported; resuming it may set a new limit.
+#[test]
+fn a_wall_clock_limit_ends_the_run_with_its_outputs() {
+    let dir = scratch("wall-limit");
+    let bed = bed();
+    let started = Instant::now();
+    let out = vibrobed(
+        &dir,
+        &[
+            "run",
+            &bed,
+            "--quiet",
+            "--set",
+            "run.duration=100000",
+            "--set",
+            "run.warmup=1",
+            "--set",
+            "run.max_wall_seconds=1.5",
+            "--summary",
+            "s.json",
+            "--checkpoint",
+            "c.ckpt",
+        ],
+    );
+    let took = started.elapsed();
+    assert_eq!(out.status.code(), Some(5), "{}", describe(&out));
+    assert!(took < Duration::from_secs(20), "took {took:?}");
+    let s = read_json(&dir.join("s.json"));
+    assert_eq!(s["ending"], "wall-limit");
+    let wall = s["wall_seconds"].as_f64().unwrap();
+    assert!((1.3..10.0).contains(&wall), "wall_seconds {wall}");
+    let t = s["sim_time"].as_f64().unwrap();
+    assert!(t > 1.0 && t < 100000.0, "t = {t}");
+    assert!(s["temperature"]["mean"].as_f64().unwrap() > 0.0);
+    assert!(dir.join("c.ckpt").exists());
+    let resumed = vibrobed(
+        &dir,
+        &[
+            "resume",
+            "c.ckpt",
+            "--quiet",
+            "--set",
+            "run.max_wall_seconds=0.5",
+            "--summary",
+            "r.json",
+        ],
+    );
+    assert_eq!(resumed.status.code(), Some(5), "{}", describe(&resumed));
+    let r = read_json(&dir.join("r.json"));
+    assert_eq!(r["ending"], "wall-limit");
+    assert!(r["sim_time"].as_f64().unwrap() > t);
+}
+
+/// Off a terminal, a run prints a progress line every `--progress-every` seconds: simulated
+/// time of the duration, collisions per second, the time to go.
+#[test]
+fn a_long_run_off_a_terminal_says_how_far_it_is() {
+    let dir = scratch("progress");
+    let bed = bed();
+    let out = vibrobed(
+        &dir,
+        &[
+            "run",
+            &bed,
+            "--progress-every",
+            "0.2",
+            "--set",
+            "run.duration=100000",
+            "--set",
+            "run.max_wall_seconds=1.5",
+            "--summary",
+            "s.json",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(5), "{}", describe(&out));
+    let err = stderr(&out);
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("of 100000 (") && l.contains("collisions/s") && l.contains("to go"))
+        .collect();
+    assert!(lines.len() >= 3, "{}", describe(&out));
+    assert!(lines[0].starts_with("vibrobed: t = "), "{}", lines[0]);
+    assert!(
+        err.contains("stopped by the wall-clock limit (run.max_wall_seconds)"),
+        "{err}"
+    );
+}
+
+/// Bad values of the new limits exit 2 naming the field, and write nothing.
+#[test]
+fn bad_limits_are_refused_by_name() {
+    let dir = scratch("bad-limits");
+    let bed = bed();
+    for (args, field) in [
+        (
+            vec!["--set", "run.max_wall_seconds=-1"],
+            "run.max_wall_seconds",
+        ),
+        (vec!["--progress-every", "0"], "--progress-every"),
+    ] {
+        let mut all = vec!["run", bed.as_str(), "--summary", "s.json"];
+        all.extend(args);
+        let out = vibrobed(&dir, &all);
+        assert_eq!(out.status.code(), Some(2), "{}", describe(&out));
+        assert!(
+            stderr(&out).contains(&format!("{field}: ")),
+            "{}",
+            describe(&out)
+        );
+        assert!(!dir.join("s.json").exists());
+    }
+}
