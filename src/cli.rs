@@ -389,19 +389,8 @@ struct Shown {
 impl Shown {
     /// Refuses a `--progress-every` that is not a positive number of seconds.
     fn new(quiet: bool, every: Option<f64>) -> Result<Shown> {
-        check_progress_every(every)?;
+        crate::output::progress::check_every(every)?;
         Ok(Shown { quiet, every })
-    }
-}
-
-/// Refuses a `--progress-every` that is not a positive finite number of seconds.
-pub fn check_progress_every(every: Option<f64>) -> Result<()> {
-    match every {
-        Some(e) if !(e.is_finite() && e > 0.0) => Err(Error::input(
-            "--progress-every",
-            format!("must be a positive number of seconds (got {e})"),
-        )),
-        _ => Ok(()),
     }
 }
 

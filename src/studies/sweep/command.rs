@@ -157,7 +157,7 @@ impl SweepCommand {
                 progress_every,
                 max_run_seconds,
             } => {
-                crate::cli::check_progress_every(progress_every)?;
+                crate::output::progress::check_every(progress_every)?;
                 if let Some(m) = max_run_seconds.filter(|m| !(m.is_finite() && *m > 0.0)) {
                     return Err(Error::input(
                         "--max-run-seconds",
