@@ -692,9 +692,9 @@ fn disks_at_rest_that_touch_slowly_slide_on_together() {
     assert!(sim.max_overlap() < TOLERANCE);
 }
 
-/// The summary gives the time to rest (samples every unit): the bed at rest and the bed on a
-/// Γ = 0.5 floor rest from a sample in the first half of the run on (measured: t = 10 and 11),
-/// the bouncing bed never rests.
+/// The summary gives the time to rest: the bed at rest and the bed on a Γ = 0.5 floor rest in
+/// the first half of the run (measured: t = 9.56 and 8.52, the instant the last disk came to
+/// rest, not a sample time), the bouncing bed never rests.
 #[test]
 fn the_summary_gives_the_time_to_rest() {
     for (file, rests) in [
@@ -706,10 +706,7 @@ fn the_summary_gives_the_time_to_rest() {
         let sum = run(&s, RunOptions::default()).unwrap();
         eprintln!("{file}: at rest since {:?}", sum.at_rest_since);
         match sum.at_rest_since {
-            Some(t) => assert!(
-                rests && t <= 0.5 * s.run.duration && t.fract() == 0.0,
-                "{file}: {t}"
-            ),
+            Some(t) => assert!(rests && t <= 0.5 * s.run.duration, "{file}: {t}"),
             None => assert!(!rests, "{file}: never at rest"),
         }
     }
