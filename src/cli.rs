@@ -3,14 +3,14 @@
 //! `vibrobed accuracy SCENARIO.json [--out DIR] [--set KEY=VALUE]... [--quick] [--effects] [--cores C]`.
 //!
 //! Exit codes: 0 success, 2 bad input or arguments (the message names the field), 1 runtime
-//! failure (or a summary or profiles that could not be written, or a clock that stalled), 3 an
-//! output (recording, trajectory, checkpoint) that could not be written while the run went on,
-//! 4 stopped by `run.max_events`, 5 stopped by `run.max_wall_seconds`, 128 + n stopped by
-//! signal n (130 Ctrl-C). A run that ends early still writes its summary (marked with its
+//! failure (or a summary or profiles that could not be written), 3 an output (recording,
+//! trajectory, checkpoint) that could not be written while the run went on, 4 stopped by
+//! `run.max_events`, 5 stopped by `run.max_wall_seconds`, 6 a clock that stalled, 128 + n
+//! stopped by signal n (130 Ctrl-C). A run that ends early still writes its summary (marked with its
 //! `ending`) and closes its recording properly.
 
 use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
-use crate::output::summary::{Ending, Summary, EXIT_EVENT_LIMIT, EXIT_WALL_LIMIT};
+use crate::output::summary::{Ending, Summary};
 use crate::platform::signals;
 use crate::run::checkpoint::{check_resume_sets, Checkpoint};
 use crate::run::{run, CheckpointPlan, RunOptions};
@@ -619,17 +619,13 @@ fn write_results(result: &Summary, files: Written) -> Result<i32> {
     Ok(if lost { 1 } else { ending_code(result) })
 }
 
-/// The exit code of a run's ending: 0 completed (or [`EXIT_OUTPUT_FAILED`] when an output
-/// failed during it), 1 stalled, 128 + the signal that interrupted it, [`EXIT_EVENT_LIMIT`],
-/// [`EXIT_WALL_LIMIT`]: a run that did not complete never exits 0.
+/// The exit code of a run's ending ([`Ending::exit_code`]: its own for each ending but
+/// completed), or [`EXIT_OUTPUT_FAILED`] when an output failed during a run that completed: a
+/// run that did not complete never exits 0.
 fn ending_code(result: &Summary) -> i32 {
     match result.ending {
         Ending::Completed if !result.output_failures.is_empty() => EXIT_OUTPUT_FAILED,
-        Ending::Completed => 0,
-        Ending::Stalled => 1,
-        Ending::Interrupted => signals::exit_code(),
-        Ending::EventLimit => EXIT_EVENT_LIMIT,
-        Ending::WallLimit => EXIT_WALL_LIMIT,
+        ending => ending.exit_code(),
     }
 }
 

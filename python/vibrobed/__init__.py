@@ -74,12 +74,14 @@ def _files(**paths: Optional[PathLike]) -> Dict[str, str]:
 
 
 def _table(columns: Mapping[str, Sequence[Any]]):
-    """A DataFrame of ``columns`` with pandas, else a dict of numpy arrays."""
+    """A DataFrame of ``columns`` with pandas, else a dict of numpy arrays (of floats: a null,
+    a value never measured such as an empty bin's temperature, is NaN)."""
+    arrays = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
     try:
         import pandas as pd
     except ImportError:
-        return {name: np.asarray(values) for name, values in columns.items()}
-    return pd.DataFrame({name: np.asarray(values) for name, values in columns.items()})
+        return arrays
+    return pd.DataFrame(arrays)
 
 
 def _csv_table(text: str):
@@ -160,7 +162,7 @@ class Result:
 
     @property
     def ending(self) -> str:
-        """``completed``, ``interrupted``, ``event-limit`` or ``stalled``."""
+        """``completed``, ``interrupted``, ``event-limit``, ``wall-limit`` or ``stalled``."""
         return self.summary["ending"]
 
     @property

@@ -139,7 +139,9 @@ pub struct ProfileTable {
     /// the bins it covers, so the fraction never exceeds 1 (a bin thinner than a disk may exceed
     /// the densest packing, which bounds averages over several diameters only).
     pub packing_fraction: Vec<f64>,
-    /// Granular temperature in x, relative to the bin's mean velocity (mass-weighted).
+    /// Granular temperature in x, relative to the bin's mean velocity (mass-weighted); this,
+    /// the other temperatures and the velocities are NaN in a bin no disk centre entered
+    /// (null in the summary, `NaN` in the CSV).
     pub temperature_x: Vec<f64>,
     /// Granular temperature in y, relative to the bin's mean velocity.
     pub temperature_y: Vec<f64>,
@@ -244,11 +246,13 @@ impl Profiles {
         let s = self.samples.max(1) as f64;
         let bin_area = h * self.width;
         let per = |f: &dyn Fn(usize) -> f64| (0..bins).map(f).collect::<Vec<f64>>();
+        // A bin no disk centre entered has no velocity or temperature: NaN (null in the
+        // summary, `NaN` in the CSV), never a 0 that reads as a measurement.
         let temp = |k: usize, p: &[f64], kk: &[f64]| {
             if self.count[k] > 0.0 {
                 (kk[k] - p[k] * p[k] / self.mass[k]) / self.count[k]
             } else {
-                0.0
+                f64::NAN
             }
         };
         ProfileTable {
@@ -261,14 +265,14 @@ impl Profiles {
                 if self.mass[k] > 0.0 {
                     self.px[k] / self.mass[k]
                 } else {
-                    0.0
+                    f64::NAN
                 }
             }),
             velocity_y: per(&|k| {
                 if self.mass[k] > 0.0 {
                     self.py[k] / self.mass[k]
                 } else {
-                    0.0
+                    f64::NAN
                 }
             }),
             temperature_rotational: (!self.krot.is_empty()).then(|| {
@@ -276,7 +280,7 @@ impl Profiles {
                     if self.count[k] > 0.0 {
                         self.krot[k] / self.count[k]
                     } else {
-                        0.0
+                        f64::NAN
                     }
                 })
             }),
@@ -292,7 +296,7 @@ impl ProfileTable {
     /// the floor), as the literature's T(h) fits do. `None` when no bin held a disk.
     pub fn local_temperature(&self) -> Option<f64> {
         let (mut sum, mut weight) = (0.0, 0.0);
-        for k in 0..self.height.len() {
+        for k in (0..self.height.len()).filter(|&k| self.density[k] > 0.0) {
             let t = 0.5 * (self.temperature_x[k] + self.temperature_y[k]);
             sum += self.density[k] * t;
             weight += self.density[k];

@@ -26,6 +26,10 @@ pub enum Ending {
 pub const EXIT_EVENT_LIMIT: i32 = 4;
 /// Exit code of a run stopped by `run.max_wall_seconds`.
 pub const EXIT_WALL_LIMIT: i32 = 5;
+/// Exit code of a run whose simulated time stopped advancing (`"ending": "stalled"`): its own,
+/// apart from 1 (a failure with no summary), so that a script or a batch system can tell them
+/// apart.
+pub const EXIT_STALLED: i32 = 6;
 
 impl Ending {
     /// How the run ended, in words (progress lines, sweep logs, the recording's last note).
@@ -36,6 +40,19 @@ impl Ending {
             Ending::EventLimit => "stopped by the event limit (run.max_events)",
             Ending::WallLimit => "stopped by the wall-clock limit (run.max_wall_seconds)",
             Ending::Stalled => "stopped: simulated time stalled",
+        }
+    }
+
+    /// The exit code of a run that ended so (before any output failure): 0 completed,
+    /// 128 + the signal's number interrupted, [`EXIT_EVENT_LIMIT`], [`EXIT_WALL_LIMIT`],
+    /// [`EXIT_STALLED`]: each ending but `completed` its own, none 0.
+    pub fn exit_code(self) -> i32 {
+        match self {
+            Ending::Completed => 0,
+            Ending::Interrupted => crate::platform::signals::exit_code(),
+            Ending::EventLimit => EXIT_EVENT_LIMIT,
+            Ending::WallLimit => EXIT_WALL_LIMIT,
+            Ending::Stalled => EXIT_STALLED,
         }
     }
 }
@@ -318,5 +335,42 @@ impl Summary {
     /// Pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("summary serialises") + "\n"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::{Error, EXIT_OUTPUT_FAILED};
+
+    /// Each ending but `completed` exits with a code of its own: none 0, no two alike, and none
+    /// that of a failure (1), of bad input (2) or of a lost output (3), so that a script tells a
+    /// stalled run from a crashed one and an event limit from a wall-clock limit.
+    #[test]
+    fn every_ending_but_completed_has_its_own_nonzero_exit_code() {
+        let endings = [
+            Ending::Interrupted,
+            Ending::EventLimit,
+            Ending::WallLimit,
+            Ending::Stalled,
+        ];
+        assert_eq!(Ending::Completed.exit_code(), 0);
+        let taken = [
+            0,
+            Error::Runtime(String::new()).exit_code(),
+            Error::input("x", "y").exit_code(),
+            EXIT_OUTPUT_FAILED,
+        ];
+        let mut seen = Vec::new();
+        for e in endings {
+            let code = e.exit_code();
+            assert!(!taken.contains(&code), "{e:?} exits {code}, a code taken");
+            assert!(
+                !seen.contains(&code),
+                "{e:?} exits {code}, as another ending"
+            );
+            seen.push(code);
+        }
+        assert_eq!(Ending::Stalled.exit_code(), EXIT_STALLED);
     }
 }

@@ -92,6 +92,74 @@ fn a_run_stopped_by_its_event_limit_before_the_warm_up_measures_nothing() {
     );
 }
 
+/// A height bin no disk centre ever entered has no velocity and no temperature: the shipped
+/// bouncing ball (one disk, profiles to height 6 in 30 bins, most of them above its highest
+/// bounce or below its lowest centre) writes `NaN` in the CSV (pandas reads it as missing) and
+/// null in the summary for those bins, never a 0 that reads as a cold, still bin; every bin the
+/// ball visited has numbers, and the local temperature averages those alone.
+#[test]
+fn a_profile_bin_no_disk_entered_has_no_temperature_or_velocity() {
+    let dir = scratch("empty-bins");
+    let ball = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios/bouncing_ball.json")
+        .display()
+        .to_string();
+    let out = vibrobed(
+        &dir,
+        &[
+            "run",
+            &ball,
+            "--quiet",
+            "--set",
+            "run.duration=100",
+            "--summary",
+            "s.json",
+            "--profiles",
+            "p.csv",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", describe(&out));
+    let s = read_json(&dir.join("s.json"));
+    let p = &s["profiles"];
+    let csv = std::fs::read_to_string(dir.join("p.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let unmeasured = ["temperature_x", "temperature_y", "velocity_x", "velocity_y"];
+    let (mut empty, mut visited) = (0, 0);
+    for (k, row) in rows.iter().enumerate() {
+        let density: f64 = row[col("density")].parse().unwrap();
+        assert_eq!(density, p["density"][k].as_f64().unwrap());
+        for name in unmeasured {
+            let (cell, json) = (row[col(name)], &p[name][k]);
+            if density == 0.0 {
+                assert_eq!(cell, "NaN", "bin {k} {name}: {row:?}");
+                assert!(json.is_null(), "bin {k} {name}: {json}");
+            } else {
+                assert!(cell.parse::<f64>().unwrap().is_finite(), "bin {k} {name}");
+                assert!(json.as_f64().is_some_and(f64::is_finite), "bin {k} {name}");
+            }
+        }
+        // The packing fraction and the density are measured everywhere: 0 is a measurement.
+        assert!(row[col("packing_fraction")].parse::<f64>().unwrap() >= 0.0);
+        if density == 0.0 {
+            empty += 1;
+        } else {
+            visited += 1;
+        }
+    }
+    assert!(
+        empty >= 10 && visited >= 5,
+        "{empty} empty, {visited} visited bins"
+    );
+    let local = s["temperature"]["local"].as_f64().unwrap();
+    assert!(
+        local.is_finite() && local > 0.0,
+        "local temperature {local}"
+    );
+}
+
 /// `run.max_wall_seconds` ends a long run after that much wall time with its own ending and
 /// exit code 5, its summary and checkpoint written; what it measured after the warm-up is
 /// reported; resuming it may set a new limit.

@@ -33,11 +33,14 @@ impl Measured {
         let t = s.sim_time.max(f64::MIN_POSITIVE);
         Measured {
             density: s.profiles.as_ref().map(|p| p.density.clone()),
+            // A bin no disk entered (no temperature: NaN) weighs 0 by its density; as 0 it
+            // keeps the seed averages and the weighted distances finite.
             temperature_profile: s.profiles.as_ref().map(|p| {
                 p.temperature_x
                     .iter()
                     .zip(&p.temperature_y)
                     .map(|(x, y)| 0.5 * (x + y))
+                    .map(|t| if t.is_nan() { 0.0 } else { t })
                     .collect()
             }),
             com_height: s.com_height,

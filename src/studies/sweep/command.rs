@@ -2,7 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::output::progress::DEFAULT_EVERY;
-use crate::output::summary::{Ending, EXIT_EVENT_LIMIT, EXIT_WALL_LIMIT};
+use crate::output::summary::Ending;
 use crate::scenario::Scheme;
 use crate::studies::sweep::collect::collect;
 use crate::studies::sweep::fit::{FitOptions, Offset};
@@ -359,13 +359,22 @@ fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
     }
     crate::platform::signals::install();
     let spec = &exp.plan.runs[index];
-    let ending = run_one(
+    let ending = match run_one(
         &exp.plan,
         spec,
         &exp.scenarios[index],
         out,
         Some(DEFAULT_EVERY),
-    )?;
+    ) {
+        Ok(ending) => ending,
+        // A stalled run counts as failed (error.txt holds the stall's report) but keeps its
+        // summary, and exits with the stall's own code, as `run` does.
+        Err(e) if ended_stalled(out, index) => {
+            eprintln!("vibrobed: run {index}: {e}");
+            return Ok(Ending::Stalled.exit_code());
+        }
+        Err(e) => return Err(e),
+    };
     eprintln!(
         "run {index} (point {}: {}, seed {}): {}",
         spec.point,
@@ -374,12 +383,15 @@ fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
             .map_or("of the scenario".into(), |s| s.to_string()),
         ending.words()
     );
-    Ok(match ending {
-        Ending::Interrupted => crate::platform::signals::exit_code(),
-        Ending::EventLimit => EXIT_EVENT_LIMIT,
-        Ending::WallLimit => EXIT_WALL_LIMIT,
-        Ending::Completed | Ending::Stalled => 0,
-    })
+    Ok(ending.exit_code())
+}
+
+/// Whether run `index`'s summary under `out` says `"ending": "stalled"`.
+fn ended_stalled(out: &Path, index: usize) -> bool {
+    std::fs::read_to_string(crate::studies::sweep::local::run_dir(out, index).join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|s| s["ending"] == "stalled")
 }
 
 /// `sweep slurm`: writes `DIR/sweep.sbatch`, a job array over the runs not completed yet (all
