@@ -82,10 +82,45 @@ pub struct ProgressReport {
     label: String,
     /// The last reading: wall seconds, simulated time, collisions.
     last: Cell<(f64, f64, u64)>,
+    /// The cost per unit of simulated time, against its start's.
+    cost: Cell<CostWatch>,
+}
+
+/// Watches a run's wall time per unit of simulated time, reading by reading: the first
+/// reading's is the start's; the first later one above [`COST_GROWTH`] times it gives the note
+/// (once) on a bed freezing into a collapse, naming the cures.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CostWatch {
     /// Wall time per unit of simulated time over the first reading, once taken.
-    start_cost: Cell<Option<f64>>,
-    /// The note on a growing cost was given.
-    noted: Cell<bool>,
+    start: Option<f64>,
+    /// The note was given.
+    noted: bool,
+}
+
+impl CostWatch {
+    /// Takes a reading (`cost` wall seconds per unit of simulated time over the last interval,
+    /// which ended at simulated time `t`); returns the note when it is due, once per run.
+    pub fn read(&mut self, t: f64, cost: f64) -> Option<String> {
+        if !(cost.is_finite() && cost > 0.0) {
+            return None;
+        }
+        let Some(start) = self.start else {
+            self.start = Some(cost);
+            return None;
+        };
+        if cost <= COST_GROWTH * start || self.noted {
+            return None;
+        }
+        self.noted = true;
+        Some(format!(
+            "at t = {t:.6} a unit of simulated time costs {:.0} times the wall time it cost at \
+             the start: the bed may be freezing into an inelastic collapse (or a pile rattling \
+             without coming to rest); cures: collisions.tc (the TC model, 10⁻³ √(d/g) is a good \
+             start) or collisions.speed_cutoff, and run.max_wall_seconds to bound the run (see \
+             the book's page Stability models and hard cases)",
+            cost / start
+        ))
+    }
 }
 
 /// Bar resolution: positions per run.
@@ -125,8 +160,7 @@ impl ProgressReport {
             every,
             label: name.to_string(),
             last: Cell::new((0.0, 0.0, 0)),
-            start_cost: Cell::new(None),
-            noted: Cell::new(false),
+            cost: Cell::new(CostWatch::default()),
         }
     }
 
@@ -174,21 +208,11 @@ impl ProgressReport {
 
     /// Keeps the first reading's cost, and says once when a later one is far above it.
     fn watch_cost(&self, t: f64, cost: f64) {
-        let Some(start) = self.start_cost.get() else {
-            self.start_cost.set(Some(cost));
-            return;
-        };
-        if cost > COST_GROWTH * start && !self.noted.replace(true) {
-            let note = format!(
-                "vibrobed: note: {}at t = {t:.6} a unit of simulated time costs {:.0} times the \
-                 wall time it cost at the start: the bed may be freezing into an inelastic \
-                 collapse (or a pile rattling without coming to rest); cures: collisions.tc \
-                 (the TC model, 10⁻³ √(d/g) is a good start) or collisions.speed_cutoff, and \
-                 run.max_wall_seconds to bound the run (see the book's page Stability models \
-                 and hard cases)",
-                self.name_part(),
-                cost / start
-            );
+        let mut watch = self.cost.get();
+        let due = watch.read(t, cost);
+        self.cost.set(watch);
+        if let Some(note) = due {
+            let note = format!("vibrobed: note: {}{note}", self.name_part());
             match &self.bar {
                 Some(bar) => bar.println(note),
                 None => eprintln!("{note}"),
@@ -243,6 +267,32 @@ mod tests {
         assert_eq!(clock_time(42.4), "42 s");
         assert_eq!(clock_time(200.0), "3 min 20 s");
         assert_eq!(clock_time(5.0 * 3600.0 + 7.0 * 60.0), "5 h 07 min");
+    }
+
+    /// The note comes at the first reading above ten times the start's cost, not at nine
+    /// times, names the cures, and comes once; readings that measured nothing do not count.
+    #[test]
+    fn the_note_on_a_growing_cost_comes_once_past_ten_times_the_start() {
+        let mut watch = CostWatch::default();
+        assert_eq!(
+            watch.read(1.0, f64::INFINITY),
+            None,
+            "no simulated time: no reading"
+        );
+        assert_eq!(watch.read(2.0, 0.5), None, "the start's reading");
+        for (t, cost) in [(3.0, 1.0), (4.0, 4.5), (5.0, 0.1), (6.0, 5.0)] {
+            assert_eq!(watch.read(t, cost), None, "{cost} is at most ten times 0.5");
+        }
+        let note = watch.read(7.25, 6.0).expect("twelve times the start");
+        assert!(note.starts_with("at t = 7.250000 a unit of simulated time costs 12 times"));
+        for cure in [
+            "collisions.tc",
+            "collisions.speed_cutoff",
+            "run.max_wall_seconds",
+        ] {
+            assert!(note.contains(cure), "{cure} not named: {note}");
+        }
+        assert_eq!(watch.read(8.0, 60.0), None, "said once");
     }
 
     #[test]
