@@ -240,7 +240,7 @@ impl ProgressReport {
 }
 
 /// Wall seconds as `42 s`, `3 min 20 s` or `5 h 07 min`.
-fn clock_time(seconds: f64) -> String {
+pub fn clock_time(seconds: f64) -> String {
     let s = seconds.round() as u64;
     if s < 60 {
         format!("{s} s")

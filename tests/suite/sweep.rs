@@ -1028,3 +1028,70 @@ fn a_sweep_bounds_the_wall_time_of_each_run() {
     assert_eq!(bad.status.code(), Some(2), "{}", describe(&bad));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--max-run-seconds: "));
 }
+
+/// `sweep plan --estimate` runs a trial of each point's first run and tells the CPU time per
+/// run, per point (its seeds) and in total, without writing anything: a point whose trial ends
+/// the run was measured whole (one by its duration, one by its event limit), one cut by its own
+/// wall-clock limit (0.3 s, far before its 10⁶ time units) is extrapolated no further than that
+/// limit. A bad trial length is refused by name.
+#[test]
+fn sweep_plan_estimates_the_cost_from_a_trial_of_each_point() {
+    let dir = scratch("estimate");
+    let sweep = r#"{
+      "name": "costs",
+      "scenario": "bed.json",
+      "combine": "zip",
+      "axes": [
+        { "key": "floor.gamma", "values": [2.5, 3.0, 4.0] },
+        { "key": "run.max_events", "values": [100000000, 100, 100000000] },
+        { "key": "run.duration", "values": [3, 3, 1000000] },
+        { "key": "run.max_wall_seconds", "values": [1000, 1000, 0.3] }
+      ],
+      "seeds": [5, 6]
+    }"#;
+    std::fs::write(dir.join("costs.json"), sweep).unwrap();
+    let out = vibrobed(&dir, &["sweep", "plan", "costs.json", "--estimate", "30"]);
+    assert_ok(&out);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let row = |point: &str| -> Vec<String> {
+        let line = text
+            .lines()
+            .skip_while(|l| !l.starts_with("estimated cost"))
+            .find(|l| l.starts_with(&format!("{point} ")))
+            .unwrap_or_else(|| panic!("no row for point {point}:\n{}", describe(&out)));
+        // The trial's words, then per run, runs, per point, settings: split on 2+ spaces.
+        line.split("  ")
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(String::from)
+            .collect()
+    };
+    let (r0, r1, r2) = (row("0"), row("1"), row("2"));
+    assert_eq!(r0[1], "whole run", "{r0:?}");
+    assert_eq!(r1[1], "whole run (event limit)", "{r1:?}");
+    assert!(
+        r2[1].starts_with("to t = ") && r2[1].ends_with(", extrapolated"),
+        "{r2:?}"
+    );
+    assert_eq!(
+        (r2[2].as_str(), r2[4].as_str()),
+        ("0.30 s", "0.60 s"),
+        "{r2:?}"
+    );
+    for r in [&r0, &r1, &r2] {
+        assert_eq!(r[3], "2", "two seeds per point: {r:?}");
+    }
+    assert!(r1[5].contains("run.max_events=100,"), "{r1:?}");
+    assert!(text.contains("\ntotal: 6 runs, "), "{}", describe(&out));
+    assert!(!text.contains("without point"), "{}", describe(&out));
+    let written: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n != "bed.json" && n != "small.json" && n != "costs.json")
+        .collect();
+    assert!(written.is_empty(), "the trials wrote {written:?}");
+
+    let bad = vibrobed(&dir, &["sweep", "plan", "costs.json", "--estimate=0"]);
+    assert_eq!(bad.status.code(), Some(2), "{}", describe(&bad));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--estimate"));
+}

@@ -28,6 +28,10 @@ pub enum SweepCommand {
         /// Show the output folders under this directory.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Estimate the sweep's CPU time from a trial of each point's first run, at most
+        /// SECONDS of wall time each (default 2): per run, per point and in total.
+        #[arg(long, value_name = "SECONDS", num_args = 0..=1, default_missing_value = "2")]
+        estimate: Option<f64>,
     },
     /// Run the sweep on this machine: each run writes `DIR/<index>/summary.json` (and profiles.csv
     /// for gravity scenes); a rerun skips completed runs.
@@ -148,7 +152,11 @@ impl SweepCommand {
     /// Runs the subcommand; returns the exit code (errors carry theirs).
     pub fn execute(self) -> Result<i32> {
         match self {
-            SweepCommand::Plan { sweep, out } => plan(&sweep, out.as_deref()),
+            SweepCommand::Plan {
+                sweep,
+                out,
+                estimate,
+            } => plan(&sweep, out.as_deref(), estimate),
             SweepCommand::Run {
                 sweep,
                 out,
@@ -251,8 +259,15 @@ fn fit_options(range: Option<Vec<f64>>, offset: Option<String>) -> Result<FitOpt
     Ok(FitOptions { range, offset })
 }
 
-/// `sweep plan`: expands the sweep, builds every run's scene as `check` does, and lists the runs.
-fn plan(sweep: &Path, out: Option<&Path>) -> Result<i32> {
+/// `sweep plan`: expands the sweep, builds every run's scene as `check` does, and lists the runs;
+/// with `--estimate`, runs each point's trial and prints the estimated CPU time.
+fn plan(sweep: &Path, out: Option<&Path>, estimate: Option<f64>) -> Result<i32> {
+    if let Some(s) = estimate.filter(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(Error::input(
+            "--estimate",
+            format!("must be a positive number of seconds (got {s})"),
+        ));
+    }
     let exp = expand(sweep)?;
     exp.check_scenes()?;
     print!("{}", exp.plan.listing(out));
@@ -261,6 +276,17 @@ fn plan(sweep: &Path, out: Option<&Path>) -> Result<i32> {
         sweep.display(),
         exp.plan.runs.len()
     );
+    if let Some(seconds) = estimate {
+        let points = crate::studies::sweep::estimate::estimate(&exp, seconds)?;
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        print!(
+            "{}",
+            crate::studies::sweep::estimate::table(&points, seconds, cores)
+        );
+        if crate::platform::signals::stop_flag().load(Ordering::Relaxed) {
+            return Ok(crate::platform::signals::exit_code());
+        }
+    }
     Ok(0)
 }
 

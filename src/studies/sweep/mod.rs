@@ -2,6 +2,8 @@
 //! on the cores of this machine or as a Slurm job array, collected into one table.
 //!
 //! - [`plan`]: the sweep file and its expansion into runs (checked before anything runs);
+//! - [`estimate`]: the cost of a sweep from a short trial of each point (`sweep plan
+//!   --estimate`);
 //! - [`local`]: one run into its folder, and the pool of worker threads (`sweep run`);
 //! - [`slurm`]: the job-array script and its submission (`sweep slurm`, `sweep task`);
 //! - [`collect`]: `runs.csv` and `points.csv` (`sweep collect`), with [`groups`] (a series per
@@ -13,6 +15,7 @@
 
 pub mod collect;
 pub mod command;
+pub mod estimate;
 pub mod fit;
 pub mod groups;
 pub mod local;
