@@ -1,0 +1,259 @@
+#!/usr/bin/env python3
+"""The book's numbers from runs, made by this script and checked against today's build.
+
+Every number the book quotes from a run of the shipped scenarios sits between markers in the
+page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This script runs what
+makes them and compares:
+
+- Getting started, the worked example: the shipped bed's full run (its counts, energies,
+  temperatures, centre of mass, floor pressure and profile table);
+- the quick-try settings the README and the book give (`run.duration`, `run.warmup`): they must
+  resolve the bed's state (the summary has `state`), and the floor periods they leave are quoted;
+- the packing-fraction sentence (summary page, Getting started): a pile at rest
+  (`scenarios/hard/pile_equal_periodic_tc.json`) in bins half a diameter high reads above the
+  densest packing of the plane (0.907) and never above 1; its largest value is quoted;
+- the sweeps page's worked example: `scenarios/sweeps/temperature_vs_drive.json` on two workers,
+  its points table, fits and local slopes, and its CPU time (checked to a factor of 2: a machine
+  differs from another; everything else is deterministic and must match to the digits quoted).
+
+    python3 docs/book/numbers.py [--bin PATH]          # check (exit 1 naming each difference)
+    python3 docs/book/numbers.py [--bin PATH] --write  # rewrite the numbers in the pages
+
+`--bin` defaults to `vibrobed` on PATH. A change that moves a run (the engine, a scenario)
+moves the book's numbers: run with --write, and read the prose around them again. `.ci/run`
+runs the check (about 30 s of the machine's two cores).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+BOOK = ROOT / "docs" / "book" / "src"
+MARK = re.compile(r"<!-- n:([a-z0-9-]+) -->(.*?)<!-- /n -->", re.S)
+# The pages that give the shipped bed's quick try.
+QUICK_PAGES = ["getting-started.md", "sweeps.md", "outputs/python.md"]
+# Timing regions: compared to a factor, not to the digit; None: written, not compared (the wall
+# time of two workers on a machine shared with other work).
+TIMING = {"tvd-cpu": 2.0, "tvd-wall": None}
+
+
+def run(binary: str, *args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    out = subprocess.run([binary, *args], cwd=cwd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"numbers.py: `vibrobed {' '.join(args)}` exited {out.returncode}:\n{out.stderr}")
+    return out
+
+
+def summary_of(binary: str, scenario: str, sets: list[str], tmp: Path, name: str) -> dict:
+    path = tmp / f"{name}.json"
+    args = ["run", scenario, "--quiet", "--summary", str(path)]
+    for s in sets:
+        args += ["--set", s]
+    run(binary, *args)
+    return json.loads(path.read_text())
+
+
+def thousands(n: float) -> str:
+    return f"{round(n):,}".replace(",", " ")
+
+
+def sig(x: float, digits: int = 3) -> str:
+    """`x` to `digits` significant digits, as the book's tables write them."""
+    if x == 0 or not math.isfinite(x):
+        return f"{x:.{digits - 1}f}"
+    decimals = max(digits - 1 - math.floor(math.log10(abs(x))), 0)
+    return f"{x:.{decimals}f}".replace("-", "−")
+
+
+def power_of_ten(x: float) -> str:
+    """`2.4·10⁻¹⁴`."""
+    exponent = math.floor(math.log10(abs(x)))
+    mantissa = x / 10**exponent
+    sup = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+    return f"{mantissa:.1f}·10{str(exponent).translate(sup)}"
+
+
+def worked_example(binary: str, tmp: Path) -> dict[str, str]:
+    """Getting started: the shipped bed's full run."""
+    s = summary_of(binary, "scenarios/vibrated_bed.json", [], tmp, "bed")
+    p = s["profiles"]
+    rows = ["| height | number density | packing fraction | T_x | T_y | mean v_y |",
+            "|---:|---:|---:|---:|---:|---:|"]
+    # Every second bin from the third (centre 0.965) to height 11.
+    for k in range(2, 24, 2):
+        rows.append("| " + " | ".join([
+            sig(p["height"][k]), f"{p['density'][k]:.3f}", f"{p['packing_fraction'][k]:.3f}",
+            f"{p['temperature_x'][k]:.3f}", f"{p['temperature_y'][k]:.3f}",
+            f"{p['velocity_y'][k]:.3f}".replace("-", "−"),
+        ]) + " |")
+    e = s["energy"]
+    pressure = s["floor_pressure"]["measured"] / s["floor_pressure"]["weight"]
+    return {
+        "gs-pairs": thousands(s["events"]["pair"]),
+        "gs-floor": thousands(s["events"]["floor"]),
+        "gs-balance": power_of_ten(e["balance_error"]),
+        "gs-injected": thousands(e["injected"]),
+        "gs-dissipated": thousands(e["dissipated"]),
+        "gs-tx": f"{s['temperature']['x']:.3f}",
+        "gs-ty": f"{s['temperature']['y']:.3f}",
+        "gs-com": f"{s['com_height']:.2f}",
+        "gs-impacts": f"{s['impacts_per_unit_time']:.0f}",
+        "gs-bin": f"{p['height'][1] - p['height'][0]:.2f}",
+        "gs-table": "\n".join(rows),
+        "gs-pressure": f"{pressure:.4f}",
+    }
+
+
+def quick_try(binary: str, tmp: Path) -> dict[str, str]:
+    """The quick-try settings wherever the README and the book give them resolve the state."""
+    found = set()
+    for page in [ROOT / "README.md", *(BOOK / p for p in QUICK_PAGES)]:
+        text = page.read_text()
+        for d, w in re.findall(r"run\.duration=(\d+)\"?,? (?:--set )?\"?run\.warmup=(\d+)", text):
+            found.add((float(d), float(w), page.relative_to(ROOT)))
+    if not found:
+        sys.exit("numbers.py: no quick-try settings (run.duration=…, run.warmup=…) found")
+    periods = set()
+    scenario = json.loads((ROOT / "scenarios/vibrated_bed.json").read_text())
+    for d, w in sorted({(d, w) for d, w, _ in found}):
+        s = summary_of(binary, "scenarios/vibrated_bed.json",
+                       [f"run.duration={d:g}", f"run.warmup={w:g}"], tmp, "quick")
+        if "state" not in s:
+            pages = sorted(str(p) for dd, ww, p in found if (dd, ww) == (d, w))
+            sys.exit(f"numbers.py: the quick try run.duration={d:g} run.warmup={w:g} "
+                     f"({', '.join(pages)}) resolves no bed state")
+        periods.add(f"{(d - w) * scenario['floor']['frequency']:g}")
+    if len(periods) != 1:
+        sys.exit(f"numbers.py: the quick-try settings differ between pages: {sorted(found)}")
+    return {"quick-periods": periods.pop()}
+
+
+def packing_at_rest(binary: str, tmp: Path) -> dict[str, str]:
+    """A pile at rest in bins half a diameter high: above 0.907 somewhere, never above 1."""
+    s = summary_of(binary, "scenarios/hard/pile_equal_periodic_tc.json",
+                   ["run.duration=40", "run.warmup=30", "output.profile_height=12",
+                    "output.profile_bins=24", "output.sample_interval=1"], tmp, "rest")
+    phi = s["profiles"]["packing_fraction"]
+    top = max(phi)
+    if not 0.907 < top <= 1.0:
+        sys.exit(f"numbers.py: the pile at rest reads at most {top} in 0.5-diameter bins: the "
+                 "packing-fraction sentence (above 0.907, never above 1) is wrong")
+    return {"rest-packing": f"{math.floor(top * 100) / 100:.2f}"}
+
+
+def sweep(binary: str, tmp: Path) -> dict[str, str]:
+    """The sweeps page: the 21 runs on two workers, their points, fits and CPU time."""
+    out = tmp / "tvd"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.monotonic()
+    run(binary, "sweep", "run", "scenarios/sweeps/temperature_vs_drive.json", "--out", str(out),
+        "--jobs", "2", "--quiet")
+    wall = time.monotonic() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    run(binary, "sweep", "collect", str(out), "--x", "drive.peak_velocity", "--y",
+        "temperature.mean", "--y", "com_height", "--fit", "power", "--log")
+    with open(out / "points.csv") as f:
+        points = list(csv.DictReader(f))
+    rows = ["| A | Γ | Aω | T | T_x | T_y | centre of mass | pair collisions per run |",
+            "|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for p in points:
+        t, t_se = float(p["temperature.mean:mean"]), float(p["temperature.mean:se"])
+        decimals = 4 if t < 10 else 3
+        rows.append("| " + " | ".join([
+            f"{float(p['floor.amplitude']):.3f}", f"{float(p['drive.gamma']):.2f}",
+            f"{float(p['drive.peak_velocity']):.3f}", f"{t:.{decimals}f} ± {t_se:.{decimals}f}",
+            f"{float(p['temperature.x:mean']):.3f}", f"{float(p['temperature.y:mean']):.3f}",
+            f"{float(p['com_height:mean']):.3f} ± {float(p['com_height:se']):.3f}",
+            f"{float(p['events.pair:mean']) / 1000:.0f} k",
+        ]) + " |")
+    fits = {f["field"]: f["fit"] for f in json.loads((out / "fit.json").read_text())["power_law"]}
+    t_fit, com_fit = fits["temperature.mean"], fits["com_height"]
+    x = [float(p["drive.peak_velocity"]) for p in points]
+    y = [float(p["temperature.mean:mean"]) for p in points]
+    slopes = [math.log(y[i + 1] / y[i]) / math.log(x[i + 1] / x[i]) for i in range(len(x) - 1)]
+    return {
+        "tvd-table": "\n".join(rows),
+        "tvd-delta": f"{t_fit['exponent']:.2f} ± {t_fit['exponent_se']:.2f}",
+        "tvd-delta-value": f"{t_fit['exponent']:.2f}",
+        "tvd-delta-seeds": f"{t_fit['exponent_seed_se']:.3f}",
+        "tvd-slopes": ", ".join(f"{s:.2f}" for s in slopes),
+        "tvd-com": f"{com_fit['exponent']:.2f} ± {com_fit['exponent_se']:.2f}",
+        "tvd-cpu": f"{cpu:.0f} s",
+        "tvd-wall": f"{wall:.0f} s",
+    }
+
+
+def seconds(text: str) -> float:
+    return float(text.split()[0])
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--bin", default=shutil.which("vibrobed") or "vibrobed")
+    parser.add_argument("--write", action="store_true", help="rewrite the numbers in the pages")
+    args = parser.parse_args()
+    binary = str(Path(args.bin).resolve()) if Path(args.bin).exists() else args.bin
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        made: dict[str, str] = {}
+        for part in (worked_example, quick_try, packing_at_rest, sweep):
+            made.update(part(binary, tmp))
+    wrong, used = [], set()
+    for page in sorted(BOOK.rglob("*.md")):
+        text = page.read_text()
+
+        def replace(m: re.Match) -> str:
+            name, quoted = m.group(1), m.group(2)
+            used.add(name)
+            if name not in made:
+                wrong.append(f"{page.relative_to(ROOT)}: no number named {name}")
+                return m.group(0)
+            fresh = made[name]
+            if name in TIMING:
+                factor = TIMING[name]
+                ratio = seconds(fresh) / max(seconds(quoted), 1e-9)
+                same = factor is None or 1 / factor <= ratio <= factor
+            else:
+                same = quoted.strip() == fresh.strip()
+            if not same:
+                wrong.append(f"{page.relative_to(ROOT)}: {name}: the page says\n{quoted.strip()}\n"
+                             f"today's build gives\n{fresh}")
+            # The blank lines around a table stay (Markdown needs them).
+            lead = quoted[: len(quoted) - len(quoted.lstrip())]
+            trail = quoted[len(quoted.rstrip()):]
+            return f"<!-- n:{name} -->{lead}{fresh}{trail}<!-- /n -->"
+
+        new = MARK.sub(replace, text)
+        if args.write and new != text:
+            page.write_text(new)
+    unused = sorted(set(made) - used)
+    if unused:
+        wrong.append(f"numbers made but quoted nowhere: {', '.join(unused)}")
+    print(f"numbers.py: {len(made)} numbers made (the sweep: {made['tvd-cpu']} of CPU, "
+          f"{made['tvd-wall']} on two workers)", flush=True)
+    if wrong and not args.write:
+        print("the book differs from today's build (rerun with --write, then reread the prose):",
+              file=sys.stderr)
+        for w in wrong:
+            print(f"- {w}", file=sys.stderr)
+        return 1
+    if args.write:
+        print(f"pages rewritten: {len(wrong)} quotations changed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
