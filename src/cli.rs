@@ -12,7 +12,7 @@
 use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
 use crate::output::summary::{Ending, Summary};
 use crate::platform::signals;
-use crate::run::checkpoint::{check_resume_sets, Checkpoint};
+use crate::run::checkpoint::{check_resume_duration, check_resume_sets, Checkpoint};
 use crate::run::{run, CheckpointPlan, RunOptions};
 use crate::scenario::Scenario;
 use clap::{Parser, Subcommand};
@@ -172,11 +172,16 @@ pub struct OutputArgs<'a> {
     pub trajectory: Option<&'a Path>,
     /// `--checkpoint`.
     pub checkpoint: Option<&'a Path>,
+    /// The files the command reads (`SCENARIO`, the `CHECKPOINT` resumed): no output may be
+    /// written over them, but for the checkpoint a resume keeps checkpointing into.
+    pub inputs: Vec<(&'static str, &'a Path)>,
 }
 
 /// Refuses, before anything runs, output files that cannot be written: a path that is a
-/// directory or lies in a directory that does not exist, profiles of a scene without gravity,
-/// a recording from a build without recording. A run that starts can write all it was asked for.
+/// directory or lies in a directory that does not exist, one that names an input or another
+/// output, profiles of a scene without gravity, a recording from a build without recording, a
+/// recording or trajectory larger than [`MAX_RECORDED_DISKS`](crate::scenario::checks). A run
+/// that starts can write all it was asked for.
 pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
     let scenario_rrd = s.output.rrd.as_deref().map(Path::new);
     let scenario_trajectory = s.output.trajectory.as_deref().map(Path::new);
@@ -204,6 +209,16 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         crate::output::writable_directory(path)
             .map_err(|why| Error::input(field, format!("{}: {why}", path.display())))?;
     }
+    distinct_files(&files, &args.inputs)?;
+    let recording = (args.rrd.map(|_| "--rrd")).or(scenario_rrd.map(|_| "output.rrd"));
+    if let Some(field) = recording {
+        crate::scenario::checks::validate_recorded(s, field, None)?;
+    }
+    let trajectory = (args.trajectory.map(|_| "--trajectory"))
+        .or(scenario_trajectory.map(|_| "output.trajectory"));
+    if let Some(field) = trajectory {
+        crate::scenario::checks::validate_recorded(s, field, s.output.trajectory_interval)?;
+    }
     if args.profiles.is_some() && s.gravity.is_none() {
         return Err(Error::input(
             "--profiles",
@@ -228,6 +243,58 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Refuses an output named twice, or over an input (`files`: each output's option and path;
+/// `inputs`: the files read): a later write would destroy the earlier. Paths are compared
+/// canonically (links and `..` resolved; a file not yet there by its directory's canonical
+/// path). A resumed checkpoint may be checkpointed into again, by `--checkpoint` only.
+fn distinct_files(files: &[(&str, Option<&Path>)], inputs: &[(&'static str, &Path)]) -> Result<()> {
+    let outputs: Vec<(&str, PathBuf)> = files
+        .iter()
+        .filter_map(|(field, path)| Some((*field, canonical(path.as_ref()?))))
+        .collect();
+    for (k, (field, path)) in outputs.iter().enumerate() {
+        if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| p == path) {
+            return Err(Error::input(
+                *field,
+                format!(
+                    "{} is also given to {other}: one would overwrite the other (name two files)",
+                    path.display()
+                ),
+            ));
+        }
+        for (input, read) in inputs {
+            let resumed_into = *input == "CHECKPOINT" && *field == "--checkpoint";
+            if !resumed_into && canonical(read) == *path {
+                return Err(Error::input(
+                    *field,
+                    format!(
+                        "{} is the {} this command reads: writing it would destroy it (name another file)",
+                        path.display(),
+                        if *input == "CHECKPOINT" { "checkpoint" } else { "scenario" }
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `path` made absolute and canonical: itself if it exists, else its directory's canonical path
+/// joined with its name (else `path` as given).
+fn canonical(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (dir.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
 }
 
 /// Most cores an accuracy report may cost on (`engine.threads`' own bound).
@@ -336,7 +403,11 @@ fn execute(cli: Cli) -> Result<i32> {
 fn check(scenario: &Path, sets: &[String]) -> Result<i32> {
     let s = Scenario::load(scenario, sets)?;
     crate::run::check(&s)?;
-    output_paths(&s, &OutputArgs::default())?;
+    let args = OutputArgs {
+        inputs: vec![("SCENARIO", scenario)],
+        ..OutputArgs::default()
+    };
+    output_paths(&s, &args)?;
     print_advisories(&s);
     eprintln!("{}: ok ({} disks)", scenario.display(), s.disk_count());
     Ok(0)
@@ -405,9 +476,10 @@ struct RunFiles {
 }
 
 impl RunFiles {
-    /// The paths, borrowed for [`output_paths`].
-    fn as_output_args(&self) -> OutputArgs<'_> {
+    /// The paths, borrowed for [`output_paths`], with the files the command reads.
+    fn as_output_args<'a>(&'a self, inputs: Vec<(&'static str, &'a Path)>) -> OutputArgs<'a> {
         OutputArgs {
+            inputs,
             rrd: self.rrd.as_deref(),
             summary: self.summary.as_deref(),
             profiles: self.profiles.as_deref(),
@@ -429,7 +501,7 @@ fn run_scenario(
     shown: Shown,
 ) -> Result<i32> {
     let s = Scenario::load(scenario, sets)?;
-    output_paths(&s, &files.as_output_args())?;
+    output_paths(&s, &files.as_output_args(vec![("SCENARIO", scenario)]))?;
     print_advisories(&s);
     let checkpoint = match files.checkpoint.take() {
         Some(path) => Some(CheckpointPlan {
@@ -458,10 +530,14 @@ fn resume(
         checkpoint_file,
         sets,
         files.rrd.as_deref(),
+        files.trajectory.as_deref(),
         files.checkpoint.clone(),
         checkpoint_every,
     )?;
-    output_paths(&s, &files.as_output_args())?;
+    output_paths(
+        &s,
+        &files.as_output_args(vec![("CHECKPOINT", checkpoint_file)]),
+    )?;
     if !shown.quiet {
         eprintln!(
             "resuming {} (scenario {}) at t = {}",
@@ -476,11 +552,15 @@ fn resume(
 /// What a resume continues: the checkpoint read from `checkpoint_file`, its scene with the
 /// resume's overrides (`run.duration` and `run.max_events` only) after the run's own, and where
 /// and how often to go on checkpointing (by default into the same file at the saved interval).
-/// Refuses a recording `rrd` that holds an earlier part of the run.
+/// Refuses a recording `rrd` that holds an earlier part of the run, and a new `run.duration`
+/// where a default of the scene follows the duration (frames count when the resume records,
+/// to `rrd` or the scene's own, or writes a trajectory, to `trajectory` or the scene's own,
+/// without `output.trajectory_interval`).
 pub fn resumed(
     checkpoint_file: &Path,
     sets: &[String],
     rrd: Option<&Path>,
+    trajectory: Option<&Path>,
     checkpoint: Option<PathBuf>,
     checkpoint_every: Option<f64>,
 ) -> Result<(Scenario, CheckpointPlan, Box<Checkpoint>)> {
@@ -491,6 +571,12 @@ pub fn resumed(
     }
     let all_sets: Vec<String> = ck.sets.iter().chain(sets).cloned().collect();
     let s = Scenario::from_json_with_overrides(&ck.scenario, &all_sets)?;
+    let saved = Scenario::from_json_with_overrides(&ck.scenario, &ck.sets)?;
+    let trajectory = trajectory.is_some() || s.output.trajectory.is_some();
+    let frames = rrd.is_some()
+        || s.output.rrd.is_some()
+        || (trajectory && s.output.trajectory_interval.is_none());
+    check_resume_duration(&saved, &s, frames)?;
     let plan = CheckpointPlan {
         path: checkpoint.unwrap_or_else(|| checkpoint_file.to_path_buf()),
         every: checkpoint_every.or(ck.every),

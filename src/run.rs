@@ -106,6 +106,13 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
                 format!("must be a positive finite simulated time (got {every})"),
             ));
         }
+        let checks = crate::scenario::checks::MAX_CHECKPOINTS;
+        crate::scenario::checks::at_most(
+            "--checkpoint-every",
+            "checkpoints",
+            s.run.duration / every,
+            checks,
+        )?;
     }
     let (scene, disks) = Scene::build(s)?;
     let rrd = opts

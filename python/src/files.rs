@@ -2,7 +2,7 @@
 //! the trajectory while it runs, the checkpoint, and the profiles, fields and summary at the end.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use vibrobed::cli::OutputArgs;
 use vibrobed::output::summary::Summary;
 use vibrobed::output::write_atomic;
@@ -42,9 +42,11 @@ impl Files {
         Ok(files)
     }
 
-    /// The paths, for the command line's check of them before a run.
-    pub fn args(&self) -> OutputArgs<'_> {
+    /// The paths, for the command line's check of them before a run, with the files the run
+    /// reads (`SCENARIO`, the `CHECKPOINT` resumed), which no output may overwrite.
+    pub fn args<'a>(&'a self, inputs: Vec<(&'static str, &'a Path)>) -> OutputArgs<'a> {
         OutputArgs {
+            inputs,
             rrd: self.rrd.as_deref(),
             summary: self.summary.as_deref(),
             profiles: self.profiles.as_deref(),

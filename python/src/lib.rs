@@ -70,10 +70,15 @@ fn run(
     measure_fields: bool,
     progress: bool,
 ) -> PyResult<Ran> {
+    let scenario_file = path.clone();
     let given = Given::new(path, text, sets).py()?;
     let s = given.scenario().py()?;
     let files = Files::from_map(files).py()?;
-    output_paths(&s, &files.args()).py()?;
+    let inputs = match &scenario_file {
+        Some(path) => vec![("SCENARIO", path.as_path())],
+        None => Vec::new(),
+    };
+    output_paths(&s, &files.args(inputs)).py()?;
     let checkpoint = files.checkpoint.clone().map(|path| CheckpointPlan {
         path,
         every: checkpoint_every,
@@ -108,11 +113,12 @@ fn resume(
         &checkpoint_file,
         &sets,
         files.rrd.as_deref(),
+        files.trajectory.as_deref(),
         files.checkpoint.clone(),
         checkpoint_every,
     )
     .py()?;
-    output_paths(&s, &files.args()).py()?;
+    output_paths(&s, &files.args(vec![("CHECKPOINT", &checkpoint_file)])).py()?;
     let start = Start {
         checkpoint: Some(plan),
         resume: Some(ck),

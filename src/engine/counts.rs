@@ -75,11 +75,13 @@ impl EventCounts {
             + self.slide_end
     }
 
-    /// What `run.max_events` limits: every popped event and every disk coming to rest (which
-    /// happen inside other events, sometimes many at once: a loop of disks coming to rest and
-    /// being released again must meet the guard too).
+    /// What `run.max_events` and the stall guard count: every popped event, every disk coming
+    /// to rest (which happen inside other events, sometimes many at once: a loop of disks
+    /// coming to rest and being released again must meet the guard too), and every grid
+    /// re-mapping (a disk so fast that the re-mappings follow each other without the clock
+    /// advancing must meet it too).
     pub fn guarded(&self) -> u64 {
-        self.popped() + self.rest
+        self.popped() + self.rest + self.rebuild
     }
 }
 

@@ -1,6 +1,7 @@
 //! The guard that time advances: a run whose clock has not moved over [`STALL_EVENTS`] events
-//! has stopped — a rule firing again and again at one instant, which is a bug — and ends with
-//! a report naming the disks and the rules involved, instead of running on for ever.
+//! (re-mappings included) has stopped — a rule firing again and again at one instant, which
+//! is a bug, or re-mappings following each other for a disk too fast for the clock — and ends
+//! with a report naming the disks and the rules involved, instead of running on for ever.
 
 use super::{EventCounts, JamCounts, Simulation};
 use crate::error::Result;
@@ -126,6 +127,7 @@ impl EventCounts {
             ("re-check", self.recheck - before.recheck),
             ("unmount", self.unmount - before.unmount),
             ("zeno", self.zeno - before.zeno),
+            ("re-mapping", self.rebuild - before.rebuild),
         ];
         list(&kinds)
     }

@@ -22,6 +22,7 @@
 use super::state::DriverState;
 use crate::engine::EngineState;
 use crate::error::{Error, Result};
+use crate::scenario::Scenario;
 use serde::{Deserialize, Serialize};
 use std::hash::Hasher;
 use std::path::{Path, PathBuf};
@@ -181,4 +182,39 @@ pub fn check_resume_sets(sets: &[String]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Refuses a resume that changes `run.duration` where a default of the scene follows the
+/// duration (`saved`: the scene as checkpointed, `resumed`: with the resume's overrides;
+/// `frames`: the resume writes frames at the default frame interval): the resumed run would
+/// keep the first part's values and differ from the run made in one go. Inlets without `end`
+/// (their window is the run), sampling at neither `output.sample_interval` nor
+/// `output.frame_interval` (a 200th of the run), frames at no `output.frame_interval`.
+pub fn check_resume_duration(saved: &Scenario, resumed: &Scenario, frames: bool) -> Result<()> {
+    if saved.run.duration == resumed.run.duration {
+        return Ok(());
+    }
+    let o = &saved.output;
+    let inlet = (saved.inlets.iter().position(|i| i.end.is_none()))
+        .map(|k| format!("inlets.{k}.end is not given: the inlet's window is the run"));
+    let sampling = (o.sample_interval.is_none() && o.frame_interval.is_none()).then(|| {
+        "neither output.sample_interval nor output.frame_interval is given: samples are a \
+         200th of the run apart"
+            .to_string()
+    });
+    let framing = (frames && o.frame_interval.is_none()).then(|| {
+        "output.frame_interval is not given: frames are a 200th of the run apart".to_string()
+    });
+    match inlet.or(sampling).or(framing) {
+        None => Ok(()),
+        Some(why) => Err(Error::input(
+            "run.duration",
+            format!(
+                "this run cannot be resumed to another duration ({} → {}): {why}, so the \
+                 resumed run would differ from one run to the new duration; run it again with \
+                 that field given to extend it later, or resume it to its own duration",
+                saved.run.duration, resumed.run.duration
+            ),
+        )),
+    }
 }

@@ -22,6 +22,21 @@ pub const MAX_PROFILE_BINS: usize = 1_000_000;
 pub const MAX_PHASE_BINS: usize = 1000;
 /// Most cells of the 2D fields along either axis.
 pub const MAX_FIELD_BINS: usize = 100_000;
+/// Most cells of the 2D fields in all (nine running sums of 8 bytes each, kept twice with
+/// `record_fields`: about 0.6 GB at the bound).
+pub const MAX_FIELD_CELLS: usize = 4_000_000;
+/// Most disk frames (disks × frames) a recording or a trajectory may hold: some 10¹¹ bytes.
+pub const MAX_RECORDED_DISKS: f64 = 1e10;
+/// Most checkpoints a run may ask for (`--checkpoint-every`); each writes the whole state.
+pub const MAX_CHECKPOINTS: f64 = 1e5;
+/// Farthest any disk may be sent over the run at its initial or entering speed, in smallest
+/// radii: about as many events as it would have (10¹² events are days of computing), and a
+/// speed at which the clock still advances by what double precision resolves.
+pub const MAX_TRAVEL: f64 = 1e12;
+/// Smallest inertia factor `q` of rough disks: spins and their energies stay finite.
+pub const MIN_INERTIA_FACTOR: f64 = 1e-6;
+/// Deepest a scenario field is nested (`inlets.0.radius.species.0.mass` is six deep).
+pub const MAX_FIELD_DEPTH: usize = 8;
 /// Most frames, samples or trajectory frames a run may ask for.
 pub const MAX_OUTPUT_TIMES: f64 = 1e7;
 /// Largest ratio of the largest radius to the smallest that the neighbour masks support.
@@ -49,7 +64,7 @@ fn positive(field: &str, v: f64) -> Result<()> {
 }
 
 /// At most `limit` of something asked for by `count = span / interval`.
-fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
+pub fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
     if count <= limit {
         Ok(())
     } else {
@@ -126,10 +141,13 @@ fn validate_rough(s: &Scenario) -> Result<()> {
         s.domain.wall_tangential_restitution,
     )?;
     if let Some(q) = s.particles.inertia_factor {
-        if !(q > 0.0 && q <= 1.0) {
+        if !(MIN_INERTIA_FACTOR..=1.0).contains(&q) {
             return Err(Error::input(
                 "particles.inertia_factor",
-                format!("must lie in (0, 1] (got {q}; ½ is a uniform disk, 1 a ring)"),
+                format!(
+                    "must lie in [{MIN_INERTIA_FACTOR:e}, 1] (got {q:e}; ½ is a uniform disk, 1 a \
+                     ring; a smaller one makes spins and their energies overflow)"
+                ),
             ));
         }
     }
@@ -147,19 +165,22 @@ fn validate_rough(s: &Scenario) -> Result<()> {
 /// Checks the whole scenario, section by section in the file's order; the first rule broken
 /// is the error (so a scenario with several faults always reports the same one).
 pub fn validate(s: &Scenario) -> Result<()> {
+    // The run's length first: inlets' windows and the output's intervals are read against it.
+    validate_run(&s.run)?;
     validate_domain(s)?;
     validate_gravity(s)?;
     validate_floor(s)?;
     validate_particles(s)?;
     validate_orifice(s)?;
     validate_inlets(s)?;
+    validate_total_disks(s)?;
     validate_exit_height(s)?;
     validate_collisions(&s.collisions)?;
     validate_rough(s)?;
-    validate_run(&s.run)?;
     validate_output(s)?;
     validate_engine(s)?;
     validate_lengths(s)?;
+    crate::scenario::speeds::validate_speeds(s)?;
     Ok(())
 }
 
@@ -329,6 +350,12 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         if !(inlet.start.is_finite() && inlet.start >= 0.0) {
             return Err(Error::input(field("start"), "must be ≥ 0"));
         }
+        if inlet.end.is_none() && inlet.start >= end {
+            return Err(Error::input(
+                field("start"),
+                format!("must be before the run's end, run.duration = {end} (inlets.{k}.end is not given)"),
+            ));
+        }
         if !(end.is_finite() && end > inlet.start) {
             return Err(Error::input(field("end"), "must be after start"));
         }
@@ -336,15 +363,7 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
             (Some(_), Some(_)) => {
                 return Err(Error::input(field("count"), "give rate or count, not both"))
             }
-            (Some(r), None) => {
-                positive(&field("rate"), r)?;
-                if r * (end - inlet.start) > 2e7 {
-                    return Err(Error::input(field("rate"), "brings more than 2·10⁷ disks"));
-                }
-            }
-            (None, Some(n)) if n > 20_000_000 => {
-                return Err(Error::input(field("count"), "at most 2·10⁷"))
-            }
+            (Some(r), None) => positive(&field("rate"), r)?,
             (None, None) if !inlet.recycle => {
                 return Err(Error::input(
                     field("rate"),
@@ -380,6 +399,40 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         }
         if s.gravity.is_none() || s.floor.is_none() {
             return Err(Error::input("inlets", "need gravity and a floor"));
+        }
+    }
+    Ok(())
+}
+
+/// New disks `inlet` brings over its window (`end`: its end): its count, or its rate times
+/// the window's length; none for an inlet that only recycles.
+pub fn inlet_disks(inlet: &Inlet, end: f64) -> f64 {
+    match (inlet.rate, inlet.count) {
+        (_, Some(n)) => n as f64,
+        (Some(r), None) => r * (end - inlet.start),
+        (None, None) => 0.0,
+    }
+}
+
+/// The scene's disks in all, initial and through every inlet, at most [`MAX_DISKS`] (the
+/// engine keeps every disk that ever entered): the error names the inlet that passes it.
+fn validate_total_disks(s: &Scenario) -> Result<()> {
+    let mut total = s.disk_count() as f64;
+    for (k, inlet) in s.inlets.iter().enumerate() {
+        total += inlet_disks(inlet, inlet.end.unwrap_or(s.run.duration));
+        if total > MAX_DISKS as f64 {
+            let field = if inlet.count.is_some() {
+                "count"
+            } else {
+                "rate"
+            };
+            return Err(Error::input(
+                format!("inlets.{k}.{field}"),
+                format!(
+                    "brings the scene's disks in all (initial and through every inlet up to \
+                     this one) to {total:.0}; at most {MAX_DISKS} are supported"
+                ),
+            ));
         }
     }
     Ok(())
@@ -634,6 +687,16 @@ fn validate_fields(s: &Scenario) -> Result<()> {
                 format!("[nx, ny]: each must lie in [1, {MAX_FIELD_BINS}] (got {n})"),
             ));
         }
+        let [nx, ny] = bins;
+        if nx * ny > MAX_FIELD_CELLS {
+            return Err(Error::input(
+                "output.field_bins",
+                format!(
+                    "[{nx}, {ny}] asks for {} cells; at most {MAX_FIELD_CELLS} are supported",
+                    nx * ny
+                ),
+            ));
+        }
     }
     let named = [
         ("output.field_bins", o.field_bins.is_some()),
@@ -704,6 +767,32 @@ fn validate_output_counts(s: &Scenario) -> Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// Disk frames (disks × frames) of a recording or trajectory asked for by `field` (a frame
+/// every `interval`, or the frame interval), at most [`MAX_RECORDED_DISKS`]; every disk that
+/// may enter through an inlet counted.
+pub fn validate_recorded(s: &Scenario, field: &str, interval: Option<f64>) -> Result<()> {
+    let d = s.run.duration;
+    let frame_dt = s.output.frame_interval.unwrap_or(d / 200.0);
+    let frames = d / interval.unwrap_or(frame_dt) + 1.0;
+    let disks = s.disk_count() as f64
+        + s.inlets
+            .iter()
+            .map(|i| inlet_disks(i, i.end.unwrap_or(d)))
+            .sum::<f64>();
+    let size = frames * disks;
+    if size <= MAX_RECORDED_DISKS {
+        return Ok(());
+    }
+    Err(Error::input(
+        field,
+        format!(
+            "would hold {frames:.3e} frames of up to {disks:.3e} disks ({size:.3e} disk frames); \
+             at most {MAX_RECORDED_DISKS:e} are supported (a longer output.frame_interval or \
+             output.trajectory_interval records fewer)"
+        ),
+    ))
 }
 
 /// Lengths the scene spans, in smallest radii: width, closed height, floor amplitude.

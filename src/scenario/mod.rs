@@ -8,6 +8,7 @@
 pub mod json;
 pub mod overrides;
 pub mod phase_stops;
+pub mod speeds;
 
 use crate::error::{Error, Result};
 use crate::physics::drive::Drive;

@@ -6,6 +6,7 @@
 //! field exists is then checked when the scenario is typed, with an error naming the path.
 
 use crate::error::{Error, Result};
+use crate::scenario::checks::MAX_FIELD_DEPTH;
 use serde_json::Value;
 
 /// Applies one `KEY=VALUE` override to the scenario's JSON value.
@@ -23,11 +24,21 @@ pub fn apply(root: &mut Value, set: &str) -> Result<()> {
             format!("`{key}` is not a dotted field path (e.g. domain.width)"),
         ));
     }
+    let depth = key.split('.').count();
+    if depth > MAX_FIELD_DEPTH {
+        return Err(Error::input(
+            "--set",
+            format!(
+                "a path of {depth} fields is deeper than any scenario field (at most \
+                 {MAX_FIELD_DEPTH}, e.g. inlets.0.radius.species.0.mass)"
+            ),
+        ));
+    }
     let value: Value = serde_json::from_str(raw).unwrap_or_else(|_| Value::String(raw.to_string()));
     let segments: Vec<&str> = key.split('.').collect();
     let mut node = root;
     for (depth, segment) in segments.iter().enumerate() {
-        let here = segments[..=depth].join(".");
+        let here = || segments[..=depth].join(".");
         let last = depth + 1 == segments.len();
         node = match node {
             Value::Object(map) => {
@@ -41,14 +52,14 @@ pub fn apply(root: &mut Value, set: &str) -> Result<()> {
             Value::Array(items) => {
                 let index: usize = segment.parse().map_err(|_| {
                     Error::input(
-                        format!("--set {here}"),
+                        format!("--set {}", here()),
                         "this field is a list: index it with a number",
                     )
                 })?;
                 let len = items.len();
                 let slot = items.get_mut(index).ok_or_else(|| {
                     Error::input(
-                        format!("--set {here}"),
+                        format!("--set {}", here()),
                         format!("index {index} is beyond the list's {len} entries"),
                     )
                 })?;
@@ -98,5 +109,21 @@ mod tests {
         let e = apply(&mut v, "particles.count.x=3").unwrap_err();
         assert!(e.to_string().contains("particles.count"), "{e}");
         assert_eq!(e.exit_code(), 2);
+    }
+
+    #[test]
+    fn a_path_deeper_than_any_field_is_refused_at_once() {
+        let mut v = json!({"particles": {"count": 10}});
+        let key = vec!["a"; 60_000].join(".");
+        let e = apply(&mut v, &format!("{key}=1")).unwrap_err();
+        assert!(
+            e.to_string().contains("deeper than any scenario field"),
+            "{e}"
+        );
+        assert_eq!(v, json!({"particles": {"count": 10}}));
+        apply(&mut v, "inlets=[{}]").unwrap();
+        apply(&mut v, "inlets.0.radius.species=[{}]").unwrap();
+        apply(&mut v, "inlets.0.radius.species.0.mass=2").unwrap();
+        assert_eq!(v["inlets"][0]["radius"]["species"][0]["mass"], json!(2));
     }
 }

@@ -887,3 +887,283 @@ fn exit_heights_that_cannot_be_are_refused_and_nothing_is_written() {
         pool_refuses(test, scene, sets, "domain.exit_height");
     }
 }
+
+// --- Second round (issue 62): what a scene costs, bounded before the run. ---
+
+#[test]
+fn field_cells_are_bounded_as_a_product() {
+    for (test, bins) in [
+        ("cells-square", "[100000,100000]"),
+        ("cells-strip", "[100000,2000]"),
+    ] {
+        let set = format!("output.field_bins={bins}");
+        check_refuses(test, "vibrated_bed.json", &[&set], &["output.field_bins"]);
+    }
+}
+
+#[test]
+fn inlets_are_bounded_with_the_scene_s_other_disks() {
+    let inlet = r#"{"x": {"from": 1, "to": 29}, "y": {"from": 20, "to": 24}, "count": 10000000}"#;
+    let two = format!("inlets=[{inlet}, {inlet}]");
+    check_refuses("inlets-total", "silo.json", &[&two], &["inlets.1.count"]);
+    check_refuses(
+        "inlet-one",
+        "silo.json",
+        &["inlets.0.recycle=false", "inlets.0.count=20000000"],
+        &["inlets.0.count"],
+    );
+}
+
+#[test]
+fn a_trajectory_of_2e10_disk_frames_is_refused_before_the_run() {
+    run_refuses(
+        "trajectory-size",
+        "vibrated_bed.json",
+        &["--trajectory", "t.xyz", "--summary", "s.json"],
+        &["particles.count=10000", "output.trajectory_interval=1e-4"],
+        &["--trajectory"],
+    );
+}
+
+#[test]
+fn a_checkpoint_every_1e_9_is_refused() {
+    run_refuses(
+        "checkpoint-every",
+        "vibrated_bed.json",
+        &["--checkpoint", "c.ckpt", "--checkpoint-every", "1e-9"],
+        &[],
+        &["--checkpoint-every"],
+    );
+}
+
+#[test]
+fn a_set_path_of_60000_fields_is_refused_at_once() {
+    let key = vec!["a"; 60_000].join(".");
+    let set = format!("{key}=1");
+    check_refuses("deep-set", "vibrated_bed.json", &[&set], &["--set"]);
+}
+
+// --- Speeds the engine cannot run with. ---
+
+#[test]
+fn speeds_beyond_what_a_run_can_simulate_are_refused_naming_them() {
+    let one_disk = |v: &str| {
+        format!(r#"particles.placement={{"positions": [[10, 1]], "velocities": [[0, {v}]]}}"#)
+    };
+    let thrown = one_disk("1e200");
+    let cases: [(&str, &str, Vec<&str>, &str); 4] = [
+        (
+            "velocity-1e200",
+            "vibrated_bed.json",
+            vec!["particles.count=1", &thrown],
+            "particles.placement.velocities",
+        ),
+        (
+            "inlet-1e308",
+            "silo.json",
+            vec!["inlets.0.speed=1e308"],
+            "inlets.0.speed",
+        ),
+        (
+            "temperature-1e308",
+            "vibrated_bed.json",
+            vec!["particles.temperature=1e308"],
+            "particles.temperature",
+        ),
+        (
+            "inertia-subnormal",
+            "rough_vibrated_bed.json",
+            vec!["particles.inertia_factor=5e-324"],
+            "particles.inertia_factor",
+        ),
+    ];
+    for (test, scene, sets, field) in cases {
+        check_refuses(test, scene, &sets, &[field]);
+    }
+}
+
+/// One disk thrown up at `speed` from a static floor, under the other `sets`.
+fn thrown_disk(speed: &str, sets: &[&str]) -> Vec<OsString> {
+    let placement =
+        format!(r#"particles.placement={{"positions": [[10, 1]], "velocities": [[0, {speed}]]}}"#);
+    let mut all = vec![
+        "particles.count=1",
+        &placement,
+        "floor.gamma=null",
+        "floor.frequency=null",
+        "run.warmup=0",
+    ];
+    all.extend(sets);
+    run_args("vibrated_bed.json", &["--summary", "s.json"], &all)
+}
+
+#[test]
+fn the_event_limit_counts_re_mappings() {
+    // At 10⁹ the grid is re-mapped about once a radius of flight: 10⁹ re-mappings in the run.
+    let dir = fresh_dir("bad-remap-limit");
+    let args = thrown_disk("1e9", &["run.duration=1", "run.max_events=1000"]);
+    let out = vibrobed(&dir, &args);
+    let what = out.describe();
+    assert_eq!(out.code(), Some(0), "{what}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).expect("summary"))
+            .expect("json");
+    assert_eq!(s["ending"], "event-limit", "{what}");
+    assert_eq!(s["events"]["rebuild"], 1000, "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn re_mappings_that_leave_the_clock_standing_end_the_run_with_its_report() {
+    // At 10⁹⁰ over a run of 10⁻⁸⁰ the disk crosses a radius in 10⁻⁹⁰: the clock moves by
+    // less than the stall guard's span over its 10⁷ events (some 15 s of re-mappings).
+    let dir = fresh_dir("bad-remap-stall");
+    let args = thrown_disk(
+        "1e90",
+        &["run.duration=1e-80", "output.frame_interval=1e-82"],
+    );
+    let logs = dir.with_extension("logs");
+    let out = guarded::run(&args, &dir, &logs, Limits::secs(120));
+    let _ = std::fs::remove_dir_all(&logs);
+    let what = out.describe();
+    assert_eq!(out.code(), Some(1), "{what}");
+    assert!(
+        out.stderr.contains("simulated time has stopped advancing")
+            && out.stderr.contains("re-mapping ×"),
+        "{what}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).expect("summary"))
+            .expect("json");
+    assert_eq!(s["ending"], "stalled", "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- Outputs over inputs or over each other. ---
+
+#[test]
+fn a_summary_over_the_scenario_is_refused_and_the_scenario_kept() {
+    let dir = fresh_dir("bad-over-scenario");
+    let text = std::fs::read_to_string(scenario("bouncing_ball.json")).expect("scenario");
+    std::fs::write(dir.join("s.json"), &text).expect("copy");
+    std::fs::create_dir(dir.join("sub")).expect("a directory");
+    // The same file under another spelling.
+    for summary in ["s.json", "./sub/../s.json"] {
+        let args = guarded::args(&["run", "s.json", "--quiet", "--summary", summary]);
+        let out = vibrobed(&dir, &args);
+        assert_refused(&out, &["--summary"], &dir, &["s.json", "sub"]);
+        let kept = std::fs::read_to_string(dir.join("s.json")).expect("scenario");
+        assert_eq!(kept, text, "the scenario was changed");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn two_outputs_on_one_path_are_refused() {
+    run_refuses(
+        "same-output",
+        "vibrated_bed.json",
+        &["--profiles", "x.csv", "--fields", "x.csv"],
+        SHORT,
+        &["--fields"],
+    );
+    run_refuses(
+        "same-output-spelled",
+        "vibrated_bed.json",
+        &["--summary", "x.json", "--trajectory", "./x.json"],
+        SHORT,
+        &["--trajectory"],
+    );
+}
+
+/// Runs the shipped `scene` to `cut` with a checkpoint `c.ckpt` in a fresh directory.
+fn checkpointed(test: &str, scene: &str, sets: &[&str], cut: &str) -> std::path::PathBuf {
+    let dir = fresh_dir(&format!("bad-{test}"));
+    let duration = format!("run.duration={cut}");
+    let mut all = vec!["run.warmup=0", &duration];
+    all.extend(sets);
+    let args = run_args(
+        scene,
+        &["--checkpoint", "c.ckpt", "--summary", "first.json"],
+        &all,
+    );
+    let out = vibrobed(&dir, &args);
+    assert_eq!(out.code(), Some(0), "{}", out.describe());
+    dir
+}
+
+/// `resume c.ckpt EXTRA...` in `dir` is refused naming `field`, the checkpoint unchanged and
+/// nothing else written.
+fn resume_refuses(dir: &Path, extra: &[&str], field: &str) {
+    let saved = std::fs::read(dir.join("c.ckpt")).expect("checkpoint");
+    let mut words = vec!["resume", "c.ckpt", "--quiet"];
+    words.extend(extra);
+    let out = vibrobed(dir, &guarded::args(&words));
+    assert_refused(&out, &[field], dir, &["c.ckpt", "first.json"]);
+    assert_eq!(
+        std::fs::read(dir.join("c.ckpt")).expect("checkpoint"),
+        saved
+    );
+}
+
+#[test]
+fn a_summary_over_the_resumed_checkpoint_is_refused() {
+    let dir = checkpointed("over-checkpoint", "bouncing_ball.json", &[], "1");
+    resume_refuses(&dir, &["--summary", "c.ckpt"], "--summary");
+    resume_refuses(
+        &dir,
+        &["--checkpoint", "d.ckpt", "--profiles", "./c.ckpt"],
+        "--profiles",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- Resume across a change of duration, where a default follows the duration. ---
+
+#[test]
+fn a_resume_longer_is_refused_where_a_default_follows_the_duration() {
+    // An inlet without `end`: its window is the run (the silo's recycling inlet, and a pour).
+    let dir = checkpointed("resume-inlet", "silo.json", &[], "2");
+    resume_refuses(&dir, &["--set", "run.duration=4"], "run.duration");
+    let _ = std::fs::remove_dir_all(&dir);
+    // Samples a 200th of the run apart.
+    let dir = checkpointed(
+        "resume-sampling",
+        "bouncing_ball.json",
+        &["output.frame_interval=null", "output.sample_interval=null"],
+        "1",
+    );
+    resume_refuses(&dir, &["--set", "run.duration=2"], "run.duration");
+    let _ = std::fs::remove_dir_all(&dir);
+    // Frames a 200th of the run apart, in a trajectory written by the resume.
+    let dir = checkpointed(
+        "resume-frames",
+        "bouncing_ball.json",
+        &["output.frame_interval=null", "output.sample_interval=0.01"],
+        "1",
+    );
+    resume_refuses(
+        &dir,
+        &["--set", "run.duration=2", "--trajectory", "t.xyz"],
+        "run.duration",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// --- Wrong blame: each message names the field the user set. ---
+
+#[test]
+fn a_bad_duration_of_a_scene_with_inlets_is_blamed_on_the_duration() {
+    check_refuses(
+        "silo-duration",
+        "silo.json",
+        &["run.duration=-1"],
+        &["run.duration"],
+    );
+    check_refuses(
+        "silo-start",
+        "silo.json",
+        &["run.duration=12", "inlets.0.start=13"],
+        &["inlets.0.start"],
+    );
+}

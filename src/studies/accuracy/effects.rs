@@ -223,7 +223,8 @@ fn sets(v: &[&str]) -> Vec<String> {
 /// at the floor and the walls (where the scene has them), spins started at the translational
 /// temperature.
 fn friction(scenario: &Scenario) -> (Vec<String>, Vec<String>, String) {
-    let floor = scenario.floor.is_some();
+    // A floor with an orifice stays smooth: its corners are (rough disks fall through it).
+    let floor = scenario.floor.as_ref().is_some_and(|f| f.orifice.is_none());
     let walls = scenario.domain.x_boundary == XBoundary::Walls
         || scenario.domain.y_boundary == YBoundary::Lid;
     if scenario.is_rough() {
@@ -396,4 +397,23 @@ fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<([f64; 2], Measured)>
     let coll = sum.events.collisions().max(1) as f64;
     let times = [sum.wall_seconds / coll, sum.wall_seconds / sum.sim_time];
     Ok((times, Measured::of(&sum, sc.floor.is_some())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The silo's floor has an orifice, which needs a smooth floor: the friction effect makes
+    /// its disks and walls rough and leaves the floor smooth (it once set floor.friction, and
+    /// the report failed on a field the user never set).
+    #[test]
+    fn friction_leaves_a_floor_with_an_orifice_smooth() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/silo.json");
+        let silo = Scenario::load(&path, &[]).expect("the silo is valid");
+        let (_, rough, added) = friction(&silo);
+        assert!(!rough.iter().any(|s| s.starts_with("floor.")), "{rough:?}");
+        assert_eq!(added, "μ = 0.5, β = 0.4; walls μ = 0.5");
+        let text = std::fs::read_to_string(&path).expect("the silo's text");
+        Scenario::from_json_with_overrides(&text, &rough).expect("the rough silo is valid");
+    }
 }

@@ -1,0 +1,121 @@
+//! The speeds a scene starts its disks with (explicit velocities, temperatures, spins, inlets,
+//! the floor's peak speed): each finite, with finite energies, and sending no disk farther over
+//! the run than [`MAX_TRAVEL`] smallest radii. Beyond that the run would need more events than
+//! any computer gives it, and a disk crossing a radius faster than the clock resolves would
+//! leave the clock standing still.
+
+use super::checks::{MAX_TRAVEL, MIN_MAGNITUDE};
+use super::{Inlet, Placement, Radius, Scenario};
+use crate::error::{Error, Result};
+
+/// Largest speed accepted: its square times the heaviest mass stays finite.
+const MAX_SPEED: f64 = 1e100;
+
+/// Checks every speed the scene gives its disks, naming the field that sets it.
+pub fn validate_speeds(s: &Scenario) -> Result<()> {
+    let bound = Travel::of(s);
+    if let Placement::Explicit(e) = &s.particles.placement {
+        let fastest = e
+            .velocities
+            .iter()
+            .flatten()
+            .map(|[vx, vy]| vx.hypot(*vy))
+            .map(|v| if v.is_nan() { f64::INFINITY } else { v })
+            .fold(0.0, f64::max);
+        bound.check("particles.placement.velocities", "a velocity", fastest)?;
+    }
+    let lightest = lightest(s);
+    let p = &s.particles;
+    bound.check(
+        "particles.temperature",
+        "a thermal speed √(T/m)",
+        (p.temperature / lightest).sqrt(),
+    )?;
+    if let Some(t) = p.rotational_temperature {
+        let q = p.inertia_factor.unwrap_or(0.5);
+        bound.check(
+            "particles.rotational_temperature",
+            "a rim speed √(T_rot/(q m))",
+            (t / (q * lightest)).sqrt(),
+        )?;
+    }
+    for (k, inlet) in s.inlets.iter().enumerate() {
+        bound.check(&format!("inlets.{k}.speed"), "a speed", inlet.speed)?;
+        let thermal = (inlet.temperature / lightest_entering(s, inlet)).sqrt();
+        bound.check(
+            &format!("inlets.{k}.temperature"),
+            "a thermal speed √(T/m)",
+            thermal,
+        )?;
+    }
+    if let Some(f) = s.floor.as_ref().and_then(|f| f.frequency) {
+        let peak = s.floor_amplitude() * 2.0 * std::f64::consts::PI * f;
+        let field = match s.floor.as_ref().and_then(|f| f.gamma) {
+            Some(_) => "floor.gamma",
+            None => "floor.frequency",
+        };
+        bound.check(field, "a floor peak speed Aω", peak)?;
+    }
+    Ok(())
+}
+
+/// The farthest a disk may travel over the run, and the run it is measured on.
+struct Travel {
+    /// The run's duration.
+    duration: f64,
+    /// The smallest radius of any disk of the scene.
+    a_min: f64,
+}
+
+impl Travel {
+    fn of(s: &Scenario) -> Travel {
+        Travel {
+            duration: s.run.duration,
+            a_min: s.all_radius_range().0,
+        }
+    }
+
+    /// `speed` (what it is: `what`, set by `field`) is finite, at most [`MAX_SPEED`], and
+    /// carries a disk at most [`MAX_TRAVEL`] smallest radii over the run.
+    fn check(&self, field: &str, what: &str, speed: f64) -> Result<()> {
+        let radii = speed * self.duration / self.a_min;
+        if speed.is_finite() && speed <= MAX_SPEED && radii <= MAX_TRAVEL {
+            return Ok(());
+        }
+        Err(Error::input(
+            field,
+            format!(
+                "gives {what} of {speed:e}, which carries a disk {radii:.3e} smallest radii in \
+                 run.duration = {}: at most {MAX_TRAVEL:e} can be simulated (and speeds up to \
+                 {MAX_SPEED:e})",
+                self.duration
+            ),
+        ))
+    }
+}
+
+/// The lightest disk at the start (a species' own mass included), at least [`MIN_MAGNITUDE`].
+fn lightest(s: &Scenario) -> f64 {
+    let (lo, hi) = s.radius_range();
+    let mut m = s.particle_mass(lo, None).min(s.particle_mass(hi, None));
+    if let Radius::Species(list) = &s.particles.radius {
+        for sp in &list.species {
+            m = m.min(s.particle_mass(sp.radius, sp.mass));
+        }
+    }
+    m.max(MIN_MAGNITUDE)
+}
+
+/// The lightest disk `inlet` brings, at least [`MIN_MAGNITUDE`].
+fn lightest_entering(s: &Scenario, inlet: &Inlet) -> f64 {
+    let (lo, hi) = s.inlet_radius_range(inlet);
+    let mut m = s
+        .inlet_mass(inlet, lo, None)
+        .min(s.inlet_mass(inlet, hi, None));
+    if let Radius::Species(list) = s.inlet_radius(inlet) {
+        for sp in &list.species {
+            m = m.min(s.inlet_mass(inlet, sp.radius, sp.mass));
+        }
+    }
+    m.max(MIN_MAGNITUDE)
+}
