@@ -195,8 +195,13 @@ pub fn check_resume_duration(saved: &Scenario, resumed: &Scenario, frames: bool)
         return Ok(());
     }
     let o = &saved.output;
-    let inlet = (saved.inlets.iter().position(|i| i.end.is_none()))
-        .map(|k| format!("inlets.{k}.end is not given: the inlet's window is the run"));
+    // An inlet that only recycles brings no disks of its own: its window does not matter.
+    let brings = |i: &crate::scenario::Inlet| i.rate.is_some() || i.count.is_some();
+    let inlet = (saved
+        .inlets
+        .iter()
+        .position(|i| i.end.is_none() && brings(i)))
+    .map(|k| format!("inlets.{k}.end is not given: the inlet's window is the run"));
     let sampling = (o.sample_interval.is_none() && o.frame_interval.is_none()).then(|| {
         "neither output.sample_interval nor output.frame_interval is given: samples are a \
          200th of the run apart"

@@ -1122,8 +1122,8 @@ fn a_summary_over_the_resumed_checkpoint_is_refused() {
 
 #[test]
 fn a_resume_longer_is_refused_where_a_default_follows_the_duration() {
-    // An inlet without `end`: its window is the run (the silo's recycling inlet, and a pour).
-    let dir = checkpointed("resume-inlet", "silo.json", &[], "2");
+    // An inlet without `end` that brings disks: its window is the run.
+    let dir = checkpointed("resume-inlet", "silo.json", &["inlets.0.rate=5"], "2");
     resume_refuses(&dir, &["--set", "run.duration=4"], "run.duration");
     let _ = std::fs::remove_dir_all(&dir);
     // Samples a 200th of the run apart.
