@@ -17,6 +17,7 @@ mod equation_of_state;
 mod faults;
 mod fields;
 mod figures;
+mod fuzz_fields;
 mod fuzz_inputs;
 mod gravity;
 mod grids;
