@@ -114,7 +114,10 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
             checks,
         )?;
     }
-    let (scene, disks) = Scene::build(s)?;
+    // The placement's Monte Carlo watches the stop flag: a run interrupted while its disks
+    // are placed stops then.
+    let (scene, disks) =
+        crate::engine::placement::interruptible(opts.interrupt, || Scene::build(s))?;
     let rrd = opts
         .rrd
         .clone()

@@ -11,6 +11,38 @@ use crate::physics::walls::nearest_image;
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+thread_local! {
+    /// The flag that ends the Monte Carlo early (a run's stop flag, set by SIGINT): see
+    /// [`interruptible`].
+    static STOP: Cell<Option<&'static AtomicBool>> = const { Cell::new(None) };
+}
+
+/// Runs `f` (a scene's build) with the Monte Carlo that melts a `random` placement watching
+/// `flag`: once it is set, the melt ends within [`STOP_POLL`] trial moves, its disks where they
+/// are (every trial kept overlaps nothing, so they are placed, only less melted). A run asked
+/// to stop while 2·10⁷ disks are being melted (two minutes on one core) stops at once instead.
+pub fn interruptible<T>(flag: Option<&'static AtomicBool>, f: impl FnOnce() -> T) -> T {
+    let before = STOP.with(|s| s.replace(flag));
+    let out = f();
+    STOP.with(|s| s.set(before));
+    out
+}
+
+/// Trial moves between two looks at the stop flag.
+const STOP_POLL: usize = 1 << 16;
+
+/// Whether the flag [`interruptible`] gave is set.
+fn stopped() -> bool {
+    STOP.with(Cell::get)
+        .is_some_and(|flag| flag.load(Ordering::Relaxed))
+}
+
+/// The map of the Monte Carlo's occupied cells over a sparse region.
+type HashMap<K, V> = std::collections::HashMap<K, V, ahash::RandomState>;
+
 /// The rectangle disk centres may occupy, and how it wraps.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Region {
@@ -258,7 +290,8 @@ fn rows(
 /// Hard-disk Monte Carlo: each sweep tries one random move per disk (in storage order, which
 /// follows the lattice rows and keeps memory access local) and rejects any move that overlaps
 /// another disk or leaves the region. The step adapts towards half acceptance. Cells of side
-/// ≥ 2 a_max hold their disks in fixed-size slots of one flat array.
+/// ≥ 2 a_max hold their disks in fixed-size slots of one flat array (or, over a region too
+/// sparse for that, a list per occupied cell).
 pub fn melt_mc(
     pos: &mut [[f64; 2]],
     radius: &[f64],
@@ -271,7 +304,9 @@ pub fn melt_mc(
     let mut grid = McGrid::new(pos, radius, r);
     let mut step = 0.5 * a_max;
     for _ in 0..sweeps {
-        let accepted = mc_sweep(pos, radius, &mut grid, step, rng);
+        let Some(accepted) = mc_sweep(pos, radius, &mut grid, step, rng) else {
+            return;
+        };
         let rate = accepted as f64 / n as f64;
         step = (step * if rate > 0.5 { 1.2 } else { 0.8 }).clamp(1e-3 * a_max, 0.9 * grid.cell);
     }
@@ -279,16 +314,20 @@ pub fn melt_mc(
 
 /// One Monte Carlo sweep: a trial move per disk, in storage order, kept when the disk stays
 /// in the region and overlaps no other; returns how many were kept. Each trial draws two
-/// uniform numbers (x, then y) whether or not it is kept.
+/// uniform numbers (x, then y) whether or not it is kept. `None`: stopped on the way by the
+/// flag of [`interruptible`].
 fn mc_sweep(
     pos: &mut [[f64; 2]],
     radius: &[f64],
     grid: &mut McGrid,
     step: f64,
     rng: &mut Xoshiro256PlusPlus,
-) -> usize {
+) -> Option<usize> {
     let mut accepted = 0usize;
     for i in 0..pos.len() {
+        if i % STOP_POLL == 0 && stopped() {
+            return None;
+        }
         let Some(p) = grid.trial_position(pos[i], radius[i], step, rng) else {
             continue;
         };
@@ -299,7 +338,7 @@ fn mc_sweep(
             grid.move_disk(i, c);
         }
     }
-    accepted
+    Some(accepted)
 }
 
 /// The Monte Carlo's cell grid over the region, and the cell each disk is filed in.
@@ -325,8 +364,12 @@ struct McGrid {
 impl McGrid {
     /// Cells of side ≥ 2 a_max over the region, so that a disk can only overlap disks in its
     /// own and the eight neighbouring cells, with every disk filed in its cell. When fixed
-    /// slots for every cell would take more than [`MAX_FLAT_SLOTS`] (a sparse region), the
-    /// cells are merged until there are about 4 per disk, each with a list.
+    /// slots for every cell would take more than [`MAX_FLAT_SLOTS`] (a sparse region), only
+    /// the occupied cells hold a list, in a map: memory follows the disks, and a trial move
+    /// still looks at the disks within 2 a_max of it only. (Cells once merged until there were
+    /// about 4 per disk: disks in rows at one end of a wide region, as a bed 10⁶ times wider
+    /// than deep, then shared a few coarse cells, and each trial looked at thousands of them —
+    /// minutes of Monte Carlo.)
     fn new(pos: &[[f64; 2]], radius: &[f64], r: Region) -> McGrid {
         let n = pos.len();
         let (a_min, a_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
@@ -335,8 +378,10 @@ impl McGrid {
         let width = r.x1 - r.x0;
         let height = r.y1 - r.y0;
         let cell = 2.0 * a_max;
-        let mut ncx = (width / cell).floor().clamp(1.0, 1e15) as usize;
-        let mut ncy = (height / cell).floor().clamp(1.0, 1e15) as usize;
+        // Lengths are at most `MAX_LENGTH_RATIO` smallest radii (the scenario's checks): the
+        // cells number at most 10¹⁸ and are indexed in a usize.
+        let ncx = (width / cell).floor().clamp(1.0, 1e9) as usize;
+        let ncy = (height / cell).floor().clamp(1.0, 1e9) as usize;
         // Centres in one cell are ≥ 2 a_min apart: at most (⌊side/(2 a_min)⌋ + 1)² of them.
         let per_side = |ncx: usize, ncy: usize| {
             let side = (width / ncx as f64).max(height / ncy as f64);
@@ -347,16 +392,7 @@ impl McGrid {
             .saturating_mul(ncy)
             .saturating_mul(p.saturating_mul(p) + 1)
             <= MAX_FLAT_SLOTS;
-        if !flat {
-            while ncx.saturating_mul(ncy) > 4 * n + 1024 {
-                if ncx >= ncy {
-                    ncx = ncx.div_ceil(2);
-                } else {
-                    ncy = ncy.div_ceil(2);
-                }
-            }
-        }
-        let cap = per_side(ncx, ncy).pow(2);
+        let cap = if flat { p * p } else { 0 };
         let mut grid = McGrid {
             r,
             width,
@@ -479,7 +515,7 @@ impl McGrid {
 }
 
 /// Most words the Monte Carlo grid may hold as fixed-size slots (256 MiB); a sparser region
-/// gets fewer, larger cells with a list each.
+/// gets a list per occupied cell.
 const MAX_FLAT_SLOTS: usize = 1 << 26;
 
 /// The disks in each cell of the Monte Carlo grid.
@@ -490,8 +526,9 @@ enum CellSlots {
         count: Vec<u32>,
         slots: Vec<u32>,
     },
-    /// A list per cell (sparse regions: memory follows the disks, not the area).
-    Lists(Vec<Vec<u32>>),
+    /// A list per occupied cell, by cell (sparse regions: memory follows the disks, not the
+    /// area).
+    Lists(HashMap<usize, Vec<u32>>),
 }
 
 impl CellSlots {
@@ -503,7 +540,7 @@ impl CellSlots {
                 slots: vec![0; cells * cap],
             }
         } else {
-            CellSlots::Lists(vec![Vec::new(); cells])
+            CellSlots::Lists(HashMap::default())
         }
     }
 
@@ -511,7 +548,7 @@ impl CellSlots {
     fn members(&self, c: usize) -> &[u32] {
         match self {
             CellSlots::Flat { cap, count, slots } => &slots[c * cap..c * cap + count[c] as usize],
-            CellSlots::Lists(lists) => &lists[c],
+            CellSlots::Lists(lists) => lists.get(&c).map_or(&[], Vec::as_slice),
         }
     }
 
@@ -521,7 +558,7 @@ impl CellSlots {
                 slots[c * *cap + count[c] as usize] = i;
                 count[c] += 1;
             }
-            CellSlots::Lists(lists) => lists[c].push(i),
+            CellSlots::Lists(lists) => lists.entry(c).or_default().push(i),
         }
     }
 
@@ -531,7 +568,7 @@ impl CellSlots {
                 count[c] -= 1;
                 &mut slots[c * *cap..c * *cap + count[c] as usize + 1]
             }
-            CellSlots::Lists(lists) => &mut lists[c],
+            CellSlots::Lists(lists) => lists.get_mut(&c).expect("disk in its cell"),
         };
         let k = members
             .iter()
@@ -540,7 +577,11 @@ impl CellSlots {
         let last = members.len() - 1;
         members.swap(k, last);
         if let CellSlots::Lists(lists) = self {
-            lists[c].pop();
+            let list = lists.get_mut(&c).expect("disk in its cell");
+            list.pop();
+            if list.is_empty() {
+                lists.remove(&c);
+            }
         }
     }
 }
@@ -634,6 +675,55 @@ mod tests {
         let pos = place(&radius, region, side, true, &mut rng).unwrap();
         assert_eq!(pos.len(), n);
         assert!(min_distance_ratio(&pos, &radius, Some((side, side))) >= 1.0);
+    }
+
+    /// A stop flag already set leaves the lattice unmelted: the Monte Carlo looks at it before
+    /// its first trial; unset, the same placement melts (the disks move).
+    #[test]
+    fn a_set_stop_flag_ends_the_melt_before_it_moves_a_disk() {
+        static SET: AtomicBool = AtomicBool::new(true);
+        static UNSET: AtomicBool = AtomicBool::new(false);
+        let radius = vec![0.5; 200];
+        let region = Region {
+            x0: 0.0,
+            x1: 20.0,
+            y0: 0.0,
+            y1: 20.0,
+            x_periodic: true,
+            y_periodic: false,
+        };
+        let lattice = place(
+            &radius,
+            region,
+            20.0,
+            false,
+            &mut Xoshiro256PlusPlus::seed_from_u64(1),
+        );
+        let placed = |flag: &'static AtomicBool| {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(1);
+            interruptible(Some(flag), || place(&radius, region, 20.0, true, &mut rng))
+        };
+        assert_eq!(placed(&SET).unwrap(), lattice.as_ref().unwrap().clone());
+        assert_ne!(placed(&UNSET).unwrap(), lattice.unwrap());
+    }
+
+    /// A bed of 400 disks in rows at one end of a region 2·10⁸ radii wide (the Monte Carlo's
+    /// sparse grid, a list per occupied cell) melts without overlap and within the region.
+    #[test]
+    fn a_row_in_a_very_wide_region_melts_without_overlap() {
+        let radius = vec![0.5; 400];
+        let region = Region {
+            x0: 0.0,
+            x1: 1e8,
+            y0: 0.0,
+            y1: f64::INFINITY,
+            x_periodic: true,
+            y_periodic: false,
+        };
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(2);
+        let pos = place(&radius, region, 3.0, true, &mut rng).unwrap();
+        assert!(min_distance_ratio(&pos, &radius, Some((1e8, 1e300))) >= 1.0);
+        assert!(pos.iter().all(|p| p[1] >= 0.5 && p[1] <= 3.0 - 0.5 + 1e-9));
     }
 
     #[test]

@@ -943,6 +943,37 @@ fn a_set_path_of_60000_fields_is_refused_at_once() {
     check_refuses("deep-set", "vibrated_bed.json", &[&set], &["--set"]);
 }
 
+/// The deep bed 10⁶ times wider (domain.width = 2e8, 20 000 disks): the placement's rows sit at
+/// one end of the region, and the Monte Carlo that melts them once merged its cells until a few
+/// coarse cells held every disk — each trial looked at thousands, minutes deaf to SIGINT (the
+/// fields fuzz found it). Cells now stay 2 radii wide, a list per occupied one: `check` and a
+/// short run end by themselves, well within the limit (0.7 s each on an idle core).
+#[test]
+fn a_bed_a_million_times_wider_than_deep_is_placed_at_once() {
+    let dir = fresh_dir("bad-wide-bed");
+    let sets = ["domain.width=2e8"];
+    let runs = [
+        check("deep_bed.json", &sets),
+        run_args(
+            "deep_bed.json",
+            &["--summary", "s.json"],
+            &[sets[0], "run.duration=0.05", "run.warmup=0"],
+        ),
+    ];
+    for args in runs {
+        let out = vibrobed(&dir, &args);
+        let what = out.describe();
+        assert!(!out.panicked(), "panicked: {what}");
+        assert!(
+            out.interrupted_at.is_none(),
+            "did not end by itself within {LIMIT_SECS} s: {what}"
+        );
+        assert_eq!(out.code(), Some(0), "{what}");
+    }
+    assert!(dir.join("s.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 // --- Speeds the engine cannot run with. ---
 
 #[test]
