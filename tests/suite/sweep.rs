@@ -720,7 +720,7 @@ fn a_sweep_over_two_axes_draws_the_states() {
         &["sweep", "run", "states.json", "--out", "out", "--jobs", "2"],
     ));
     let out = dir.join("out");
-    // A bad axis is refused before anything is drawn.
+    // A bad axis is refused before anything is drawn ...
     let bad = vibrobed(
         &dir,
         &[
@@ -734,6 +734,13 @@ fn a_sweep_over_two_axes_draws_the_states() {
     );
     assert_eq!(bad.status.code(), Some(2), "{}", describe(&bad));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--states"));
+    // ... nor are the tables written (they once were, before the exit 2: issue 62).
+    for table in ["runs.csv", "points.csv", "states.svg"] {
+        assert!(
+            !out.join(table).exists(),
+            "{table} written by a refused collect"
+        );
+    }
     assert_ok(&vibrobed(
         &dir,
         &[

@@ -12,7 +12,7 @@ use crate::studies::sweep::local::{
 use crate::studies::sweep::plan::{expand, point_label, Expanded, Plan};
 use crate::studies::sweep::report::{collect_command, Asked};
 use crate::studies::sweep::slurm::{script, submit, SlurmOptions};
-use crate::studies::sweep::state_map::draw_states;
+use crate::studies::sweep::state_map::{draw_states, StatePoint};
 use clap::{Subcommand, ValueEnum};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -220,9 +220,14 @@ impl SweepCommand {
                     log: plot_log,
                     plot,
                 };
+                // The map's axes and states are checked before the tables are written: a
+                // command that fails writes nothing.
+                let map = states
+                    .map(|axes| state_map(&dirs[0], &axes[0], &axes[1]))
+                    .transpose()?;
                 let drawn = collect_command(&dirs, asked)?;
-                match states {
-                    Some(axes) => states_command(&dirs[0], &axes[0], &axes[1], log),
+                match map {
+                    Some(map) => draw_state_map(&map, log),
                     None => Ok(drawn),
                 }
             }
@@ -487,9 +492,17 @@ fn task_cpus(exp: &Expanded, pending: &[usize]) -> usize {
         .unwrap_or(1)
 }
 
-/// `sweep collect --states X Y`: the map of the points' bed states over X and Y into
-/// `DIR/states.svg` (logarithmic x with `--log`).
-fn states_command(dir: &Path, x: &str, y: &str, log: bool) -> Result<i32> {
+/// The map `sweep collect --states X Y` draws: where it goes, its title, axes and points.
+struct StateMap {
+    path: PathBuf,
+    title: String,
+    axes: (String, String),
+    points: Vec<StatePoint>,
+}
+
+/// The map of the points' bed states over X and Y into `DIR/states.svg`, refused (before
+/// anything is written) for an axis the sweep does not have or a sweep with no bed state.
+fn state_map(dir: &Path, x: &str, y: &str) -> Result<StateMap> {
     let c = collect(dir)?;
     let points = c.state_points(x, y)?;
     if points.is_empty() {
@@ -498,13 +511,23 @@ fn states_command(dir: &Path, x: &str, y: &str, log: bool) -> Result<i32> {
             "no completed run of this sweep has a bed state (a floor under gravity)",
         ));
     }
-    let path = dir.join("states.svg");
     let title = format!(
         "sweep {}: bed states ({} seeds per point)",
         c.plan.name,
         c.plan.seeds_per_point()
     );
-    draw_states(&path, &title, (x, y), &points, log)?;
-    eprintln!("wrote {}", path.display());
+    Ok(StateMap {
+        path: dir.join("states.svg"),
+        title,
+        axes: (x.to_string(), y.to_string()),
+        points,
+    })
+}
+
+/// `sweep collect --states X Y`: draws the map (logarithmic x with `--log`).
+fn draw_state_map(map: &StateMap, log: bool) -> Result<i32> {
+    let axes = (map.axes.0.as_str(), map.axes.1.as_str());
+    draw_states(&map.path, &map.title, axes, &map.points, log)?;
+    eprintln!("wrote {}", map.path.display());
     Ok(0)
 }
