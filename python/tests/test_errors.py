@@ -86,3 +86,40 @@ def test_a_resume_may_change_only_the_run_length(tmp_path):
     with pytest.raises(vibrobed.ScenarioError) as e:
         vibrobed.resume(tmp_path / "x.ckpt", set={"floor.gamma": 4})
     assert e.value.field == "--set"
+
+
+def test_an_output_over_the_scenario_is_refused_and_the_scenario_kept(cli, bed, tmp_path):
+    """As on the command line (issue 62): a summary written over the scenario it runs would
+    destroy it."""
+    scenario = tmp_path / "bed.json"
+    text = bed.read_text()
+    scenario.write_text(text)
+    message, code = cli_message(cli, "run", scenario, "--summary", scenario)
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.run(scenario, summary=scenario)
+    assert str(e.value) == message and code == 2
+    assert e.value.field == "--summary"
+    assert scenario.read_text() == text
+
+
+def test_an_output_over_the_resumed_checkpoint_is_refused_and_it_kept(cli, bed, tmp_path):
+    """A summary over the checkpoint resumed is refused as on the command line (the checkpoint
+    itself may go on into the same file); two outputs on one path too. (The wheel and the
+    binary are different builds: each resumes its own checkpoint.)"""
+    short = {"run.duration": 2, "run.warmup": 1}
+    cli_ck = tmp_path / "cli.ckpt"
+    subprocess.run([cli, "run", bed, "--quiet", "--checkpoint", cli_ck,
+                    *[f"--set={k}={v}" for k, v in short.items()]], check=True)
+    message, code = cli_message(cli, "resume", cli_ck, "--summary", cli_ck)
+    ck = tmp_path / "c.ckpt"
+    vibrobed.run(bed, set=short, checkpoint=ck)
+    saved = ck.read_bytes()
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.resume(ck, summary=ck)
+    assert str(e.value) == message.replace(str(cli_ck), str(ck)) and code == 2
+    assert e.value.field == "--summary"
+    both = tmp_path / "x.csv"
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.resume(ck, profiles=both, fields=both)
+    assert e.value.field in ("--profiles", "--fields")
+    assert ck.read_bytes() == saved and not both.exists()
