@@ -1058,7 +1058,7 @@ fn re_mappings_that_leave_the_clock_standing_end_the_run_with_its_report() {
     let out = guarded::run(&args, &dir, &logs, Limits::secs(120));
     let _ = std::fs::remove_dir_all(&logs);
     let what = out.describe();
-    assert_eq!(out.code(), Some(1), "{what}");
+    assert_eq!(out.code(), Some(6), "{what}");
     assert!(
         out.stderr.contains("simulated time has stopped advancing")
             && out.stderr.contains("re-mapping ×"),
