@@ -26,8 +26,8 @@ use vibrobed::scenario::checks::{
 };
 
 /// Seconds of cases per command when `VIBROBED_FUZZ_SECONDS` is not set: the two commands
-/// together add about 40 s of one core to the suite, and cover the first ~1000 cases of each
-/// (every scene's fields at their first values); 600 covers all cases of both.
+/// together add about 40 s of one core to the suite (measured under the full suite: the first
+/// 1079 of 7856 `check` cases and 690 `run` cases); a longer budget goes further.
 const DEFAULT_SECONDS: u64 = 20;
 
 /// A case still running after this long is sent SIGINT (then SIGKILL 5 s later). A refusal or a
