@@ -843,14 +843,22 @@ pub const MAX_STRIPS: u64 = 1 << 16;
 /// that the chosen scheme would ignore is refused rather than silently dropped).
 fn validate_scheme_knobs(e: &Engine) -> Result<()> {
     let knobs = [
-        ("engine.dt", e.dt, &[Scheme::TimeStep][..]),
-        ("engine.verlet_skin", e.verlet_skin, &[Scheme::TimeStep][..]),
+        ("engine.dt", e.dt, &[Scheme::TimeStep, Scheme::Contact][..]),
+        (
+            "engine.verlet_skin",
+            e.verlet_skin,
+            &[Scheme::TimeStep, Scheme::Contact][..],
+        ),
         (
             "engine.sync_distance",
             e.sync_distance,
             &[Scheme::SpaceTime][..],
         ),
-        ("engine.cell_size", e.cell_size, APPROXIMATE),
+        (
+            "engine.cell_size",
+            e.cell_size,
+            &[Scheme::TimeStep, Scheme::SpaceTime, Scheme::Contact][..],
+        ),
         (
             "engine.strips",
             e.strips.map(|k| k as f64),
@@ -885,6 +893,7 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
                 .map(|s| match s {
                     Scheme::TimeStep => "time-step",
                     Scheme::SpaceTime => "space-time",
+                    Scheme::Contact => "contact",
                     Scheme::EventDriven => "event-driven",
                 })
                 .collect();

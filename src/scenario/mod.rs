@@ -506,7 +506,8 @@ pub enum ColorChoice {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
-    /// `event-driven` (exact), `time-step` or `space-time` (approximate, for comparison).
+    /// `event-driven` (exact), `time-step` or `space-time` (approximate, for comparison), or
+    /// `contact` (contact dynamics, for dense beds).
     #[serde(default)]
     pub scheme: Scheme,
     /// Neighbour mask: `auto`, `min`, `r3` … `r10`.
@@ -602,6 +603,9 @@ pub enum Scheme {
     /// Per-disk times moved straight to their next predicted collision, candidates from linked
     /// cells, with a global synchronisation step D/v (ReMoDy's space-time scheme).
     SpaceTime,
+    /// Contact dynamics (Moreau–Jean): a global step dt, every contact of a step resolved
+    /// together as one simultaneous impact (projected Gauss–Seidel), for dense beds.
+    Contact,
 }
 
 /// How the grid is stored.

@@ -13,6 +13,7 @@
 //! summarises (`run::drive`).
 
 pub mod cells;
+pub mod contact;
 pub mod cores;
 mod rough;
 pub mod space_time;
@@ -68,6 +69,13 @@ pub struct SchemeStats {
     pub missed: u64,
     /// Deepest penetration of a disk into a wall, the lid or the floor.
     pub max_boundary_penetration: f64,
+    /// `contact`: Gauss–Seidel sweeps over the contacts, all steps together.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub sweeps: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 /// What the driver needs from an engine: advance to exact times, observe without disturbing,

@@ -12,6 +12,7 @@ mod book;
 mod brute_force;
 mod checkpoint;
 mod cli;
+mod contact;
 mod endings;
 mod equation_of_state;
 mod faults;
