@@ -168,7 +168,7 @@ pub fn table(points: &[PointEstimate], seconds: f64, cores: usize) -> String {
          from its start):\n"
     );
     out.push_str(&format!(
-        "{:<6} {:<30} {:<13} {:<5} {:<13} {}\n",
+        "{:<6}  {:<30}  {:<13}  {:<5}  {:<13}  {}\n",
         "point", "trial", "per run", "runs", "per point", "settings"
     ));
     let (mut total, mut dearest, mut unknown) = (0.0f64, 0.0f64, Vec::new());
@@ -198,7 +198,7 @@ pub fn table(points: &[PointEstimate], seconds: f64, cores: usize) -> String {
             }
         };
         out.push_str(&format!(
-            "{:<6} {:<30} {:<13} {:<5} {:<13} {}\n",
+            "{:<6}  {:<30}  {:<13}  {:<5}  {:<13}  {}\n",
             p.point, trial, run, p.runs, point, p.label
         ));
     }
@@ -267,7 +267,7 @@ mod tests {
         ];
         let t = table(&points, 2.0, 2);
         let rows: Vec<&str> = t.lines().collect();
-        assert!(rows[2].starts_with("0      whole run"), "{t}");
+        assert!(rows[2].starts_with("0       whole run"), "{t}");
         assert!(
             rows[2].contains("2.00 s") && rows[2].contains("6.00 s"),
             "{t}"
