@@ -91,12 +91,12 @@ def test_outputs_written_as_the_options_name_them(bed, tmp_path):
     assert json.loads((tmp_path / "s.json").read_text())["ending"] == "completed"
 
 
-def test_the_wheel_has_no_recording(bed, tmp_path):
-    """The wheel is built without Rerun: a recording is refused before the run, as the command
-    line built without it refuses it."""
+def test_a_recording_where_none_can_be_written_is_refused(bed, tmp_path):
+    """The wheel records (Rerun built in); a recording into a missing directory is refused
+    before the run, naming the option, as the command line refuses it."""
     with pytest.raises(vibrobed.ScenarioError) as e:
-        vibrobed.run(bed, rrd=tmp_path / "r.rrd", summary=tmp_path / "s.json")
-    assert e.value.field == "--rrd" and "no recording" in str(e.value)
+        vibrobed.run(bed, rrd=tmp_path / "missing" / "r.rrd", summary=tmp_path / "s.json")
+    assert e.value.field == "--rrd" and "does not exist" in str(e.value)
     assert not (tmp_path / "s.json").exists()
 
 

@@ -26,6 +26,7 @@ from typing import Any, Dict, Iterator, List, Mapping, NamedTuple, Optional, Seq
 
 import numpy as np
 
+from . import _view
 from . import _vibrobed as _native
 from ._vibrobed import ScenarioError, __version__
 
@@ -38,6 +39,7 @@ __all__ = [
     "frames",
     "sweep",
     "collect",
+    "show",
     "Result",
     "Fields",
     "Frame",
@@ -236,31 +238,70 @@ def run(
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: Optional[float] = None,
     progress: bool = False,
+    view: Any = False,
 ) -> Result:
     """``vibrobed run``: runs the scenario and returns its :class:`Result`. Each path writes the
     file the command line's option of that name writes (``fields`` a CSV, or VTK for
     ``*.vti``); ``fields=True`` measures the 2D fields without writing them. ``progress`` shows
-    the command line's progress on stderr. The GIL is released while the engine runs."""
+    the command line's progress on stderr. ``view=True`` shows the run's recording in a Rerun
+    viewer embedded in the notebook while it runs (see :func:`show`). The GIL is released while
+    the engine runs."""
     given, sets = _given(scenario), _sets(set)
     _advise(_native.load(**given, sets=sets)[1])
     measure = fields is True
-    files = _files(
-        rrd=rrd,
+    paths = dict(
         summary=summary,
         profiles=profiles,
         fields=None if isinstance(fields, bool) else fields,
         trajectory=trajectory,
         checkpoint=checkpoint,
     )
-    ran = _native.run(
-        **given,
-        sets=sets,
-        files=files,
-        checkpoint_every=checkpoint_every,
-        measure_fields=measure,
-        progress=progress,
-    )
-    return _result(ran, "run")
+
+    def go(rrd: Optional[PathLike]):
+        return _native.run(
+            **given,
+            sets=sets,
+            files=_files(rrd=rrd, **paths),
+            checkpoint_every=checkpoint_every,
+            measure_fields=measure,
+            progress=progress,
+        )
+
+    return _result(_viewed(go, rrd, view), "run")
+
+
+def _viewed(go, rrd: Optional[PathLike], view: Any):
+    """``go(rrd)``, its recording shown as it is written when ``view`` asks for it: ``True``
+    for a new viewer in the notebook's cell, or a viewer to send to (anything with
+    ``send_rrd(bytes)``, such as ``rerun_notebook.Viewer``). Without ``rrd`` the recording goes
+    to a temporary file, removed afterwards."""
+    if view is False or view is None:
+        return go(rrd)
+    viewer = _view.notebook_viewer() if view is True else view
+    path = os.fspath(rrd) if rrd is not None else _view.temporary_recording()
+    follow = _view.Follow(path, viewer.send_rrd).start()
+    try:
+        return go(path)
+    finally:
+        follow.finish()
+        if rrd is None:
+            _view.discard(path)
+
+
+def show(
+    recording: PathLike, *, width: Any = "auto", height: Any = 640, wait: float = 5.0
+) -> None:
+    """Shows a recording (an ``.rrd`` file, from ``run(rrd=...)`` or ``vibrobed run --rrd``)
+    in a Rerun viewer embedded in the notebook's cell, laid out as the recording says (the
+    command line's layout). ``width`` and ``height`` are the viewer's, in pixels (``"auto"``:
+    the cell's width); it waits up to ``wait`` seconds for the viewer to load. Needs rerun-sdk's
+    notebook extra at the version of the recorder (``pip install 'vibrobed[notebook]'``)."""
+    with open(os.fspath(recording), "rb") as f:
+        data = f.read()
+    piece = _view.Pieces().feed(data)
+    viewer = _view.notebook_viewer(width, height, wait)
+    if piece is not None:
+        viewer.send_rrd(piece)
 
 
 def resume(
@@ -275,26 +316,30 @@ def resume(
     checkpoint_to: Optional[PathLike] = None,
     checkpoint_every: Optional[float] = None,
     progress: bool = False,
+    view: Any = False,
 ) -> Result:
     """``vibrobed resume``: continues the run the checkpoint holds, bit for bit as if it had not
     stopped; ``set`` may change only ``run.duration`` and ``run.max_events``. Checkpoints go on
-    into the same file (or ``checkpoint_to``). Only a checkpoint written by this build resumes."""
-    files = _files(
-        rrd=rrd,
+    into the same file (or ``checkpoint_to``). Only a checkpoint written by this build resumes.
+    ``view`` as for :func:`run`."""
+    paths = dict(
         summary=summary,
         profiles=profiles,
         fields=fields,
         trajectory=trajectory,
         checkpoint=checkpoint_to,
     )
-    ran = _native.resume(
-        os.fspath(checkpoint),
-        sets=_sets(set),
-        files=files,
-        checkpoint_every=checkpoint_every,
-        progress=progress,
-    )
-    return _result(ran, "resumed run")
+
+    def go(rrd: Optional[PathLike]):
+        return _native.resume(
+            os.fspath(checkpoint),
+            sets=_sets(set),
+            files=_files(rrd=rrd, **paths),
+            checkpoint_every=checkpoint_every,
+            progress=progress,
+        )
+
+    return _result(_viewed(go, rrd, view), "resumed run")
 
 
 class Frame(NamedTuple):

@@ -1,0 +1,51 @@
+"""Executes a notebook end to end, as CI does with examples/gamma_sweep.ipynb: every cell in a
+fresh kernel of this Python (the one vibrobed is installed in), in the notebook's folder; a cell
+that raises fails the run. The executed notebook (outputs included) is written to --out.
+
+    VIBROBED_QUICK=1 python examples/run_notebook.py examples/gamma_sweep.ipynb --out run.ipynb
+
+Environment for the notebook: VIBROBED_QUICK=1 (a reduced sweep), VIBROBED_SWEEP (the sweep's
+folder), VIBROBED_FIGURES (where its figures go).
+"""
+
+import argparse
+import os
+import pathlib
+import sys
+import time
+
+import nbformat
+from nbclient import NotebookClient
+from nbclient.exceptions import CellExecutionError
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("notebook", type=pathlib.Path)
+    ap.add_argument("--out", type=pathlib.Path, required=True, help="the executed notebook")
+    ap.add_argument("--timeout", type=int, default=600, help="seconds per cell")
+    args = ap.parse_args()
+    # The kernel is this Python's (ipykernel's `python3` starts `python` from the PATH).
+    os.environ["PATH"] = os.path.dirname(sys.executable) + os.pathsep + os.environ["PATH"]
+    nb = nbformat.read(args.notebook, as_version=4)
+    client = NotebookClient(
+        nb,
+        timeout=args.timeout,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(args.notebook.resolve().parent)}},
+    )
+    start = time.perf_counter()
+    try:
+        client.execute()
+    except CellExecutionError as e:
+        nbformat.write(nb, args.out)
+        print(f"{args.notebook}: a cell failed (the notebook so far: {args.out})\n{e}",
+              file=sys.stderr)
+        sys.exit(1)
+    nbformat.write(nb, args.out)
+    cells = sum(c.cell_type == "code" for c in nb.cells)
+    print(f"{args.notebook}: {cells} code cells executed in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
