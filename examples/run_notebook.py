@@ -2,10 +2,10 @@
 fresh kernel of this Python (the one vibrobed is installed in), in the notebook's folder; a cell
 that raises fails the run. The executed notebook (outputs included) is written to --out.
 
-    VIBROBED_QUICK=1 python examples/run_notebook.py examples/gamma_sweep.ipynb --out run.ipynb
+    python examples/run_notebook.py examples/gamma_sweep.ipynb --out run.ipynb
 
-Environment for the notebook: VIBROBED_QUICK=1 (a reduced sweep), VIBROBED_SWEEP (the sweep's
-folder), VIBROBED_FIGURES (where its figures go).
+Environment for the notebook: VIBROBED_SWEEP (the sweep's folder, default gamma_sweep beside
+it), VIBROBED_FIGURES (where its figures go, default figures beside it).
 """
 
 import argparse

@@ -5,6 +5,7 @@ Python process's import and run are timed inside it as well. Both summaries are 
 (but for the wall clock) first. Run with the CPU otherwise idle (or under a lock).
 
     python python/overhead.py --bin target/release/vibrobed [--runs 11] [--scenario FILE]
+        [--set KEY=VALUE ...]
 
 The Python is this one (vibrobed installed in it).
 """
@@ -28,7 +29,7 @@ import time
 t0 = time.perf_counter()
 import vibrobed
 t1 = time.perf_counter()
-vibrobed.run({scenario!r}, summary={summary!r})
+vibrobed.run({scenario!r}, set={sets!r}, summary={summary!r})
 t2 = time.perf_counter()
 print(t1 - t0, t2 - t1)
 """
@@ -59,11 +60,14 @@ def main():
     ap.add_argument("--bin", required=True, help="the command line's binary")
     ap.add_argument("--runs", type=int, default=11, help="runs of each, alternated")
     ap.add_argument("--scenario", default=str(ROOT / "scenarios" / "vibrated_bed.json"))
+    ap.add_argument("--set", action="append", default=[], help="an override, as --set takes it")
     args = ap.parse_args()
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="vibrobed-overhead-"))
     cli_summary, py_summary = str(tmp / "cli.json"), str(tmp / "py.json")
-    cli = [args.bin, "run", args.scenario, "--quiet", "--summary", cli_summary]
-    py = [sys.executable, "-c", PY.format(scenario=args.scenario, summary=py_summary)]
+    cli = [args.bin, "run", args.scenario, "--quiet", "--summary", cli_summary,
+           *[f"--set={s}" for s in args.set]]
+    py = [sys.executable, "-c",
+          PY.format(scenario=args.scenario, sets=args.set, summary=py_summary)]
 
     # Once each, unmeasured (caches warm), and the two summaries compared.
     timed(cli)
@@ -85,7 +89,8 @@ def main():
                 inside["run"].append(run)
     med = statistics.median
     s = json.loads(pathlib.Path(cli_summary).read_text())
-    print(f"{pathlib.Path(args.scenario).name}: {s['particles']} disks, t = {s['sim_time']}, "
+    print(f"{pathlib.Path(args.scenario).name} {' '.join(args.set)}: {s['particles']} disks, "
+          f"t = {s['sim_time']}, "
           f"{sum(s['events'].get(k, 0) for k in ('pair', 'wall', 'floor'))} collisions")
     print(f"machine: {platform.machine()}, {os.cpu_count()} cores, {_cpu_name()}")
     print(f"medians of {args.runs} alternated runs, whole process:")

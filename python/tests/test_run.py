@@ -1,6 +1,8 @@
 """Running from Python: the result's summary, profiles, fields and distributions."""
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -125,3 +127,20 @@ def test_the_gil_is_released(bed):
     (a0, a1), (b0, b1) = spans
     assert min(a1, b1) > max(a0, b0), "the runs did not overlap"
     assert ticks > 10
+
+
+def test_numpy_is_imported_with_the_first_array(bed):
+    """`import vibrobed` and a run read by its summary do not import numpy (a tenth of a second,
+    a fifth of the shipped bed's run: python/overhead.py); the first array does."""
+    code = (
+        "import sys, vibrobed\n"
+        f"r = vibrobed.run({str(bed)!r}, set={{'run.duration': 5, 'run.warmup': 1}})\n"
+        "assert r.summary['ending'] == 'completed'\n"
+        "print('numpy' in sys.modules)\n"
+        f"r = vibrobed.run({str(bed)!r}, set={{'run.duration': 5, 'run.warmup': 1}}, fields=True)\n"
+        "assert type(r.fields['packing_fraction']).__name__ == 'ndarray'\n"
+        "print('numpy' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-W", "ignore", "-c", code], capture_output=True,
+                         text=True, check=True).stdout.split()
+    assert out == ["False", "True"]

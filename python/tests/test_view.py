@@ -13,6 +13,7 @@ import threading
 import pytest
 
 import vibrobed
+import vibrobed._view
 from conftest import SCENARIOS
 
 SETS = {"run.duration": 20, "run.warmup": 5}

@@ -22,13 +22,27 @@ from __future__ import annotations
 import json
 import os
 import warnings
-from typing import Any, Dict, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Union
+from typing import (
+    TYPE_CHECKING,
+    Any,
+    Dict,
+    Iterator,
+    List,
+    Mapping,
+    NamedTuple,
+    Optional,
+    Sequence,
+    Union,
+)
 
-import numpy as np
-
-from . import _view
 from . import _vibrobed as _native
 from ._vibrobed import ScenarioError, __version__
+
+# numpy is imported where arrays are first made, not with the package: its import costs more
+# than Python's start (a tenth of a second), which a script that runs a scene and reads its
+# summary would pay for nothing; so is the viewer's module (threads, temporary files).
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = [
     "ScenarioError",
@@ -78,6 +92,8 @@ def _files(**paths: Optional[PathLike]) -> Dict[str, str]:
 def _table(columns: Mapping[str, Sequence[Any]]):
     """A DataFrame of ``columns`` with pandas, else a dict of numpy arrays (of floats: a null,
     a value never measured such as an empty bin's temperature, is NaN)."""
+    import numpy as np
+
     arrays = {name: np.asarray(values, dtype=float) for name, values in columns.items()}
     try:
         import pandas as pd
@@ -93,6 +109,8 @@ def _csv_table(text: str):
     except ImportError:
         import csv
         import io
+
+        import numpy as np
 
         rows = list(csv.reader(io.StringIO(text)))
         header, body = rows[0], rows[1:]
@@ -114,6 +132,8 @@ def _arrays(value: Any) -> Any:
     if isinstance(value, dict):
         return {k: _arrays(v) for k, v in value.items()}
     if isinstance(value, list):
+        import numpy as np
+
         items = [_arrays(v) for v in value]
         try:
             return np.asarray(items, dtype=float)
@@ -277,6 +297,8 @@ def _viewed(go, rrd: Optional[PathLike], view: Any):
     to a temporary file, removed afterwards."""
     if view is False or view is None:
         return go(rrd)
+    from . import _view
+
     viewer = _view.notebook_viewer() if view is True else view
     path = os.fspath(rrd) if rrd is not None else _view.temporary_recording()
     follow = _view.Follow(path, viewer.send_rrd).start()
@@ -296,6 +318,8 @@ def show(
     command line's layout). ``width`` and ``height`` are the viewer's, in pixels (``"auto"``:
     the cell's width); it waits up to ``wait`` seconds for the viewer to load. Needs rerun-sdk's
     notebook extra at the version of the recorder (``pip install 'vibrobed[notebook]'``)."""
+    from . import _view
+
     with open(os.fspath(recording), "rb") as f:
         data = f.read()
     piece = _view.Pieces().feed(data)
