@@ -31,3 +31,15 @@ def cli():
 def without_wall_clock(summary):
     """The summary less what the wall clock decides (the rest is deterministic, bit for bit)."""
     return {k: v for k, v in summary.items() if k not in ("wall_seconds", "collisions_per_second")}
+
+
+@pytest.fixture(autouse=True, scope="session")
+def ctrl_c_raises():
+    """Ctrl-C as Python's KeyboardInterrupt, as in a terminal or a notebook, even when the tests
+    run in the background of a shell, which starts them with SIGINT ignored (interrupt_main
+    then does nothing, and the tests that press Ctrl-C would wait for ever)."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
