@@ -15,6 +15,10 @@ A scenario is a file's path or a dict; overrides (``set``) are ``KEY=VALUE`` str
 ``ValueError``) with the command line's message; its ``field`` names the culprit. A file that
 cannot be read or written raises ``OSError``. Ctrl-C stops a run cleanly at its next event: the
 result covers the time simulated so far (``result.ending == "interrupted"``).
+
+In a notebook, ``run(..., view=True)`` shows the run's recording (the command line's, ``--rrd``)
+in a Rerun viewer embedded in the cell while it runs, and ``show("bed.rrd")`` a finished one
+(``pip install "vibrobed[notebook]"``: rerun-sdk's notebook extra, at the recorder's version).
 """
 
 from __future__ import annotations
