@@ -173,3 +173,33 @@ def test_rough_disks_record_their_spin(tmp_path, rerun_cli):
     )
     assert r.ending == "completed"
     assert "/disks/orientation" in printed(rerun_cli, tmp_path / "rough.rrd", "-v")
+
+
+def test_show_sends_a_finished_recording(tmp_path, cli, rerun_cli, bed, monkeypatch):
+    """`show` hands a finished recording (here the command line's) to a new viewer, whole."""
+    path = tmp_path / "cli.rrd"
+    subprocess.run(
+        [cli, "run", str(bed), "--quiet", "--rrd", str(path), "--summary", str(tmp_path / "s.json"),
+         "--set=run.duration=5", "--set=run.warmup=1"],
+        check=True,
+    )
+
+    class Viewer:
+        pieces = []
+
+        def send_rrd(self, data):
+            self.pieces.append(data)
+
+    made = []
+
+    def viewer(width, height, wait):
+        made.append((width, height, wait))
+        return Viewer()
+
+    monkeypatch.setattr(vibrobed._view, "notebook_viewer", viewer)
+    vibrobed.show(path, height=500)
+    assert made == [("auto", 500, 5.0)]
+    assert len(Viewer.pieces) == 1
+    shown = tmp_path / "shown.rrd"
+    shown.write_bytes(Viewer.pieces[0])
+    assert printed(rerun_cli, shown) == printed(rerun_cli, path)
