@@ -24,6 +24,10 @@ def main():
     ap.add_argument("notebook", type=pathlib.Path)
     ap.add_argument("--out", type=pathlib.Path, required=True, help="the executed notebook")
     ap.add_argument("--timeout", type=int, default=600, help="seconds per cell")
+    ap.add_argument("--widgets", type=int, default=0,
+                    help="fail unless the outputs hold at least this many widgets (viewers)")
+    ap.add_argument("--images", type=int, default=0,
+                    help="fail unless the outputs hold at least this many images (figures)")
     args = ap.parse_args()
     # The kernel is this Python's (ipykernel's `python3` starts `python` from the PATH).
     os.environ["PATH"] = os.path.dirname(sys.executable) + os.pathsep + os.environ["PATH"]
@@ -44,7 +48,13 @@ def main():
         sys.exit(1)
     nbformat.write(nb, args.out)
     cells = sum(c.cell_type == "code" for c in nb.cells)
-    print(f"{args.notebook}: {cells} code cells executed in {time.perf_counter() - start:.0f} s")
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    widgets = sum("application/vnd.jupyter.widget-view+json" in o.get("data", {}) for o in outputs)
+    images = sum("image/png" in o.get("data", {}) for o in outputs)
+    print(f"{args.notebook}: {cells} code cells executed in {time.perf_counter() - start:.0f} s; "
+          f"outputs: {widgets} widgets, {images} images")
+    if widgets < args.widgets or images < args.images:
+        sys.exit(f"expected at least {args.widgets} widgets and {args.images} images")
 
 
 if __name__ == "__main__":

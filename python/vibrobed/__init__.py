@@ -146,9 +146,9 @@ def _arrays(value: Any) -> Any:
     return value
 
 
-def _advise(notes: Sequence[str]) -> None:
+def _advise(notes: Sequence[str], stacklevel: int = 3) -> None:
     for note in notes:
-        warnings.warn(f"vibrobed: note: {note}", stacklevel=3)
+        warnings.warn(f"vibrobed: note: {note}", stacklevel=stacklevel)
 
 
 class Fields:
@@ -395,9 +395,10 @@ class Frames:
     while waiting for a frame stops the run and raises ``KeyboardInterrupt``; ``result()`` then
     gives what was computed."""
 
-    def __init__(self, scenario: Scenario, set: Sets = None, *, queue: int = 4):
+    def __init__(self, scenario: Scenario, set: Sets = None, *, queue: int = 4,
+                 _stacklevel: int = 3):
         given, sets = _given(scenario), _sets(set)
-        _advise(_native.load(**given, sets=sets)[1])
+        _advise(_native.load(**given, sets=sets)[1], _stacklevel)
         self._native = _native.Frames(**given, sets=sets, queue=queue)
         self._result: Optional[Result] = None
 
@@ -426,7 +427,7 @@ class Frames:
 
 def frames(scenario: Scenario, set: Sets = None, *, queue: int = 4) -> Frames:
     """The frames of a run of ``scenario`` as it goes: see :class:`Frames`."""
-    return Frames(scenario, set, queue=queue)
+    return Frames(scenario, set, queue=queue, _stacklevel=4)
 
 
 class Sweep:
