@@ -10,7 +10,9 @@ use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::{Target, Watch};
 use crate::physics::flight::{Ballistic, Flight, Straight};
 use crate::scenario::{Scenario, Scheme, XBoundary, YBoundary};
-use crate::schemes::{contact::Contact, space_time::SpaceTime, time_step::TimeStep, Integrator};
+use crate::schemes::{
+    contact::Contact, handover::Handover, space_time::SpaceTime, time_step::TimeStep, Integrator,
+};
 use checkpoint::Checkpoint;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -186,6 +188,7 @@ fn with_engine<W: WithEngine>(
             Scheme::TimeStep => then.with(TimeStep::new(flight, scene, disks, &s.engine)?),
             Scheme::SpaceTime => then.with(SpaceTime::new(flight, scene, disks, &s.engine)?),
             Scheme::Contact => then.with(Contact::new(flight, scene, disks, &s.engine)?),
+            Scheme::Hybrid => then.with(Handover::new(flight, scene, disks, &s.engine)?),
         }
     }
     match scene.gravity {

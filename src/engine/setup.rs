@@ -278,6 +278,12 @@ impl<F: Flight> Simulation<F> {
         self.control.interrupt = Some(flag);
     }
 
+    /// Stops [`advance_to`](Self::advance_to) with [`Progress::EventLimit`] once `limit` events
+    /// (as `run.max_events` counts them) have been done since the start.
+    pub fn set_event_limit(&mut self, limit: u64) {
+        self.control.event_limit = limit;
+    }
+
     /// Starts (or stops) keeping a log of every collision, for comparison with the reference.
     pub fn set_logging(&mut self, on: bool) {
         self.control.log = on.then(Vec::new);

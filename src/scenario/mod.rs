@@ -606,6 +606,9 @@ pub enum Scheme {
     /// Contact dynamics (Moreau–Jean): a global step dt, every contact of a step resolved
     /// together as one simultaneous impact (projected Gauss–Seidel), for dense beds.
     Contact,
+    /// The exact engine while the bed is a gas, contact dynamics while it is dense, the run
+    /// handed from one to the other as it turns.
+    Hybrid,
 }
 
 /// How the grid is stored.

@@ -53,6 +53,9 @@ pub const MAX_SWEEPS: u32 = 16;
 /// the step's solve.
 const TOLERANCE: f64 = 1e-2;
 
+/// Sweeps of [`Contact::separate`], at most.
+const SEPARATION_SWEEPS: u32 = 1000;
+
 /// Contacts are gathered a hair beyond how far disks can close in a step: this many radii.
 const HAIR: f64 = 1e-7;
 
@@ -234,6 +237,68 @@ impl<F: Flight> Contact<F> {
 
     fn now(&self) -> f64 {
         self.step as f64 * self.dt
+    }
+
+    /// Whether a whole step fits before local time `target`.
+    pub fn can_step_to(&self, target: f64) -> bool {
+        (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt
+    }
+
+    /// Removes every overlap (pairs, floor, walls, lid) by moving disks apart, positions only: the
+    /// floor and walls first, then the pairs from the lowest up, each moving its upper disk, so
+    /// that a stack is lifted clear in one sweep; sweeps repeat until nothing overlaps (for the
+    /// exact engine, which accepts no overlap).
+    pub fn separate(&mut self) {
+        const CLEAR: f64 = 1e-12;
+        let t = self.now();
+        let floor = self.floor.as_ref().map(|f| f.height(t));
+        for _ in 0..SEPARATION_SWEEPS {
+            let mut moved = false;
+            let d = &mut self.disks;
+            for (k, m) in d.motion.iter_mut().enumerate() {
+                let a = d.radius[k] * (1.0 + CLEAR);
+                if let Some(h) = floor {
+                    if m.y < h + a {
+                        (m.y, moved) = (h + a, true);
+                    }
+                }
+                if let SideBounds::Walls { width, .. } = self.sides {
+                    if m.x < a || m.x > width - a {
+                        (m.x, moved) = (m.x.clamp(a, width - a), true);
+                    }
+                }
+                if let Top::Lid { height, .. } = self.top {
+                    if m.y > height - a {
+                        (m.y, moved) = (height - a, true);
+                    }
+                }
+            }
+            for &(i, j) in &self.pairs {
+                let (iu, ju) = (i as usize, j as usize);
+                let (mi, mj) = (d.motion[iu], d.motion[ju]);
+                let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
+                let s = (d.radius[iu] + d.radius[ju]) * (1.0 + 2.0 * CLEAR);
+                let dist2 = dx * dx + dy * dy;
+                if dist2 >= s * s {
+                    continue;
+                }
+                let dist = dist2.sqrt().max(1e-300);
+                let push = s - dist;
+                // The upper disk moves, along the normal from the lower one.
+                let (up, sign) = if mi.y >= mj.y { (iu, 1.0) } else { (ju, -1.0) };
+                let m = &mut d.motion[up];
+                (m.x, m.y) = wrap(
+                    self.sides,
+                    self.top,
+                    m.x + sign * push * dx / dist,
+                    m.y + sign * push * dy / dist,
+                );
+                moved = true;
+            }
+            if !moved {
+                return;
+            }
+        }
     }
 
     fn g(&self) -> f64 {

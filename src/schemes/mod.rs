@@ -15,6 +15,7 @@
 pub mod cells;
 pub mod contact;
 pub mod cores;
+pub mod handover;
 mod rough;
 pub mod space_time;
 pub mod time_step;
@@ -72,6 +73,16 @@ pub struct SchemeStats {
     /// `contact`: Gauss–Seidel sweeps over the contacts, all steps together.
     #[serde(skip_serializing_if = "is_zero")]
     pub sweeps: u64,
+    /// `hybrid`: hand-overs between the exact engine and contact dynamics.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub handovers: u64,
+    /// `hybrid`: simulated time spent in contact dynamics.
+    #[serde(skip_serializing_if = "is_nought")]
+    pub dense_time: f64,
+}
+
+fn is_nought(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn is_zero(n: &u64) -> bool {

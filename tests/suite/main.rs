@@ -23,6 +23,7 @@ mod fuzz_inputs;
 mod gravity;
 mod grids;
 mod hard_cases;
+mod hybrid;
 mod invariants;
 mod layers;
 mod pools;

@@ -1,0 +1,482 @@
+//! The hybrid scheme: the exact engine while the bed is a gas, contact dynamics while it is dense,
+//! and the run handed from one to the other as it turns.
+//!
+//! The exact engine's cost is its collisions; where disks endure in contact, inelastic collapse
+//! and the rules that end it make those collisions unbounded in number. Contact dynamics costs a
+//! fixed step whatever the contacts do. So the run watches the exact engine's collisions: when,
+//! within a window of simulated time (the floor's period), they pass [`RATE_IN`] per disk and
+//! unit time, the state at the last event is handed to contact dynamics. Contact dynamics watches
+//! its enduring contacts: when, over a window, fewer than [`CONTACTS_OUT`] push per disk and
+//! step, the bed has come apart and the state goes back to the exact engine. Both decisions are
+//! on counts, never on the wall clock: a run repeats bit for bit.
+//!
+//! Each part is a fresh engine built at the hand-over time on the scene at that instant (its
+//! floor's phase moved on), from every disk's position, velocity and spin; a state from contact
+//! dynamics first has its overlaps removed (the exact engine accepts none).
+
+use super::contact::Contact;
+use super::{Integrator, SchemeStats, Setup};
+use crate::engine::{EnergyFlow, EventCounts, Progress, Scene, Simulation};
+use crate::error::{Error, Result};
+use crate::physics::disks::{Disks, Spins};
+use crate::physics::flight::Flight;
+use crate::scenario::Engine;
+use std::sync::atomic::AtomicBool;
+
+/// Events of the exact engine per disk and unit time above which it hands over: about contact
+/// dynamics' own cost per disk and unit time, counted in the exact engine's events (on the
+/// shipped bed a step of contact dynamics costs what some 40 events per disk and unit time do).
+pub const RATE_IN: f64 = 50.0;
+
+/// Contacts pushing per disk and step (averaged over a window) below which contact dynamics
+/// hands back: a bed at rest has about two, a gas almost none.
+pub const CONTACTS_OUT: f64 = 0.3;
+
+/// The exact part's TC where the scene sets none: the book's advice. Inelastic collapse is a
+/// finite-time singularity of the exact dynamics, not a dense bed; TC removes it where it starts
+/// (two collisions of a disk within 10⁻³ time units) and leaves the gas's collisions as they are.
+pub const DEFAULT_TC: f64 = 1e-3;
+
+/// The engine running now.
+#[derive(Debug)]
+enum Part<F: Flight> {
+    Exact(Box<Simulation<F>>),
+    Dense(Box<Contact<F>>),
+}
+
+/// What the parts before the present one did, for the totals.
+#[derive(Debug, Default, Clone, Copy)]
+struct Done {
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    stats: SchemeStats,
+    /// Simulated time spent in contact dynamics.
+    dense_time: f64,
+    handovers: u64,
+}
+
+/// The hybrid engine.
+#[derive(Debug)]
+pub struct Handover<F: Flight> {
+    flight: F,
+    scene: Scene,
+    engine: Engine,
+    /// The disks as the scenario numbers them (radii, masses, species); states are copied in.
+    template: Disks,
+    part: Part<F>,
+    /// Absolute time of the present part's local time 0.
+    t0: f64,
+    done: Done,
+    /// The watch window: its length, its end (absolute) and the present part's counts at its
+    /// start (collisions for the exact engine, pushing contacts and steps for contact dynamics).
+    window: f64,
+    window_end: f64,
+    window_from: (u64, u64),
+    /// Windows contact dynamics keeps the run at least, doubled each time the exact engine
+    /// hands back within one window.
+    stay: u32,
+    stayed: u32,
+    exact_setup: Setup,
+    /// `run.max_events`, over all parts (checked at each part's window ends too).
+    event_limit: u64,
+    /// [`RATE_IN`] and [`CONTACTS_OUT`], unless a test sets others.
+    rate_in: f64,
+    contacts_out: f64,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl<F: Flight> Handover<F> {
+    /// Starts with the exact engine on `disks`.
+    pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<Handover<F>> {
+        if !scene.inlets.is_empty() || scene.orifice.is_some() || scene.exit_height.is_some() {
+            return Err(Error::input(
+                "engine.scheme",
+                "hybrid hands whole states between its engines: scenes whose disks enter or leave \
+                 (inlets, an orifice, an exit height) need the event-driven scheme",
+            ));
+        }
+        let event_limit = scene.max_events.unwrap_or(u64::MAX);
+        let mut scene = scene.clone();
+        scene.max_events = None;
+        if scene.restitution.e < 1.0 && scene.restitution.tc.is_none() {
+            scene.restitution.tc = Some(DEFAULT_TC);
+        }
+        let template = disks.clone();
+        let sim = Simulation::new(flight, &scene, disks)?;
+        let mut exact_setup = Integrator::setup(&sim);
+        exact_setup.scheme = "hybrid";
+        let window = scene
+            .floor
+            .as_ref()
+            .filter(|f| !f.is_static())
+            .map_or(1.0, |f| f.period_or_one());
+        // Contact dynamics must accept the scene too: refused knobs are found before the run.
+        Contact::new(flight, &scene, template.clone(), engine)?;
+        Ok(Handover {
+            flight,
+            scene,
+            engine: engine.clone(),
+            template,
+            part: Part::Exact(Box::new(sim)),
+            t0: 0.0,
+            done: Done::default(),
+            window,
+            window_end: window,
+            window_from: (0, 0),
+            stay: 1,
+            stayed: 0,
+            exact_setup,
+            event_limit,
+            rate_in: RATE_IN,
+            contacts_out: CONTACTS_OUT,
+            interrupt: None,
+        })
+    }
+
+    /// The same with other thresholds of the hand-overs (tests).
+    pub fn with_thresholds(mut self, rate_in: f64, contacts_out: f64) -> Handover<F> {
+        (self.rate_in, self.contacts_out) = (rate_in, contacts_out);
+        self
+    }
+
+    /// The scene at absolute time `t`: its floor's phase moved on to `t`.
+    fn scene_at(&self, t: f64) -> Scene {
+        let mut scene = self.scene.clone();
+        if let Some(f) = &mut scene.floor {
+            f.rebase(t);
+        }
+        scene
+    }
+
+    /// Every disk's state at the present part's local time `tau`, in the scenario's numbering.
+    fn disks_at(&self, tau: f64) -> Disks {
+        let mut disks = self.template.clone();
+        let mut fill = |i: usize, s: [f64; 4]| {
+            let m = &mut disks.motion[i];
+            (m.x, m.y, m.vx, m.vy, m.t) = (s[0], s[1], s[2], s[3], 0.0);
+        };
+        let spins = match &self.part {
+            Part::Exact(sim) => {
+                Integrator::visit_states(&**sim, tau, &mut fill);
+                Integrator::spins_at(&**sim, tau)
+            }
+            Part::Dense(c) => {
+                c.visit_states(tau, &mut fill);
+                c.spins_at(tau)
+            }
+        };
+        if let (Some(s), Some(spins)) = (&mut disks.spins, spins) {
+            let (phase, omega): (Vec<f64>, Vec<f64>) = spins.into_iter().unzip();
+            *s = Spins {
+                q: s.q,
+                omega,
+                phase,
+            };
+        }
+        disks
+    }
+
+    /// Banks the present part's totals before it is replaced.
+    fn bank(&mut self) {
+        let tau = self.local_time();
+        let (counts, flow) = (self.part_counts(), self.part_flow(tau));
+        let (virial, overlap) = (self.part_virial(), self.part_max_overlap());
+        let d = &mut self.done;
+        d.counts += counts;
+        d.flow.injected += flow.injected;
+        d.flow.dissipated += flow.dissipated;
+        d.flow.floor_impulse += flow.floor_impulse;
+        d.virial += virial;
+        d.max_overlap = d.max_overlap.max(overlap);
+        d.handovers += 1;
+        if let Part::Dense(c) = &self.part {
+            let s = c.approximation().unwrap_or_default();
+            d.stats.step = s.step;
+            d.stats.steps += s.steps;
+            d.stats.sweeps += s.sweeps;
+            d.stats.deep_overlaps += s.deep_overlaps;
+            d.stats.missed += s.missed;
+            d.stats.max_boundary_penetration = d
+                .stats
+                .max_boundary_penetration
+                .max(s.max_boundary_penetration);
+            d.dense_time += tau;
+        }
+    }
+
+    /// Hands the run to the other engine at the present part's time.
+    fn hand_over(&mut self) -> Result<()> {
+        let tau = self.local_time();
+        let t = self.t0 + tau;
+        let scene = self.scene_at(t);
+        let next = match &mut self.part {
+            Part::Exact(_) => {
+                let disks = self.disks_at(tau);
+                Part::Dense(Box::new(Contact::new(
+                    self.flight,
+                    &scene,
+                    disks,
+                    &self.engine,
+                )?))
+            }
+            Part::Dense(c) => {
+                c.separate();
+                let disks = self.disks_at(tau);
+                match Simulation::new(self.flight, &scene, disks) {
+                    Ok(sim) => Part::Exact(Box::new(sim)),
+                    // Not separable now (a deep overlap): contact dynamics carries on.
+                    Err(_) => return Ok(()),
+                }
+            }
+        };
+        self.bank();
+        self.part = next;
+        self.t0 = t;
+        if let Some(flag) = self.interrupt {
+            self.part_set_interrupt(flag);
+        }
+        self.window_end = t + self.window;
+        self.window_from = (0, 0);
+        self.stayed = 0;
+        Ok(())
+    }
+
+    fn local_time(&self) -> f64 {
+        match &self.part {
+            Part::Exact(sim) => Integrator::time(&**sim),
+            Part::Dense(c) => c.time(),
+        }
+    }
+
+    fn part_counts(&self) -> EventCounts {
+        match &self.part {
+            Part::Exact(sim) => Integrator::counts(&**sim),
+            Part::Dense(c) => c.counts(),
+        }
+    }
+
+    fn part_flow(&self, tau: f64) -> EnergyFlow {
+        match &self.part {
+            Part::Exact(sim) => Integrator::energy_flow_at(&**sim, tau),
+            Part::Dense(c) => c.energy_flow_at(tau),
+        }
+    }
+
+    fn part_virial(&self) -> f64 {
+        match &self.part {
+            Part::Exact(sim) => Integrator::virial(&**sim),
+            Part::Dense(c) => c.virial(),
+        }
+    }
+
+    fn part_max_overlap(&self) -> f64 {
+        match &self.part {
+            Part::Exact(sim) => Integrator::max_overlap(&**sim),
+            Part::Dense(c) => c.max_overlap(),
+        }
+    }
+
+    fn part_set_interrupt(&mut self, flag: &'static AtomicBool) {
+        match &mut self.part {
+            Part::Exact(sim) => Integrator::set_interrupt(&mut **sim, flag),
+            Part::Dense(c) => c.set_interrupt(flag),
+        }
+    }
+
+    /// The exact engine runs to `target` within the window's collision budget; past it, the run
+    /// goes to contact dynamics.
+    fn exact_to(&mut self, target: f64) -> Result<Option<Progress>> {
+        let n = self.template.len().max(1) as f64;
+        let budget = (self.rate_in * n * self.window) as u64;
+        let stop = target.min(self.window_end);
+        let Part::Exact(sim) = &mut self.part else {
+            unreachable!()
+        };
+        let from = self.window_from.0;
+        let before = self.done.counts.guarded();
+        let left = self.event_limit.saturating_sub(before);
+        sim.set_event_limit((from + budget).min(left));
+        match sim.advance_to(stop - self.t0)? {
+            Progress::Reached => {
+                if stop >= self.window_end {
+                    let spent = Integrator::counts(&**sim).guarded() - from;
+                    self.window_from.0 += spent;
+                    self.window_end += self.window;
+                    self.stayed = self.stayed.saturating_add(1);
+                }
+                Ok(None)
+            }
+            Progress::EventLimit
+                if before + Integrator::counts(&**sim).guarded() >= self.event_limit =>
+            {
+                Ok(Some(Progress::EventLimit))
+            }
+            Progress::EventLimit => {
+                if self.stayed == 0 {
+                    self.stay = (2 * self.stay).min(64);
+                } else {
+                    self.stay = 1;
+                }
+                self.hand_over()?;
+                Ok(None)
+            }
+            other => Ok(Some(other)),
+        }
+    }
+
+    /// Contact dynamics runs to `target`; at each window's end it hands back if the bed has come
+    /// apart.
+    fn dense_to(&mut self, target: f64) -> Result<Option<Progress>> {
+        let stop = target.min(self.window_end);
+        let Part::Dense(c) = &mut self.part else {
+            unreachable!()
+        };
+        match c.advance_to(stop - self.t0)? {
+            Progress::Reached => {}
+            other => return Ok(Some(other)),
+        }
+        if stop < self.window_end {
+            return Ok(None);
+        }
+        let counts = c.counts();
+        let pushing = counts.pair + counts.floor + counts.wall + counts.lid;
+        let steps = c.approximation().map_or(0, |s| s.steps);
+        let (p0, s0) = self.window_from;
+        let n = self.template.len().max(1) as f64;
+        let per_disk_step = (pushing - p0) as f64 / (n * (steps - s0).max(1) as f64);
+        self.window_from = (pushing, steps);
+        self.window_end += self.window;
+        self.stayed = self.stayed.saturating_add(1);
+        if self.stayed >= self.stay && per_disk_step < self.contacts_out {
+            self.hand_over()?;
+        }
+        Ok(None)
+    }
+}
+
+impl<F: Flight> Integrator for Handover<F> {
+    fn set_interrupt(&mut self, flag: &'static AtomicBool) {
+        self.interrupt = Some(flag);
+        self.part_set_interrupt(flag);
+    }
+    fn disks(&self) -> &Disks {
+        match &self.part {
+            Part::Exact(sim) => Integrator::disks(&**sim),
+            Part::Dense(c) => c.disks(),
+        }
+    }
+    fn time(&self) -> f64 {
+        self.t0 + self.local_time()
+    }
+    fn advance_to(&mut self, target: f64) -> Result<Progress> {
+        loop {
+            if self.counts().guarded() >= self.event_limit {
+                return Ok(Progress::EventLimit);
+            }
+            let left = match self.part {
+                Part::Exact(_) if self.time() < target => self.exact_to(target)?,
+                Part::Dense(ref c) if c.can_step_to(target - self.t0) => self.dense_to(target)?,
+                _ => return Ok(Progress::Reached),
+            };
+            if let Some(progress) = left {
+                return Ok(progress);
+            }
+        }
+    }
+    fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
+        match &self.part {
+            Part::Exact(sim) => Integrator::visit_states(&**sim, t - self.t0, visit),
+            Part::Dense(c) => c.visit_states(t - self.t0, visit),
+        }
+    }
+    fn floor_height_at(&self, t: f64) -> Option<f64> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::floor_height_at(&**sim, t - self.t0),
+            Part::Dense(c) => c.floor_height_at(t - self.t0),
+        }
+    }
+    fn rotational_energy(&self, t: f64) -> Option<f64> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::rotational_energy(&**sim, t - self.t0),
+            Part::Dense(c) => c.rotational_energy(t - self.t0),
+        }
+    }
+    fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::spins_at(&**sim, t - self.t0),
+            Part::Dense(c) => c.spins_at(t - self.t0),
+        }
+    }
+    fn inertia_factor(&self) -> Option<f64> {
+        self.template.spins.as_ref().map(|s| s.q)
+    }
+    fn counts(&self) -> EventCounts {
+        let mut c = self.done.counts;
+        c += self.part_counts();
+        c
+    }
+    fn energy_flow_at(&self, t: f64) -> EnergyFlow {
+        let (d, p) = (self.done.flow, self.part_flow(t - self.t0));
+        EnergyFlow {
+            injected: d.injected + p.injected,
+            dissipated: d.dissipated + p.dissipated,
+            floor_impulse: d.floor_impulse + p.floor_impulse,
+        }
+    }
+    fn virial(&self) -> f64 {
+        self.done.virial + self.part_virial()
+    }
+    fn max_overlap(&self) -> f64 {
+        self.done.max_overlap.max(self.part_max_overlap())
+    }
+    fn check_state(&self, t: f64) -> Result<()> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::check_state(&**sim, t - self.t0),
+            Part::Dense(_) => Ok(()),
+        }
+    }
+    fn stall_report(&self) -> Option<&str> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::stall_report(&**sim),
+            Part::Dense(_) => None,
+        }
+    }
+    fn setup(&self) -> Setup {
+        self.exact_setup.clone()
+    }
+    fn approximation(&self) -> Option<SchemeStats> {
+        let mut s = self.done.stats;
+        let mut dense_time = self.done.dense_time;
+        if let Part::Dense(c) = &self.part {
+            let p = c.approximation().unwrap_or_default();
+            s.step = p.step;
+            s.steps += p.steps;
+            s.sweeps += p.sweeps;
+            s.deep_overlaps += p.deep_overlaps;
+            dense_time += c.time();
+        }
+        s.handovers = self.done.handovers;
+        s.dense_time = dense_time;
+        (s.steps > 0).then_some(s)
+    }
+    fn disks_at_rest(&self) -> usize {
+        match &self.part {
+            Part::Exact(sim) => Integrator::disks_at_rest(&**sim),
+            Part::Dense(_) => 0,
+        }
+    }
+    fn at_rest_since(&self) -> Option<f64> {
+        match &self.part {
+            Part::Exact(sim) => Integrator::at_rest_since(&**sim).map(|t| t + self.t0),
+            Part::Dense(_) => None,
+        }
+    }
+    fn rest_wakes(&self) -> u64 {
+        match &self.part {
+            Part::Exact(sim) => Integrator::rest_wakes(&**sim),
+            Part::Dense(_) => 0,
+        }
+    }
+}

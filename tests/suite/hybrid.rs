@@ -1,0 +1,101 @@
+//! The hybrid scheme (`engine.scheme = hybrid`): a gas stays with the exact engine, event for
+//! event; a dense bed goes to contact dynamics and, once it comes apart, back; momentum is
+//! conserved across every hand-over; a run repeats bit for bit.
+
+use crate::common::same_run;
+use serde_json::Value;
+use vibrobed::engine::{Progress, Scene};
+use vibrobed::physics::flight::Ballistic;
+use vibrobed::schemes::handover::Handover;
+use vibrobed::schemes::Integrator;
+use vibrobed::Scenario;
+
+/// A small vibrated bed: 150 inelastic disks, about five layers.
+const BED: &str = r#"{
+  "name": "small vibrated bed",
+  "seed": 3,
+  "domain": { "width": 30.0, "x_boundary": "periodic", "y_boundary": "open" },
+  "gravity": 1.0,
+  "floor": { "gamma": 3.0, "frequency": 0.5, "restitution": 0.9 },
+  "particles": { "count": 150, "radius": 0.5, "temperature": 0.5 },
+  "collisions": { "restitution": 0.9 },
+  "engine": { "scheme": "hybrid" },
+  "run": { "duration": 40.0, "warmup": 10.0 }
+}"#;
+
+fn scenario(sets: &[&str]) -> Scenario {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    Scenario::from_json_with_overrides(BED, &sets).expect("valid scenario")
+}
+
+fn engine(s: &Scenario) -> Handover<Ballistic> {
+    let (scene, disks) = Scene::build(s).expect("scene");
+    Handover::new(Ballistic { g: 1.0 }, &scene, disks, &s.engine).expect("engine")
+}
+
+/// Σ m v_y of the disks at the engine's time.
+fn momentum_y(sim: &Handover<Ballistic>) -> f64 {
+    let mut p = 0.0;
+    let t = sim.time();
+    sim.visit_states(t, |i, s| p += sim.disks().mass[i] * s[3]);
+    p
+}
+
+/// A fluidized bed (Γ = 3) never turns dense: the hybrid scheme is the exact engine with TC at
+/// 10⁻³, its summary the same bit for bit but for the scheme's name.
+#[test]
+fn a_gas_stays_with_the_exact_engine_event_for_event() {
+    let hybrid = scenario(&[]);
+    let exact = scenario(&["engine.scheme=event-driven", "collisions.tc=0.001"]);
+    let (mut a, _) = same_run::summary(&hybrid, &[]);
+    let (mut b, _) = same_run::summary(&exact, &[]);
+    assert!(a.get("approximation").is_none(), "{}", a["approximation"]);
+    for v in [&mut a, &mut b] {
+        v["engine"]["scheme"] = Value::Null;
+    }
+    assert!(a["events"]["pair"].as_u64().unwrap() > 10_000);
+    assert_eq!(a, b);
+}
+
+/// A bed that rides the floor (Γ = 0.5) turns dense: the run goes to contact dynamics and stays
+/// there. Pair impulses are internal and the state is handed over whole, so the floor's impulse
+/// is the change of momentum plus the weight's, `F = ΔP_y + N m g t`, to round-off across the
+/// hand-over.
+#[test]
+fn a_riding_bed_goes_to_contact_dynamics_and_keeps_its_momentum() {
+    let s = scenario(&["floor.gamma=0.5", "particles.temperature=0.01"]);
+    let mut sim = engine(&s);
+    let p0 = momentum_y(&sim);
+    assert_eq!(sim.advance_to(40.0).unwrap(), Progress::Reached);
+    let stats = sim.approximation().expect("contact dynamics ran");
+    assert!(stats.handovers >= 1 && stats.dense_time > 20.0, "{stats:?}");
+    let t = sim.time();
+    let weight = 150.0 * t;
+    let floor = sim.energy_flow_at(t).floor_impulse;
+    let off = floor - (momentum_y(&sim) - p0 + weight);
+    assert!(off.abs() < 1e-9 * weight, "floor {floor}, off by {off}");
+}
+
+/// With the hand-over to contact dynamics made cheap (one event per disk and unit time), a
+/// fluidized bed (Γ = 3) goes to contact dynamics, is seen there as a gas, and comes back to
+/// the exact engine, which accepts the state handed back (no overlap): back and forth.
+#[test]
+fn a_gas_handed_to_contact_dynamics_comes_back_to_the_exact_engine() {
+    let s = scenario(&[]);
+    let mut sim = engine(&s).with_thresholds(1.0, vibrobed::schemes::handover::CONTACTS_OUT);
+    assert_eq!(sim.advance_to(40.0).unwrap(), Progress::Reached);
+    let stats = sim.approximation().expect("contact dynamics ran");
+    // A second hand-over is a hand-back accepted by the exact engine.
+    assert!(stats.handovers >= 2, "{stats:?}");
+    assert!(stats.dense_time < 40.0 - 2.0, "{stats:?}");
+}
+
+/// The same scene twice: the same run, hand-overs included.
+#[test]
+fn a_hybrid_run_repeats_bit_for_bit() {
+    let s = scenario(&["floor.gamma=0.8"]);
+    let (a, _) = same_run::summary(&s, &[]);
+    let (b, _) = same_run::summary(&s, &[]);
+    assert!(a.get("approximation").is_some());
+    assert_eq!(a, b);
+}
