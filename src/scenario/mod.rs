@@ -6,6 +6,7 @@
 //! (physical sense: positive radii, reachable packing fraction, …).
 
 pub mod json;
+pub mod limits;
 pub mod overrides;
 pub mod phase_stops;
 pub mod speeds;

@@ -4,7 +4,7 @@
 //! any computer gives it, and a disk crossing a radius faster than the clock resolves would
 //! leave the clock standing still.
 
-use super::checks::{MAX_TRAVEL, MIN_MAGNITUDE};
+use super::limits::{MAX_TRAVEL, MIN_MAGNITUDE};
 use super::{Inlet, Placement, Radius, Scenario};
 use crate::error::{Error, Result};
 

@@ -1,0 +1,44 @@
+//! The limits a scene may ask for: magnitudes double precision computes with, and how much of
+//! anything (disks, bins, frames, travel) a run can be given. The checks and the speeds' checks
+//! read them alike.
+
+/// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
+pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
+
+/// Smallest magnitude accepted for any positive quantity: below it squares and products of
+/// scene quantities underflow to zero in double precision.
+pub const MIN_MAGNITUDE: f64 = 1e-100;
+/// Largest magnitude accepted for any quantity: above it squares and products overflow.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+/// Most disks a scene may hold (the engine keeps a few hundred bytes per disk).
+pub const MAX_DISKS: usize = 20_000_000;
+/// Largest ratio of a length of the scene (width, height, floor amplitude) to the smallest
+/// radius: positions are then resolved to about 10⁻⁷ of a radius in double precision.
+pub const MAX_LENGTH_RATIO: f64 = 1e9;
+/// Most profile bins.
+pub const MAX_PROFILE_BINS: usize = 1_000_000;
+/// Most bins per period of the phase-resolved motion (each is a stop of the run).
+pub const MAX_PHASE_BINS: usize = 1000;
+/// Most cells of the 2D fields along either axis.
+pub const MAX_FIELD_BINS: usize = 100_000;
+/// Most cells of the 2D fields in all (nine running sums of 8 bytes each, kept twice with
+/// `record_fields`: about 0.6 GB at the bound).
+pub const MAX_FIELD_CELLS: usize = 4_000_000;
+/// Most disk frames (disks × frames) a recording or a trajectory may hold: some 10¹¹ bytes.
+pub const MAX_RECORDED_DISKS: f64 = 1e10;
+/// Most checkpoints a run may ask for (`--checkpoint-every`); each writes the whole state.
+pub const MAX_CHECKPOINTS: f64 = 1e5;
+/// Farthest any disk may be sent over the run at its initial or entering speed, in smallest
+/// radii: about as many events as it would have (10¹² events are days of computing), and a
+/// speed at which the clock still advances by what double precision resolves.
+pub const MAX_TRAVEL: f64 = 1e12;
+/// Smallest inertia factor `q` of rough disks: spins and their energies stay finite.
+pub const MIN_INERTIA_FACTOR: f64 = 1e-6;
+/// Deepest a scenario field is nested (`inlets.0.radius.species.0.mass` is six deep).
+pub const MAX_FIELD_DEPTH: usize = 8;
+/// Most frames, samples or trajectory frames a run may ask for.
+pub const MAX_OUTPUT_TIMES: f64 = 1e7;
+/// Largest ratio of the largest radius to the smallest that the neighbour masks support.
+pub const MAX_RADIUS_RATIO: f64 = 6.0;
+/// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
+pub const MAX_STEPS: f64 = 1e12;
