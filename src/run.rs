@@ -3,13 +3,13 @@
 
 use crate::engine::{Scene, Simulation};
 use crate::error::{Error, Result};
-use crate::output::frame::{FrameView, SceneLayout};
+use crate::output::frame::SceneLayout;
 use crate::output::progress::{ProgressMode, ProgressReport, DEFAULT_EVERY};
 use crate::output::summary::Summary;
 use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::{Target, Watch};
 use crate::physics::flight::{Ballistic, Flight, Straight};
-use crate::scenario::{Scenario, Scheme, XBoundary, YBoundary};
+use crate::scenario::{Scenario, Scheme};
 use crate::schemes::{
     contact::Contact, handover::Handover, space_time::SpaceTime, time_step::TimeStep, Integrator,
 };
@@ -22,26 +22,18 @@ mod averages;
 pub mod checkpoint;
 mod driver;
 mod failures;
+mod invariants;
 pub mod state;
 mod stops;
+mod summary;
+mod views;
 mod wall_limit;
 
 use driver::Driver;
 use wall_limit::WallLimit;
 
-/// Where frames go (the Rerun recorder, or a test's collector).
-pub trait FrameSink {
-    /// Takes one frame.
-    fn frame(&mut self, frame: &FrameView) -> Result<()>;
-    /// Logs a line of text at simulated time `time` (`level`: "INFO", "WARN", …).
-    fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()>;
-    /// Closes the output (writes footers).
-    fn finish(self: Box<Self>) -> Result<()>;
-    /// The file being written, for the watch that notices it removed during the run.
-    fn file(&self) -> Option<crate::output::partial::Partial> {
-        None
-    }
-}
+/// Where frames go: the recording, or a test's collector.
+pub use crate::output::frame::FrameSink;
 
 /// How to run.
 #[derive(Default)]
@@ -135,7 +127,7 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
         recording_id,
         resume,
     };
-    let layout = scene_layout(s, &scene, &disks);
+    let layout = SceneLayout::of(s, &scene, &disks);
     let then = Driving {
         s,
         scene: &scene,
@@ -218,7 +210,7 @@ fn sink_for(
 ) -> Result<Option<Box<dyn FrameSink>>> {
     match (out.sink.take(), &out.rrd) {
         (Some(sink), _) => Ok(Some(sink)),
-        (None, Some(path)) => Ok(Some(open_recording(
+        (None, Some(path)) => Ok(Some(crate::output::open_recording(
             path,
             s,
             layout,
@@ -254,43 +246,6 @@ impl WithEngine for Driving<'_> {
     }
 }
 
-/// The fixed geometry of the scene, as the recording and the trajectory draw it, and the colour
-/// scale of speeds: `output.speed_scale`, else three times the floor's peak speed, else three
-/// times the initial root-mean-square speed (else 1); and of spins: `output.spin_scale`, else a
-/// third of the speed scale (a rim speed of the floor's peak speed, or the rms speed).
-fn scene_layout(s: &Scenario, scene: &Scene, disks: &crate::physics::disks::Disks) -> SceneLayout {
-    let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
-    let n = disks.len().max(1) as f64;
-    let rms = (disks
-        .motion
-        .iter()
-        .map(|m| m.vx * m.vx + m.vy * m.vy)
-        .sum::<f64>()
-        / n)
-        .sqrt();
-    let speed_scale = s.output.speed_scale.unwrap_or(if floor_speed > 0.0 {
-        3.0 * floor_speed
-    } else if rms > 0.0 {
-        3.0 * rms
-    } else {
-        1.0
-    });
-    SceneLayout {
-        name: s.name.clone(),
-        width: s.domain.width,
-        x_periodic: s.domain.x_boundary == XBoundary::Periodic,
-        top: match s.domain.y_boundary {
-            YBoundary::Open => None,
-            _ => s.domain.height,
-        },
-        y_periodic: s.domain.y_boundary == YBoundary::Periodic,
-        floor: s.floor.is_some(),
-        species: disks.species.iter().max().map_or(1, |m| m as usize + 1),
-        speed_scale,
-        spin_scale: s.output.spin_scale.unwrap_or(speed_scale / 3.0),
-    }
-}
-
 /// A new recording id, from the wall clock: two runs of one scene are two recordings in the
 /// viewer, while the parts of one resumed run share their first part's id.
 fn new_recording_id() -> String {
@@ -312,56 +267,6 @@ fn open_trajectory(
         .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
     path.map(|p| TrajectoryWriter::create(&p, layout).map_err(Error::Io))
         .transpose()
-}
-
-#[cfg(feature = "record")]
-fn open_recording(
-    path: &std::path::Path,
-    s: &Scenario,
-    layout: &SceneLayout,
-    recording_id: Option<&str>,
-) -> Result<Box<dyn FrameSink>> {
-    use crate::output::frame::ColorBy;
-    use crate::output::recording::RerunRecorder;
-    use crate::scenario::ColorChoice;
-
-    struct Sink(RerunRecorder);
-    impl FrameSink for Sink {
-        fn frame(&mut self, frame: &FrameView) -> Result<()> {
-            self.0.frame(frame).map_err(Error::Io)
-        }
-        fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()> {
-            self.0.log_text(time, level, text).map_err(Error::Io)
-        }
-        fn finish(self: Box<Self>) -> Result<()> {
-            self.0.finish().map_err(Error::Io)
-        }
-        fn file(&self) -> Option<crate::output::partial::Partial> {
-            Some(self.0.file().clone())
-        }
-    }
-
-    let color = match s.output.color_by {
-        ColorChoice::Speed => ColorBy::Speed,
-        ColorChoice::Species => ColorBy::Species,
-        ColorChoice::Spin => ColorBy::Spin,
-    };
-    let rec = RerunRecorder::create_with_id(path, layout, color, recording_id)
-        .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;
-    Ok(Box::new(Sink(rec)))
-}
-
-#[cfg(not(feature = "record"))]
-fn open_recording(
-    _path: &std::path::Path,
-    _s: &Scenario,
-    _layout: &SceneLayout,
-    _recording_id: Option<&str>,
-) -> Result<Box<dyn FrameSink>> {
-    Err(Error::input(
-        "--rrd",
-        "this build of vibrobed has no recording (build with the `record` feature)",
-    ))
 }
 
 /// What the watch looks at: the recording's and the trajectory's temporary files, and the

@@ -7,7 +7,7 @@ pub mod phase;
 pub mod state;
 pub mod velocities;
 
-use crate::engine::Snapshot;
+use crate::engine::{EnergyFlow, Snapshot};
 use crate::physics::disks::Disks;
 use coverage::area_below;
 use serde::Serialize;
@@ -332,6 +332,22 @@ impl ProfileTable {
         }
         out
     }
+}
+
+/// |now − initial − injected + dissipated + carried out − carried in| relative to the largest
+/// term of the energy budget (`out`: the energy disks that left carried out, less what entering
+/// disks brought in).
+pub fn balance_error(initial: &Observables, now: &Observables, flow: &EnergyFlow, out: f64) -> f64 {
+    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated + out;
+    let scale = initial
+        .energy()
+        .abs()
+        .max(now.energy().abs())
+        .max(flow.injected.abs())
+        .max(flow.dissipated)
+        .max(out.abs())
+        .max(f64::MIN_POSITIVE);
+    balance.abs() / scale
 }
 
 #[cfg(test)]

@@ -10,7 +10,38 @@ pub mod trajectory;
 pub mod watch;
 
 use crate::error::{Error, Result};
+use crate::scenario::Scenario;
+use frame::{FrameSink, SceneLayout};
 use std::path::{Path, PathBuf};
+
+/// The Rerun recording of a run to `path`, its disks coloured as `output.color_by` asks, under
+/// the id of the run it belongs to (the parts of a resumed run share one).
+#[cfg(feature = "record")]
+pub fn open_recording(
+    path: &Path,
+    s: &Scenario,
+    layout: &SceneLayout,
+    recording_id: Option<&str>,
+) -> Result<Box<dyn FrameSink>> {
+    let color = s.output.color_by.into();
+    let rec = recording::RerunRecorder::create_with_id(path, layout, color, recording_id)
+        .map_err(|e| Error::Io(format!("cannot record to {}: {e}", path.display())))?;
+    Ok(Box::new(rec))
+}
+
+/// A build without recording refuses one.
+#[cfg(not(feature = "record"))]
+pub fn open_recording(
+    _path: &Path,
+    _s: &Scenario,
+    _layout: &SceneLayout,
+    _recording_id: Option<&str>,
+) -> Result<Box<dyn FrameSink>> {
+    Err(Error::input(
+        "--rrd",
+        "this build of vibrobed has no recording (build with the `record` feature)",
+    ))
+}
 
 /// Writes `text` to `path` through a temporary file renamed into place.
 pub fn write_atomic(path: &Path, text: &str) -> Result<()> {

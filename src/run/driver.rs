@@ -1,28 +1,26 @@
-//! One run of an engine from its start to its ending: the stops, the measurements at each, the
-//! frames and checkpoints, and the summary.
+//! One run of an engine from its start to its ending: the stops, and at each what is due — the
+//! samples, the phase bins, frames, trajectory frames, checkpoints. The summary is made in
+//! `summary`, the engine's states read through `views`.
 
 use super::averages::{empty_profiles, empty_velocities, field_grid, state_grid, Averages, Window};
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
+use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
 use super::{CheckpointPlan, FrameSink, RunOptions};
-use crate::engine::{EnergyFlow, Progress, Scene, Snapshot};
+use crate::engine::{Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
 use crate::measure::fields::Fields;
-use crate::measure::phase::{FloorTally, PhaseBins, PhaseClock, PhaseTable};
-use crate::measure::state::{BedState, Indicators, StateName};
-use crate::measure::{Observables, ProfileTable, States};
-use crate::output::frame::FrameView;
+use crate::measure::phase::{PhaseBins, PhaseClock};
+use crate::measure::Observables;
+use crate::output::frame::{frame_series, spread_by_id, FrameView};
 use crate::output::progress::ProgressReport;
-use crate::output::summary::{
-    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary,
-};
+use crate::output::summary::{Ending, Summary};
 use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::Watch;
 use crate::physics::disks::Disks;
-use crate::physics::walls::Top;
 use crate::run::checkpoint::Checkpoint;
-use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
+use crate::scenario::Scenario;
 use crate::schemes::Integrator;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -400,7 +398,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             self.averages.at_rest += at_rest as f64 / self.sim.disks().len() as f64;
         }
         if self.scene.check_invariants {
-            check_sample(&self.sim, self.now, &self.initial, self.g)?;
+            super::invariants::check_sample(&self.sim, self.now, &self.initial, self.g)?;
         }
         Ok(())
     }
@@ -415,42 +413,16 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let sim = &self.sim;
         let snap = &self.snap;
         let o = Observables::of(snap, sim.disks(), self.g);
-        let flow = sim.energy_flow_at(snap.time);
         let collisions = sim.counts().collisions();
         let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
         self.last_frame_collisions = collisions;
-        let rotational = sim.rotational_energy(snap.time);
-        let series = [
-            ("temperature/x", o.temperature[0]),
-            ("temperature/y", o.temperature[1]),
-            ("energy/kinetic", o.kinetic),
-            ("energy/potential", o.potential),
-            ("energy/injected", flow.injected),
-            ("energy/dissipated", flow.dissipated),
-            ("com_height", o.com_height),
-            (
-                "collisions_per_time",
-                if self.stops.k_frame > 1 { rate } else { 0.0 },
-            ),
-            ("energy/rotational", rotational.unwrap_or(0.0)),
-        ];
-        // Smooth disks have no rotational energy: their series stop before it.
-        let series = &series[..series.len() - usize::from(rotational.is_none())];
-        let pool_series;
-        let series = match sim.flow() {
-            Some(f) => {
-                pool_series = [
-                    series,
-                    &[
-                        ("flow/live", snap.x.len() as f64),
-                        ("flow/out", f.left as f64),
-                    ],
-                ]
-                .concat();
-                &pool_series[..]
-            }
-            None => series,
-        };
+        let series = frame_series(
+            &o,
+            &sim.energy_flow_at(snap.time),
+            if self.stops.k_frame > 1 { rate } else { 0.0 },
+            sim.rotational_energy(snap.time),
+            sim.flow().map(|f| (snap.x.len() as f64, f.left as f64)),
+        );
         let spins = sim.spins_at(self.now);
         let d = sim.disks();
         let profile = self
@@ -465,16 +437,17 @@ impl<'a, E: Integrator> Driver<'a, E> {
         }
         // Where disks leave, instance i of the recording stays disk i: every id has an entry,
         // those not in the scene drawn nowhere (no position, radius 0).
-        let by_id = (!snap.ids.is_empty()).then(|| by_id(snap, &radius, &species, self.s));
+        let by_id = (!snap.ids.is_empty())
+            .then(|| spread_by_id(snap, &radius, &species, self.s.disk_count()));
         let (snap, radius, species) = match &by_id {
             Some((s, r, k)) => (s, r, k),
             None => (snap, &radius, &species),
         };
-        let mut view = frame_view(
+        let mut view = FrameView::of(
             self.stops.k_frame - 1,
             snap,
             (radius, species),
-            (series, profile.as_ref()),
+            (&series, profile.as_ref()),
             spins.as_deref(),
         );
         view.fields = self.live_fields.as_ref().map(|(f, _)| f);
@@ -559,7 +532,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         let spins = self.sim.spins_at(self.now);
-        let written = w.frame(&frame_view(
+        let written = w.frame(&FrameView::of(
             self.stops.k_trajectory - 1,
             snap,
             (&radius, &species),
@@ -621,314 +594,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.close_sink(ending, end_time);
         Ok(self.summarise(ending, end_time, wall))
     }
-
-    /// The summary of a run that ended at `end_time`.
-    pub(super) fn summarise(&self, ending: Ending, end_time: f64, wall: f64) -> Summary {
-        let (s, scene, sim) = (self.s, self.scene, &self.sim);
-        let n = sim.disks().len();
-        let last = Observables::of(&StatesAt(sim, end_time), sim.disks(), self.g);
-        let flow = sim.energy_flow_at(end_time);
-        let avg = &self.averages;
-        let measured = avg
-            .window
-            .as_ref()
-            .map(|w| (end_time - w.time, w))
-            .filter(|(dt, _)| *dt > 0.0);
-        let compressibility_factor = match (closed_elastic(s, scene), measured) {
-            (true, Some((dt, w))) if avg.samples > 0 => {
-                let kt = last.kinetic / n as f64; // conserved in a closed elastic box
-                Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
-            }
-            _ => None,
-        };
-        let box_area = match scene.top {
-            Top::Lid { height, .. } | Top::Periodic { height } => Some(s.domain.width * height),
-            Top::Open => None,
-        };
-        let counts = sim.counts();
-        let setup = sim.setup();
-        // The engine knows the end of the last motion to the event, up to the end of the run.
-        let at_rest_since = sim
-            .at_rest_since()
-            .or(self.at_rest_since.filter(|_| sim.disks_at_rest() == n));
-        // Profiles and fields only once measured: a run that ended before its warm-up has none.
-        let profiles = avg
-            .profiles
-            .as_ref()
-            .filter(|p| p.samples() > 0)
-            .map(|p| p.table());
-        let phase = match (&scene.floor, &avg.phase) {
-            (Some(floor), Some(bins)) => {
-                // The piece of a bin from the last edge to the end.
-                let mut bins = bins.clone();
-                bins.book(self.stops.k_phase, floor_tally(sim, end_time));
-                Some(bins.table(floor, s.domain.width))
-            }
-            _ => None,
-        };
-        let state = bed_state(
-            scene,
-            mean_disk_area(s),
-            avg,
-            at_rest_since.is_some(),
-            (profiles.as_ref(), phase.as_ref()),
-        );
-        Summary {
-            scenario: s.name.clone(),
-            seed: s.seed,
-            particles: n,
-            ending,
-            sim_time: end_time,
-            wall_seconds: self.wall_before + wall,
-            events: counts,
-            collisions_per_second: counts.collisions() as f64 / (self.wall_before + wall).max(1e-9),
-            energy: EnergySummary {
-                initial: EnergyAt::from(&self.initial),
-                final_: EnergyAt::from(&last),
-                injected: flow.injected,
-                dissipated: flow.dissipated,
-                carried_out: sim.flow().map(|f| f.energy_out),
-                carried_in: sim.flow().map(|f| f.energy_in),
-                balance_error: balance_error(
-                    &self.initial,
-                    &last,
-                    &flow,
-                    sim.flow().map_or(0.0, |f| f.energy_out - f.energy_in),
-                ),
-            },
-            temperature: avg.temperature(),
-            compressibility_factor,
-            packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
-            max_overlap: sim.max_overlap(),
-            com_height: scene.gravity.and(avg.com_height()),
-            impacts_per_unit_time: match (&scene.floor, measured) {
-                (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
-                _ => None,
-            },
-            floor_pressure: match (&scene.floor, scene.gravity, measured) {
-                (Some(_), Some(g), Some((dt, w))) => {
-                    let mass: f64 = sim.disks().mass.iter().sum();
-                    Some(FloorPressure {
-                        measured: (flow.floor_impulse - w.floor_impulse) / (dt * s.domain.width),
-                        weight: mass * g / s.domain.width,
-                    })
-                }
-                _ => None,
-            },
-            at_rest_since,
-            rest_wakes: Some(sim.rest_wakes()).filter(|&w| w > 0),
-            profiles,
-            phase,
-            state,
-            fields: avg.fields.clone().filter(|f| f.samples() > 0),
-            velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
-            engine: EngineSummary {
-                scheme: setup.scheme.into(),
-                mask: setup.mask,
-                cell: setup.cell,
-                grid: setup.grid,
-                queue: setup.queue,
-                remap: setup.remap,
-                bytes_per_disk: setup.bytes as f64 / n as f64,
-                threads: setup.threads,
-                samples: avg.samples,
-            },
-            approximation: sim.approximation(),
-            output_failures: self.failures.list(),
-            stall: sim.stall_report().map(str::to_owned),
-            flow: sim.flow().map(|f| {
-                let top = s.domain.exit_height.is_some();
-                crate::output::summary::FlowSummary::of(&f, sim.disks().len(), top)
-            }),
-        }
-    }
-}
-
-/// The bed's state (a floor under gravity, once samples were averaged), from the indicators of
-/// the window: Γ, the disks at rest, the phase-resolved centre of mass, the height profiles.
-fn bed_state(
-    scene: &Scene,
-    mean_area: f64,
-    avg: &Averages,
-    at_rest_at_end: bool,
-    (profiles, phase): (Option<&ProfileTable>, Option<&PhaseTable>),
-) -> Option<BedState> {
-    let (floor, g) = (scene.floor.as_ref()?, scene.gravity?);
-    if avg.samples == 0 {
-        return None;
-    }
-    let indicators = Indicators {
-        gamma: floor.drive().gamma(g),
-        at_rest: avg.at_rest / avg.samples as f64,
-        at_rest_at_end,
-        com_locking: phase.and_then(|p| p.com_locking),
-        com_locking_two_periods: phase.and_then(|p| p.com_locking_two_periods),
-        undulation: phase.map(|p| p.undulation / (2.0 * (mean_area / std::f64::consts::PI).sqrt())),
-        density_dip: None,
-        max_packing: None,
-        max_packing_height: None,
-        circulation: None,
-    };
-    let indicators = match profiles {
-        Some(p) => indicators.with_profiles(p, floor.amplitude),
-        None => indicators,
-    };
-    let state = BedState::of(match &avg.state_fields {
-        Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
-        None => indicators,
-    });
-    // On a static floor the states of a shaken bed do not apply (a pour, a draining silo): no
-    // state but a solid one; nor for a shaken bed whose motion against the floor's phase was not
-    // resolved (too few periods in the window): bouncing or not, it cannot be told.
-    let unresolved = floor.is_static()
-        || state.indicators.com_locking.is_none()
-        || state.indicators.com_locking_two_periods.is_none();
-    (!unresolved || state.name == StateName::Solid).then_some(state)
-}
-
-/// The floor's impacts and the momentum it has given so far, at time `t`.
-fn floor_tally<E: Integrator>(sim: &E, t: f64) -> FloorTally {
-    FloorTally {
-        time: t,
-        impacts: sim.counts().floor,
-        impulse: sim.energy_flow_at(t).floor_impulse,
-    }
-}
-
-/// Every disk's state at `now` into `snap`, once per stop (a frame and a trajectory frame at
-/// the same stop share it).
-fn fill_snapshot<E: Integrator>(sim: &E, now: f64, snap: &mut Snapshot) {
-    if snap.time != now || snap.x.is_empty() {
-        sim.snapshot_into(now, snap);
-    }
-}
-
-/// The states of an engine's disks in a snapshot taken at one time, the spins read from the
-/// engine: one pass over the engine's disks serves every measurement of a sample.
-struct Snapped<'a, E>(&'a Snapshot, &'a E);
-
-impl<E: Integrator> States for Snapped<'_, E> {
-    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
-        self.0.each(f)
-    }
-    fn rotational_energy(&self) -> Option<f64> {
-        self.1.rotational_energy(self.0.time)
-    }
-    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
-        Some((self.1.inertia_factor()?, self.1.spins_at(self.0.time)?))
-    }
-}
-
-/// A sample's states, copied at its stop with the spins read there, to be measured later.
-pub(super) struct Taken {
-    snap: Snapshot,
-    rotational: Option<f64>,
-    spins: Option<(f64, Vec<(f64, f64)>)>,
-}
-
-impl Taken {
-    /// The states in `snap` with the spins of `sim` at their time, copied into `spare`.
-    fn of<E: Integrator>(sim: &E, snap: &Snapshot, mut spare: Snapshot) -> Taken {
-        spare.clone_from(snap);
-        let states = Snapped(snap, sim);
-        Taken {
-            snap: spare,
-            rotational: states.rotational_energy(),
-            spins: states.spins(),
-        }
-    }
-
-    /// Measures the sample into `averages` (`disks`: the radii and masses).
-    fn add_to(&self, averages: &mut Averages, disks: &Disks, g: f64) {
-        let o = Observables::of(self, disks, g);
-        averages.add(self, disks, &o);
-    }
-}
-
-impl States for Taken {
-    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
-        self.snap.each(f)
-    }
-    fn rotational_energy(&self) -> Option<f64> {
-        self.rotational
-    }
-    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
-        self.spins.clone()
-    }
-}
-
-/// The states of an engine's disks at one time, read on the fly (no copy of every state).
-pub(super) struct StatesAt<'e, E>(pub(super) &'e E, pub(super) f64);
-
-impl<E: Integrator> States for StatesAt<'_, E> {
-    fn each(&self, f: impl FnMut(usize, [f64; 4])) {
-        self.0.visit_states(self.1, f)
-    }
-    fn rotational_energy(&self) -> Option<f64> {
-        self.0.rotational_energy(self.1)
-    }
-    fn spins(&self) -> Option<(f64, Vec<(f64, f64)>)> {
-        Some((self.0.inertia_factor()?, self.0.spins_at(self.1)?))
-    }
-}
-
-/// Frame `index` of the disks in `snap`, with the time series and live profiles it carries, and
-/// rough disks' `(angle, ω)`.
-fn frame_view<'a>(
-    index: u64,
-    snap: &'a Snapshot,
-    (radius, species): (&'a [f64], &'a [u32]),
-    (series, profile): (&'a [(&'static str, f64)], Option<&'a ProfileTable>),
-    spins: Option<&'a [(f64, f64)]>,
-) -> FrameView<'a> {
-    FrameView {
-        index,
-        time: snap.time,
-        x: &snap.x,
-        y: &snap.y,
-        vx: &snap.vx,
-        vy: &snap.vy,
-        radius,
-        species,
-        floor_height: snap.floor_height,
-        series,
-        profile,
-        spins,
-        fields: None,
-        ids: &snap.ids,
-    }
-}
-
-/// A snapshot of the live disks (with their ids), their radii and species, spread over every id
-/// of the scene: entry i is the disk whose id is i, those not in the scene at no position
-/// (NaN) with radius 0.
-fn by_id(
-    snap: &Snapshot,
-    radius: &[f64],
-    species: &[u32],
-    s: &Scenario,
-) -> (Snapshot, Vec<f64>, Vec<u32>) {
-    let ids = (s.disk_count()).max(snap.ids.iter().map(|&i| i as usize + 1).max().unwrap_or(0));
-    let mut out = Snapshot {
-        time: snap.time,
-        x: vec![f64::NAN; ids],
-        y: vec![f64::NAN; ids],
-        vx: vec![0.0; ids],
-        vy: vec![0.0; ids],
-        floor_height: snap.floor_height,
-        ids: Vec::new(),
-    };
-    let (mut r, mut k) = (vec![0.0; ids], vec![0; ids]);
-    for (row, &id) in snap.ids.iter().enumerate() {
-        let id = id as usize;
-        out.x[id] = snap.x[row];
-        out.y[id] = snap.y[row];
-        out.vx[id] = snap.vx[row];
-        out.vy[id] = snap.vy[row];
-        r[id] = radius[row];
-        k[id] = species.get(row).copied().unwrap_or(0);
-    }
-    (out, r, k)
 }
 
 /// The factor by which the recording's live fields forget their past at each frame, `frame_dt`
@@ -939,72 +604,4 @@ fn forget_factor(scene: &Scene, frame_dt: f64) -> f64 {
         Some(f) if !f.is_static() => (-frame_dt / f.period_or_one()).exp(),
         _ => 0.0,
     }
-}
-
-/// `true` for a closed elastic box without gravity, where the compressibility factor is defined.
-pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
-    scene.gravity.is_none()
-        && s.domain.y_boundary != YBoundary::Open
-        && scene.restitution.e == 1.0
-        && s.domain.wall_restitution == 1.0
-        && scene
-            .floor
-            .as_ref()
-            .is_none_or(|f| f.is_static() && f.restitution == 1.0)
-}
-
-/// |now − initial − injected + dissipated + carried out − carried in| relative to the largest
-/// term of the energy budget (`out`: the energy disks that left carried out, less what entering
-/// disks brought in).
-pub(super) fn balance_error(
-    initial: &Observables,
-    now: &Observables,
-    flow: &EnergyFlow,
-    out: f64,
-) -> f64 {
-    let balance = now.energy() - initial.energy() - flow.injected + flow.dissipated + out;
-    let scale = initial
-        .energy()
-        .abs()
-        .max(now.energy().abs())
-        .max(flow.injected.abs())
-        .max(flow.dissipated)
-        .max(out.abs())
-        .max(f64::MIN_POSITIVE);
-    balance.abs() / scale
-}
-
-/// Invariant checks at a sample at time `t`: no overlap, energy balance.
-pub(super) fn check_sample<E: Integrator>(
-    sim: &E,
-    t: f64,
-    initial: &Observables,
-    g: f64,
-) -> Result<()> {
-    sim.check_state(t)?;
-    let now = Observables::of(&StatesAt(sim, t), sim.disks(), g);
-    let flow = sim.energy_flow_at(t);
-    let pool = sim.flow();
-    let error = balance_error(
-        initial,
-        &now,
-        &flow,
-        pool.map_or(0.0, |f| f.energy_out - f.energy_in),
-    );
-    if error > 1e-9 {
-        return Err(Error::Runtime(format!(
-            "energy budget off by {error:e} (relative) at time {t}"
-        )));
-    }
-    if let Some(f) = pool {
-        // Number conservation: in − out = live − initial.
-        let live = sim.disks().len() as u64;
-        if f.initial + f.entered != live + f.left {
-            return Err(Error::Runtime(format!(
-                "disks not conserved at time {t}: {} at the start + {} in − {} out ≠ {live} live",
-                f.initial, f.entered, f.left
-            )));
-        }
-    }
-    Ok(())
 }

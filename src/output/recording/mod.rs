@@ -101,7 +101,8 @@ use rerun::{
     RecordingStreamBuilder, Scalars, TextDocument, TextLog, Transform3D,
 };
 
-use super::frame::{ColorBy, FrameView, SceneLayout};
+use super::frame::{ColorBy, FrameSink, FrameView, SceneLayout};
+use crate::error::Error;
 use crate::measure::fields::Fields;
 use crate::measure::ProfileTable;
 
@@ -472,6 +473,22 @@ impl RerunRecorder {
     /// calling this also completes the file, but silently.
     pub fn finish(mut self) -> Result<(), String> {
         self.join()
+    }
+}
+
+/// A run's frames go to the recording; its failures are output failures (the run goes on).
+impl FrameSink for RerunRecorder {
+    fn frame(&mut self, frame: &FrameView) -> crate::error::Result<()> {
+        RerunRecorder::frame(self, frame).map_err(Error::Io)
+    }
+    fn log_text(&mut self, time: f64, level: &str, text: &str) -> crate::error::Result<()> {
+        RerunRecorder::log_text(self, time, level, text).map_err(Error::Io)
+    }
+    fn finish(self: Box<Self>) -> crate::error::Result<()> {
+        RerunRecorder::finish(*self).map_err(Error::Io)
+    }
+    fn file(&self) -> Option<crate::output::partial::Partial> {
+        Some(RerunRecorder::file(self).clone())
     }
 }
 
