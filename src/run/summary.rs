@@ -2,19 +2,23 @@
 //! measured over the window after the warm-up — temperatures, the compressibility factor, the
 //! floor's impacts and pressure, profiles, the phase-resolved motion, and the bed's state.
 
-use super::averages::Averages;
+use super::averages::{Averages, Window};
 use super::driver::Driver;
 use super::views::{floor_tally, StatesAt};
-use crate::engine::Scene;
+use crate::engine::{EnergyFlow, Scene};
 use crate::measure::phase::PhaseTable;
 use crate::measure::state::{BedState, Indicators, StateName};
 use crate::measure::{balance_error, Observables, ProfileTable};
 use crate::output::summary::{
-    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, Summary,
+    Ending, EnergyAt, EnergySummary, EngineSummary, FloorPressure, FlowSummary, Summary,
 };
 use crate::physics::walls::Top;
 use crate::scenario::{checks::mean_disk_area, Scenario, YBoundary};
 use crate::schemes::Integrator;
+
+/// The window after the warm-up, as the summary reads it: how long it lasted up to the end, and
+/// the engine's tallies when it opened (`None` for a run that ended before its warm-up did).
+type Measured<'w> = Option<(f64, &'w Window)>;
 
 impl<E: Integrator> Driver<'_, E> {
     /// The summary of a run that ended at `end_time`.
@@ -29,19 +33,11 @@ impl<E: Integrator> Driver<'_, E> {
             .as_ref()
             .map(|w| (end_time - w.time, w))
             .filter(|(dt, _)| *dt > 0.0);
-        let compressibility_factor = match (closed_elastic(s, scene), measured) {
-            (true, Some((dt, w))) if avg.samples > 0 => {
-                let kt = last.kinetic / n as f64; // conserved in a closed elastic box
-                Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
-            }
-            _ => None,
-        };
         let box_area = match scene.top {
             Top::Lid { height, .. } | Top::Periodic { height } => Some(s.domain.width * height),
             Top::Open => None,
         };
         let counts = sim.counts();
-        let setup = sim.setup();
         // The engine knows the end of the last motion to the event, up to the end of the run.
         let at_rest_since = sim
             .at_rest_since()
@@ -52,15 +48,7 @@ impl<E: Integrator> Driver<'_, E> {
             .as_ref()
             .filter(|p| p.samples() > 0)
             .map(|p| p.table());
-        let phase = match (&scene.floor, &avg.phase) {
-            (Some(floor), Some(bins)) => {
-                // The piece of a bin from the last edge to the end.
-                let mut bins = bins.clone();
-                bins.book(self.stops.k_phase, floor_tally(sim, end_time));
-                Some(bins.table(floor, s.domain.width))
-            }
-            _ => None,
-        };
+        let phase = self.phase_table(end_time);
         let state = bed_state(
             scene,
             mean_disk_area(s),
@@ -77,22 +65,9 @@ impl<E: Integrator> Driver<'_, E> {
             wall_seconds: self.wall_before + wall,
             events: counts,
             collisions_per_second: counts.collisions() as f64 / (self.wall_before + wall).max(1e-9),
-            energy: EnergySummary {
-                initial: EnergyAt::from(&self.initial),
-                final_: EnergyAt::from(&last),
-                injected: flow.injected,
-                dissipated: flow.dissipated,
-                carried_out: sim.flow().map(|f| f.energy_out),
-                carried_in: sim.flow().map(|f| f.energy_in),
-                balance_error: balance_error(
-                    &self.initial,
-                    &last,
-                    &flow,
-                    sim.flow().map_or(0.0, |f| f.energy_out - f.energy_in),
-                ),
-            },
+            energy: self.energy(&last, &flow),
             temperature: avg.temperature(),
-            compressibility_factor,
+            compressibility_factor: self.compressibility_factor(&last, measured),
             packing_fraction: box_area.map(|a| n as f64 * mean_disk_area(s) / a),
             max_overlap: sim.max_overlap(),
             com_height: scene.gravity.and(avg.com_height()),
@@ -100,16 +75,7 @@ impl<E: Integrator> Driver<'_, E> {
                 (Some(_), Some((dt, w))) => Some((counts.floor - w.floor_impacts) as f64 / dt),
                 _ => None,
             },
-            floor_pressure: match (&scene.floor, scene.gravity, measured) {
-                (Some(_), Some(g), Some((dt, w))) => {
-                    let mass: f64 = sim.disks().mass.iter().sum();
-                    Some(FloorPressure {
-                        measured: (flow.floor_impulse - w.floor_impulse) / (dt * s.domain.width),
-                        weight: mass * g / s.domain.width,
-                    })
-                }
-                _ => None,
-            },
+            floor_pressure: self.floor_pressure(flow.floor_impulse, measured),
             at_rest_since,
             rest_wakes: Some(sim.rest_wakes()).filter(|&w| w > 0),
             profiles,
@@ -117,24 +83,93 @@ impl<E: Integrator> Driver<'_, E> {
             state,
             fields: avg.fields.clone().filter(|f| f.samples() > 0),
             velocity_distribution: avg.velocities.as_ref().and_then(|v| v.distribution()),
-            engine: EngineSummary {
-                scheme: setup.scheme.into(),
-                mask: setup.mask,
-                cell: setup.cell,
-                grid: setup.grid,
-                queue: setup.queue,
-                remap: setup.remap,
-                bytes_per_disk: setup.bytes as f64 / n as f64,
-                threads: setup.threads,
-                samples: avg.samples,
-            },
+            engine: self.engine_summary(),
             approximation: sim.approximation(),
             output_failures: self.failures.list(),
             stall: sim.stall_report().map(str::to_owned),
             flow: sim.flow().map(|f| {
                 let top = s.domain.exit_height.is_some();
-                crate::output::summary::FlowSummary::of(&f, sim.disks().len(), top)
+                FlowSummary::of(&f, sim.disks().len(), top)
             }),
+        }
+    }
+
+    /// The energies at the start and the end (`last`), what the floor injected and collisions
+    /// dissipated (`flow`), what disks carried out and in, and how well the budget closes.
+    fn energy(&self, last: &Observables, flow: &EnergyFlow) -> EnergySummary {
+        let pool = self.sim.flow();
+        EnergySummary {
+            initial: EnergyAt::from(&self.initial),
+            final_: EnergyAt::from(last),
+            injected: flow.injected,
+            dissipated: flow.dissipated,
+            carried_out: pool.map(|f| f.energy_out),
+            carried_in: pool.map(|f| f.energy_in),
+            balance_error: balance_error(
+                &self.initial,
+                last,
+                flow,
+                pool.map_or(0.0, |f| f.energy_out - f.energy_in),
+            ),
+        }
+    }
+
+    /// Z = PA/NkT from the virial over the window, in a closed elastic box (where kT, from the
+    /// kinetic energy at the end, is conserved).
+    fn compressibility_factor(&self, last: &Observables, measured: Measured) -> Option<f64> {
+        let (s, scene, sim) = (self.s, self.scene, &self.sim);
+        let n = sim.disks().len();
+        match (closed_elastic(s, scene), measured) {
+            (true, Some((dt, w))) if self.averages.samples > 0 => {
+                let kt = last.kinetic / n as f64; // conserved in a closed elastic box
+                Some(1.0 + (sim.virial() - w.virial) / (2.0 * dt * n as f64 * kt))
+            }
+            _ => None,
+        }
+    }
+
+    /// The pressure on the floor over the window (the momentum it gave, `impulse` so far, per
+    /// time and width) against the bed's weight per width.
+    fn floor_pressure(&self, impulse: f64, measured: Measured) -> Option<FloorPressure> {
+        let (s, scene) = (self.s, self.scene);
+        match (&scene.floor, scene.gravity, measured) {
+            (Some(_), Some(g), Some((dt, w))) => {
+                let mass: f64 = self.sim.disks().mass.iter().sum();
+                Some(FloorPressure {
+                    measured: (impulse - w.floor_impulse) / (dt * s.domain.width),
+                    weight: mass * g / s.domain.width,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// The motion against the floor's phase over the window, the piece of a bin from the last
+    /// edge to `end_time` booked.
+    fn phase_table(&self, end_time: f64) -> Option<PhaseTable> {
+        match (&self.scene.floor, &self.averages.phase) {
+            (Some(floor), Some(bins)) => {
+                let mut bins = bins.clone();
+                bins.book(self.stops.k_phase, floor_tally(&self.sim, end_time));
+                Some(bins.table(floor, self.s.domain.width))
+            }
+            _ => None,
+        }
+    }
+
+    /// How the engine was set up: scheme, mask, cells, grid, queue, re-mapping, memory, threads.
+    fn engine_summary(&self) -> EngineSummary {
+        let setup = self.sim.setup();
+        EngineSummary {
+            scheme: setup.scheme.into(),
+            mask: setup.mask,
+            cell: setup.cell,
+            grid: setup.grid,
+            queue: setup.queue,
+            remap: setup.remap,
+            bytes_per_disk: setup.bytes as f64 / self.sim.disks().len() as f64,
+            threads: setup.threads,
+            samples: self.averages.samples,
         }
     }
 }
