@@ -4,6 +4,7 @@
 use crate::engine::{Scene, Simulation};
 use crate::error::{Error, Result};
 use crate::output::frame::SceneLayout;
+use crate::output::open_recording;
 use crate::output::progress::{ProgressMode, ProgressReport, DEFAULT_EVERY};
 use crate::output::summary::Summary;
 use crate::output::trajectory::TrajectoryWriter;
@@ -25,11 +26,13 @@ mod failures;
 mod invariants;
 pub mod state;
 mod stops;
+mod streams;
 mod summary;
 mod views;
 mod wall_limit;
 
 use driver::Driver;
+use streams::{Streams, Takes};
 use wall_limit::WallLimit;
 
 /// Where frames go: the recording, or a test's collector.
@@ -201,23 +204,41 @@ struct Outputs {
     resume: Option<Box<Checkpoint>>,
 }
 
-/// The frame sink: the caller's, else a recording opened only now that the engine has accepted
-/// the initial state (a refused scene leaves no file behind).
-fn sink_for(
+/// The outputs streamed at stops, opened only now that the engine has accepted the initial
+/// state (a refused scene leaves no file behind): the frame sink — the caller's, else the
+/// recording — at the frames, and the trajectory of `--trajectory` or `output.trajectory` at its
+/// frames. A new streamed output is one more registration here.
+fn open_streams(
     out: &mut Outputs,
     s: &Scenario,
     layout: &SceneLayout,
-) -> Result<Option<Box<dyn FrameSink>>> {
-    match (out.sink.take(), &out.rrd) {
-        (Some(sink), _) => Ok(Some(sink)),
-        (None, Some(path)) => Ok(Some(crate::output::open_recording(
+    opts: &RunOptions,
+) -> Result<Streams> {
+    let mut streams = Streams::default();
+    let recording = match (out.sink.take(), &out.rrd) {
+        (Some(sink), _) => Some(sink),
+        (None, Some(path)) => Some(open_recording(
             path,
             s,
             layout,
             out.recording_id.as_deref(),
-        )?)),
-        (None, None) => Ok(None),
+        )?),
+        (None, None) => None,
+    };
+    if let Some(sink) = recording {
+        let path = out.rrd.clone().unwrap_or_default();
+        streams.add("recording", path, Takes::Frames, sink);
     }
+    let trajectory = opts
+        .trajectory
+        .clone()
+        .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
+    if let Some(path) = trajectory {
+        let w = TrajectoryWriter::create(&path, layout).map_err(Error::Io)?;
+        let path = w.partial().path.clone();
+        streams.add("trajectory", path, Takes::TrajectoryFrames, Box::new(w));
+    }
+    Ok(streams)
 }
 
 /// A run's engine, once built, is driven through the scenario: its frame sink opened only now
@@ -233,16 +254,8 @@ struct Driving<'a> {
 impl WithEngine for Driving<'_> {
     type Output = Summary;
     fn with<E: Integrator>(mut self, sim: E) -> Result<Summary> {
-        let sink = sink_for(&mut self.out, self.s, &self.layout)?;
-        drive(
-            sim,
-            self.s,
-            self.scene,
-            &self.layout,
-            sink,
-            self.out,
-            self.opts,
-        )
+        let streams = open_streams(&mut self.out, self.s, &self.layout, self.opts)?;
+        drive(sim, self.s, self.scene, streams, self.out, self.opts)
     }
 }
 
@@ -255,34 +268,10 @@ fn new_recording_id() -> String {
     format!("vibrobed-{nanos:x}")
 }
 
-/// The trajectory writer of `--trajectory` or `output.trajectory`, if any.
-fn open_trajectory(
-    s: &Scenario,
-    layout: &SceneLayout,
-    opts: &RunOptions,
-) -> Result<Option<TrajectoryWriter>> {
-    let path = opts
-        .trajectory
-        .clone()
-        .or_else(|| s.output.trajectory.as_ref().map(PathBuf::from));
-    path.map(|p| TrajectoryWriter::create(&p, layout).map_err(Error::Io))
-        .transpose()
-}
-
 /// What the watch looks at: the recording's and the trajectory's temporary files, and the
 /// directories of the checkpoint and of the files written at the end.
 fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Target> {
-    let streamed = [
-        driver
-            .sink
-            .as_ref()
-            .and_then(|s| s.file())
-            .map(|f| ("recording", f)),
-        driver
-            .trajectory
-            .as_ref()
-            .map(|w| ("trajectory", w.partial().clone())),
-    ];
+    let streamed = driver.streams.files();
     let later = opts
         .checkpoint
         .iter()
@@ -290,7 +279,6 @@ fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Ta
         .chain(opts.written_after.iter().cloned());
     streamed
         .into_iter()
-        .flatten()
         .map(|(output, file)| Target::streamed(output, file))
         .chain(later.map(|(output, path)| Target::later(output, &path)))
         .collect()
@@ -301,20 +289,15 @@ fn drive<E: Integrator>(
     sim: E,
     s: &Scenario,
     scene: &Scene,
-    layout: &SceneLayout,
-    sink: Option<Box<dyn FrameSink>>,
+    streams: Streams,
     out: Outputs,
     opts: &RunOptions,
 ) -> Result<Summary> {
-    let trajectory = open_trajectory(s, layout, opts)?;
-    let mut driver = Driver::new(sim, s, scene, sink, trajectory, opts, out.recording_id);
+    let mut driver = Driver::new(sim, s, scene, streams, opts, out.recording_id);
     if let Some(ck) = out.resume {
         driver.resume(*ck)?;
     }
-    if let Some(rrd) = out.rrd {
-        driver.recordings.push(rrd.clone());
-        driver.rrd = Some(rrd);
-    }
+    driver.recordings.extend(out.rrd);
     driver.watch = Watch::start(watch_targets(&driver, opts));
     let limit = s
         .run

@@ -43,8 +43,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::frame::{FrameView, SceneLayout};
+use super::frame::{FrameSink, FrameView, SceneLayout};
 use super::partial::Partial;
+use crate::error::Error;
 
 /// The element symbols written for species 0, 1, 2, … (atomic numbers 1, 2, 3, …).
 const SYMBOLS: [&str; 36] = [
@@ -227,6 +228,22 @@ impl TrajectoryWriter {
             let _ = out.into_parts();
         }
         self.partial.discard();
+    }
+}
+
+/// A run streams its trajectory frames as it streams its recording; a trajectory has no text.
+impl FrameSink for TrajectoryWriter {
+    fn frame(&mut self, frame: &FrameView) -> crate::error::Result<()> {
+        TrajectoryWriter::frame(self, frame).map_err(Error::Io)
+    }
+    fn log_text(&mut self, _time: f64, _level: &str, _text: &str) -> crate::error::Result<()> {
+        Ok(())
+    }
+    fn finish(self: Box<Self>) -> crate::error::Result<()> {
+        TrajectoryWriter::finish(*self).map(drop).map_err(Error::Io)
+    }
+    fn file(&self) -> Option<Partial> {
+        Some(self.partial().clone())
     }
 }
 

@@ -6,8 +6,9 @@ use super::averages::{empty_profiles, empty_velocities, field_grid, state_grid, 
 use super::failures::Failures;
 use super::state::DriverState;
 use super::stops::Stops;
+use super::streams::{Streams, Takes};
 use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
-use super::{CheckpointPlan, FrameSink, RunOptions};
+use super::{CheckpointPlan, RunOptions};
 use crate::engine::{Progress, Scene, Snapshot};
 use crate::error::{Error, Result};
 use crate::measure::fields::Fields;
@@ -16,13 +17,12 @@ use crate::measure::Observables;
 use crate::output::frame::{frame_series, spread_by_id, FrameView};
 use crate::output::progress::ProgressReport;
 use crate::output::summary::{Ending, Summary};
-use crate::output::trajectory::TrajectoryWriter;
 use crate::output::watch::Watch;
 use crate::physics::disks::Disks;
 use crate::run::checkpoint::Checkpoint;
 use crate::scenario::Scenario;
 use crate::schemes::Integrator;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -32,8 +32,8 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) sim: E,
     pub(super) s: &'a Scenario,
     pub(super) scene: &'a Scene,
-    pub(super) sink: Option<Box<dyn FrameSink>>,
-    pub(super) trajectory: Option<TrajectoryWriter>,
+    /// The outputs streamed at stops (recording, trajectory).
+    pub(super) streams: Streams,
     pub(super) g: f64,
     /// The time of the current stop.
     pub(super) now: f64,
@@ -58,8 +58,6 @@ pub(super) struct Driver<'a, E: Integrator> {
     /// Wall time of the parts before a resume, and the clock of this part.
     pub(super) wall_before: f64,
     pub(super) clock: Instant,
-    /// The recording file of this part, if one is written.
-    pub(super) rrd: Option<PathBuf>,
     /// Outputs that could not be written.
     pub(super) failures: Failures,
     /// The thread that notices output files removed during the run.
@@ -82,8 +80,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         mut sim: E,
         s: &'a Scenario,
         scene: &'a Scene,
-        sink: Option<Box<dyn FrameSink>>,
-        trajectory: Option<TrajectoryWriter>,
+        streams: Streams,
         opts: &RunOptions,
         recording_id: Option<String>,
     ) -> Driver<'a, E> {
@@ -108,7 +105,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             .then(|| empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks()));
         let state_fields = state_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()).map(Fields::new);
         let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every), phase);
-        let live_fields = (s.output.record_fields && sink.is_some())
+        let live_fields = (s.output.record_fields && streams.take(Takes::Frames))
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
             .flatten()
             .map(|grid| (Fields::new(grid), forget_factor(scene, stops.frame_dt)));
@@ -116,8 +113,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             sim,
             s,
             scene,
-            sink,
-            trajectory,
+            streams,
             g,
             now: 0.0,
             snap: Snapshot::default(),
@@ -144,7 +140,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
             recordings: Vec::new(),
             wall_before: 0.0,
             clock: Instant::now(),
-            rrd: None,
             failures: Failures::default(),
             watch: Watch::start(Vec::new()),
             live_fields,
@@ -258,8 +253,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
                 return Ok(Ending::Interrupted);
             }
             let stop = self.stops.next(
-                self.sink.is_some(),
-                self.trajectory.is_some(),
+                self.streams.take(Takes::Frames),
+                self.streams.take(Takes::TrajectoryFrames),
                 self.averages.window.is_some(),
             );
             match self.advance_to(stop.time)? {
@@ -406,9 +401,9 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A frame: the disks and the time series, to the sink (dropped if it fails).
     pub(super) fn frame(&mut self) {
         self.stops.k_frame += 1;
-        let Some(sink) = self.sink.as_mut() else {
+        if !self.streams.take(Takes::Frames) {
             return;
-        };
+        }
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let sim = &self.sim;
         let snap = &self.snap;
@@ -451,58 +446,21 @@ impl<'a, E: Integrator> Driver<'a, E> {
             spins.as_deref(),
         );
         view.fields = self.live_fields.as_ref().map(|(f, _)| f);
-        let sent = sink.frame(&view);
-        if let Err(e) = sent {
-            self.drop_recording(e, false);
-        }
-    }
-
-    /// A line of text to the sink (dropped if it fails).
-    fn log_text(&mut self, time: f64, level: &str, text: &str) {
-        if let Some(Err(e)) = self.sink.as_mut().map(|s| s.log_text(time, level, text)) {
-            self.drop_recording(e, false);
-        }
-    }
-
-    /// The recording failed (`said`: the watch has said so): the run goes on without it.
-    fn drop_recording(&mut self, e: Error, said: bool) {
-        self.sink = None; // Its writer has stopped; dropping it removes its temporary file.
-        let path = self.rrd.clone().unwrap_or_default();
         let time = self.sim.time();
-        self.failures.record("recording", &path, e, time, said);
+        (self.streams).frame(Takes::Frames, &view, time, &mut self.failures);
     }
 
-    /// The trajectory failed (`said`: the watch has said so): the run goes on without it.
-    fn drop_trajectory(&mut self, e: Error, said: bool) {
-        if let Some(w) = self.trajectory.take() {
-            let path = w.partial().path.clone();
-            drop(w);
-            let time = self.sim.time();
-            self.failures.record("trajectory", &path, e, time, said);
-        }
+    /// A line of text to the streamed outputs.
+    fn log_text(&mut self, at: f64, level: &str, text: &str) {
+        let time = self.sim.time();
+        (self.streams).log_text(at, (level, text), time, &mut self.failures);
     }
 
     /// Drops the outputs whose files the watch found gone (it has said so).
     fn drop_outputs_gone(&mut self) {
+        let time = self.sim.time();
         for output in self.watch.gone() {
-            let gone = |path: &Path| {
-                Error::Io(format!(
-                    "{output} {}: removed during the run",
-                    crate::output::partial::partial_name(path).display()
-                ))
-            };
-            match output {
-                "recording" if self.sink.is_some() => {
-                    let e = gone(self.rrd.as_deref().unwrap_or(Path::new("")));
-                    self.drop_recording(e, true);
-                }
-                "trajectory" => {
-                    if let Some(e) = self.trajectory.as_ref().map(|w| gone(&w.partial().path)) {
-                        self.drop_trajectory(e, true);
-                    }
-                }
-                _ => {} // Written later: writing it will tell.
-            }
+            self.streams.gone(output, time, &mut self.failures);
         }
     }
 
@@ -525,45 +483,40 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// A trajectory frame: every disk, to the extended XYZ file (dropped if it fails).
     pub(super) fn trajectory_frame(&mut self) {
         self.stops.k_trajectory += 1;
-        let Some(w) = self.trajectory.as_mut() else {
+        if !self.streams.take(Takes::TrajectoryFrames) {
             return;
-        };
+        }
         fill_snapshot(&self.sim, self.now, &mut self.snap);
         let (snap, d) = (&self.snap, self.sim.disks());
         let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
         let spins = self.sim.spins_at(self.now);
-        let written = w.frame(&FrameView::of(
+        let view = FrameView::of(
             self.stops.k_trajectory - 1,
             snap,
             (&radius, &species),
             (&[], None),
             spins.as_deref(),
-        ));
-        if let Err(e) = written {
-            self.drop_trajectory(Error::Io(e), false);
-        }
+        );
+        let time = self.sim.time();
+        (self.streams).frame(Takes::TrajectoryFrames, &view, time, &mut self.failures);
     }
 
-    /// Closes the recording with a note on how the run ended.
-    pub(super) fn close_sink(&mut self, ending: Ending, end_time: f64) {
-        if self.sink.is_some() {
-            let note = match ending {
-                Ending::Completed => "run completed".to_string(),
-                Ending::Interrupted => format!("interrupted at t = {end_time}"),
-                Ending::EventLimit => format!("event limit reached at t = {end_time}"),
-                Ending::WallLimit => format!("wall-clock limit reached at t = {end_time}"),
-                Ending::Stalled => format!("simulated time stopped advancing at t = {end_time}"),
-            };
-            let level = if ending == Ending::Completed {
-                "INFO"
-            } else {
-                "WARN"
-            };
-            self.log_text(end_time, level, &note);
-        }
-        if let Some(Err(e)) = self.sink.take().map(|sink| sink.finish()) {
-            self.drop_recording(e, false);
-        }
+    /// Closes the streamed outputs with a note on how the run ended.
+    fn close_streams(&mut self, ending: Ending, end_time: f64) {
+        let note = match ending {
+            Ending::Completed => "run completed".to_string(),
+            Ending::Interrupted => format!("interrupted at t = {end_time}"),
+            Ending::EventLimit => format!("event limit reached at t = {end_time}"),
+            Ending::WallLimit => format!("wall-clock limit reached at t = {end_time}"),
+            Ending::Stalled => format!("simulated time stopped advancing at t = {end_time}"),
+        };
+        let level = if ending == Ending::Completed {
+            "INFO"
+        } else {
+            "WARN"
+        };
+        let time = self.sim.time();
+        (self.streams).close((end_time, level, &note), time, &mut self.failures);
     }
 
     /// Ends the run: the final state, the outputs closed, the summary.
@@ -583,15 +536,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.checkpoint()?;
         progress.finish(ending, end_time, self.sim.counts().collisions());
         self.drop_outputs_gone();
-        if let Some(w) = self.trajectory.take() {
-            let path = w.partial().path.clone();
-            if let Err(e) = w.finish() {
-                let time = self.sim.time();
-                self.failures
-                    .record("trajectory", &path, Error::Io(e), time, false);
-            }
-        }
-        self.close_sink(ending, end_time);
+        self.close_streams(ending, end_time);
         Ok(self.summarise(ending, end_time, wall))
     }
 }
