@@ -18,7 +18,8 @@
 //! - [`schemes`]: the approximate time-step and space-time schemes, for comparison;
 //! - [`measure`]: what is measured (energies, temperature, profiles, the phase-resolved motion);
 //! - [`output`]: what is written (summary, recording, trajectories, progress);
-//! - [`run`]: one run from scenario to outputs (driver, stops, checkpoints);
+//! - [`run`]: one run from scenario to outputs (the driver from stop to stop, the outputs
+//!   streamed at stops, the summary, checkpoints);
 //! - [`studies`]: what is made of many runs — accuracy against cost, parameter sweeps on local
 //!   cores or Slurm — and the figures they draw;
 //! - [`cli`]: the command line.
