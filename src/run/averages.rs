@@ -50,6 +50,34 @@ pub(super) struct Averages {
 }
 
 impl Averages {
+    /// Nothing averaged yet, in the bins, fields and bands the scene asks for (`fields`: the
+    /// 2D fields of `run --fields`), laid out from the disks' states at the start.
+    pub(super) fn new(
+        s: &Scenario,
+        scene: &Scene,
+        states: &impl States,
+        disks: &Disks,
+        fields: bool,
+    ) -> Averages {
+        Averages {
+            window: None,
+            temperature: [0.0; 2],
+            rotational: None,
+            com_height: 0.0,
+            samples: 0,
+            profiles: empty_profiles(s, scene, states, disks),
+            phase: None,
+            at_rest: 0.0,
+            state_fields: state_grid(s, scene, states, disks).map(Fields::new),
+            fields: fields
+                .then(|| field_grid(s, scene, states, disks))
+                .flatten()
+                .map(Fields::new),
+            velocities: (s.output.velocity_distribution)
+                .then(|| empty_velocities(s, scene, states, disks)),
+        }
+    }
+
     /// Adds one sample (after the warm-up only).
     pub(super) fn add(&mut self, states: &impl States, disks: &Disks, o: &Observables) {
         self.temperature[0] += o.temperature[0];

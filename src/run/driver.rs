@@ -2,15 +2,14 @@
 //! samples, the phase bins, frames, trajectory frames, checkpoints. The summary is made in
 //! `summary`, the engine's states read through `views`.
 
-use super::averages::{empty_profiles, empty_velocities, field_grid, state_grid, Averages, Window};
+use super::averages::{field_grid, Averages, Window};
 use super::failures::Failures;
-use super::state::DriverState;
 use super::stops::Stops;
 use super::streams::{Streams, Takes};
 use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
 use super::{CheckpointPlan, RunOptions};
 use crate::engine::{Progress, Scene, Snapshot};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::measure::fields::Fields;
 use crate::measure::phase::{PhaseBins, PhaseClock};
 use crate::measure::Observables;
@@ -19,7 +18,6 @@ use crate::output::progress::ProgressReport;
 use crate::output::summary::{Ending, Summary};
 use crate::output::watch::Watch;
 use crate::physics::disks::Disks;
-use crate::run::checkpoint::Checkpoint;
 use crate::scenario::Scenario;
 use crate::schemes::Integrator;
 use std::path::PathBuf;
@@ -89,21 +87,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
         }
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
-        let profiles = empty_profiles(s, scene, &StatesAt(&sim, 0.0), sim.disks());
+        let averages = Averages::new(s, scene, &StatesAt(&sim, 0.0), sim.disks(), opts.fields);
         let phase = match (&scene.floor, scene.gravity) {
             (Some(f), Some(_)) => PhaseClock::of(f, s.output.phase_bins, s.sample_interval()),
             _ => None,
         };
-        let fields = opts
-            .fields
-            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
-            .flatten()
-            .map(Fields::new);
-        let velocities = s
-            .output
-            .velocity_distribution
-            .then(|| empty_velocities(s, scene, &StatesAt(&sim, 0.0), sim.disks()));
-        let state_fields = state_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()).map(Fields::new);
         let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every), phase);
         let live_fields = (s.output.record_fields && streams.take(Takes::Frames))
             .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
@@ -119,19 +107,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             snap: Snapshot::default(),
             initial,
             stops,
-            averages: Averages {
-                window: None,
-                temperature: [0.0; 2],
-                rotational: None,
-                com_height: 0.0,
-                samples: 0,
-                profiles,
-                phase: None,
-                at_rest: 0.0,
-                state_fields,
-                fields,
-                velocities,
-            },
+            averages,
             last_frame_collisions: 0,
             at_rest_since: None,
             interrupt: opts.interrupt,
@@ -147,89 +123,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
             spare: Snapshot::default(),
             sizes: None,
         }
-    }
-
-    /// Continues the run a checkpoint holds: the engine's state, the stop schedule (to the new
-    /// duration), the averages so far. The duration may be extended, not cut below the
-    /// checkpoint's time.
-    pub(super) fn resume(&mut self, ck: Checkpoint) -> Result<()> {
-        let at = ck.driver.time;
-        if self.stops.duration < at {
-            return Err(Error::input(
-                "run.duration",
-                format!(
-                    "the checkpoint is at t = {at}; a resumed run must end at or after it (got {})",
-                    self.stops.duration
-                ),
-            ));
-        }
-        if ck.driver.averages.profiles.is_some() != self.averages.profiles.is_some() {
-            return Err(Error::input(
-                "CHECKPOINT",
-                "its profiles do not fit this scene",
-            ));
-        }
-        let mut d = ck.driver;
-        match (&self.averages.fields, &d.averages.fields) {
-            (Some(_), None) if d.averages.window.is_some() => {
-                return Err(Error::input(
-                    "--fields",
-                    "the checkpointed run did not measure 2D fields after its warm-up: run it \
-                     with --fields to resume with them",
-                ))
-            }
-            (Some(_), None) => d.averages.fields = self.averages.fields.take(),
-            _ => {}
-        }
-        self.sim.restore_state(ck.engine)?;
-        let duration = self.stops.duration;
-        self.stops = Stops {
-            duration,
-            ..d.stops
-        };
-        self.stops.resume_at(
-            self.sim.time(),
-            self.checkpoint.as_ref().and_then(|c| c.every),
-        );
-        self.averages = d.averages;
-        self.initial = d.initial;
-        self.last_frame_collisions = d.last_frame_collisions;
-        self.at_rest_since = d.at_rest_since;
-        self.wall_before = d.wall_seconds;
-        self.recordings = ck.recordings;
-        Ok(())
-    }
-
-    /// Writes a checkpoint, if asked: the engine between events, this driver, the scene's text.
-    pub(super) fn save_checkpoint(&self) -> Result<()> {
-        let Some(plan) = &self.checkpoint else {
-            return Ok(());
-        };
-        let engine = self.sim.saved_state().ok_or_else(|| {
-            Error::input(
-                "engine.scheme",
-                "only the event-driven scheme can be checkpointed",
-            )
-        })?;
-        Checkpoint {
-            scenario: plan.scenario.clone(),
-            source: plan.source.clone(),
-            sets: plan.sets.clone(),
-            every: plan.every,
-            recording_id: self.recording_id.clone(),
-            recordings: self.recordings.clone(),
-            driver: DriverState {
-                stops: self.stops,
-                averages: self.averages.clone(),
-                initial: self.initial,
-                last_frame_collisions: self.last_frame_collisions,
-                at_rest_since: self.at_rest_since,
-                wall_seconds: self.wall_before + self.clock.elapsed().as_secs_f64(),
-                time: self.sim.time(),
-            },
-            engine,
-        }
-        .write(&plan.path)
     }
 
     /// Runs from stop to stop until the duration, the event limit or an interrupt, every sample
@@ -356,7 +249,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
     }
 
     /// Adds the sample taken at the last stop, if it is not in the averages yet.
-    fn settle(&mut self) {
+    pub(super) fn settle(&mut self) {
         if let Some(taken) = self.taken.take() {
             taken.add_to(&mut self.averages, self.sim.disks(), self.g);
             self.spare = taken.snap;
@@ -462,22 +355,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
         for output in self.watch.gone() {
             self.streams.gone(output, time, &mut self.failures);
         }
-    }
-
-    /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes
-    /// on), any other error ends the run.
-    fn checkpoint(&mut self) -> Result<()> {
-        self.settle(); // the averages saved hold every sample taken
-        let path = self.checkpoint.as_ref().map(|c| c.path.clone());
-        let time = self.sim.time();
-        match (self.save_checkpoint(), path) {
-            (Ok(()), Some(path)) => self.failures.checkpoint_written(&path, time),
-            (Err(e @ Error::Io(_)), Some(path)) => {
-                self.failures.record("checkpoint", &path, e, time, false)
-            }
-            (result, _) => result?,
-        }
-        Ok(())
     }
 
     /// A trajectory frame: every disk, to the extended XYZ file (dropped if it fails).
