@@ -24,6 +24,7 @@ pub mod checkpoint;
 mod driver;
 mod failures;
 mod invariants;
+mod resume;
 pub mod state;
 mod stops;
 mod streams;
