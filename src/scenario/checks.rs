@@ -1171,7 +1171,8 @@ fn collapse_without_cure(s: &Scenario) -> Option<String> {
         "collisions.restitution = {} with no cure of inelastic collapse: a bed settling on the \
          floor may collapse (infinitely many collisions in finite time) before it comes to \
          rest, and the run then ends at run.max_events; collisions.tc (10⁻³ √(d/g) is a good \
-         start) lets it settle",
+         start) lets it settle, and engine.scheme = \"hybrid\" also runs a dense bed (riding \
+         or resting on the floor) at a fixed cost",
         c.restitution
     ))
 }
