@@ -99,3 +99,23 @@ fn a_hybrid_run_repeats_bit_for_bit() {
     assert!(a.get("approximation").is_some());
     assert_eq!(a, b);
 }
+
+/// `run.max_events` bounds the whole run, whichever engine holds it: a hybrid run asked for a
+/// tenth or half of the events of its whole stops with the event limit before its end.
+#[test]
+fn the_event_limit_holds_across_hand_overs() {
+    let s = scenario(&["floor.gamma=0.5"]);
+    let mut whole = engine(&s);
+    assert_eq!(whole.advance_to(40.0).unwrap(), Progress::Reached);
+    let total = whole.counts().guarded();
+    for limit in [total / 10, total / 2] {
+        let s = scenario(&["floor.gamma=0.5", &format!("run.max_events={limit}")]);
+        let mut sim = engine(&s);
+        assert_eq!(
+            sim.advance_to(40.0).unwrap(),
+            Progress::EventLimit,
+            "{limit}"
+        );
+        assert!(sim.time() < 40.0 && sim.counts().guarded() >= limit);
+    }
+}
