@@ -32,10 +32,11 @@ pub const RATE_IN: f64 = 50.0;
 /// hands back: a bed at rest has about two, a gas almost none.
 pub const CONTACTS_OUT: f64 = 0.3;
 
-/// The exact part's TC where the scene sets none: the book's advice. Inelastic collapse is a
-/// finite-time singularity of the exact dynamics, not a dense bed; TC removes it where it starts
-/// (two collisions of a disk within 10⁻³ time units) and leaves the gas's collisions as they are.
-pub const DEFAULT_TC: f64 = 1e-3;
+/// The exact part's TC where the scene sets none. Inelastic collapse is a finite-time singularity
+/// of the exact dynamics where a few disks start to ring, not a dense bed: TC removes it where it
+/// starts. At 10⁻⁴ the fluidized shipped bed (Γ = 3) keeps its centre of mass and temperature
+/// within the seed spread of the run without TC; at 10⁻³ both rose by 1–4 %.
+pub const DEFAULT_TC: f64 = 1e-4;
 
 /// The engine running now.
 #[derive(Debug)]

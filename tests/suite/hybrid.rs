@@ -42,11 +42,11 @@ fn momentum_y(sim: &Handover<Ballistic>) -> f64 {
 }
 
 /// A fluidized bed (Γ = 3) never turns dense: the hybrid scheme is the exact engine with TC at
-/// 10⁻³, its summary the same bit for bit but for the scheme's name.
+/// 10⁻⁴, its summary the same bit for bit but for the scheme's name.
 #[test]
 fn a_gas_stays_with_the_exact_engine_event_for_event() {
     let hybrid = scenario(&[]);
-    let exact = scenario(&["engine.scheme=event-driven", "collisions.tc=0.001"]);
+    let exact = scenario(&["engine.scheme=event-driven", "collisions.tc=0.0001"]);
     let (mut a, _) = same_run::summary(&hybrid, &[]);
     let (mut b, _) = same_run::summary(&exact, &[]);
     assert!(a.get("approximation").is_none(), "{}", a["approximation"]);
