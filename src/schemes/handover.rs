@@ -58,6 +58,16 @@ struct Done {
     handovers: u64,
 }
 
+/// `$body` with `$e` the engine running now (`&Box` or `&mut Box` of either), whichever it is.
+macro_rules! on_part {
+    ($part:expr, $e:ident => $body:expr) => {
+        match $part {
+            Part::Exact($e) => $body,
+            Part::Dense($e) => $body,
+        }
+    };
+}
+
 /// The hybrid engine.
 #[derive(Debug)]
 pub struct Handover<F: Flight> {
@@ -193,16 +203,7 @@ impl<F: Flight> Handover<F> {
         d.max_overlap = d.max_overlap.max(overlap);
         d.handovers += 1;
         if let Part::Dense(c) = &self.part {
-            let s = c.approximation().unwrap_or_default();
-            d.stats.step = s.step;
-            d.stats.steps += s.steps;
-            d.stats.sweeps += s.sweeps;
-            d.stats.deep_overlaps += s.deep_overlaps;
-            d.stats.missed += s.missed;
-            d.stats.max_boundary_penetration = d
-                .stats
-                .max_boundary_penetration
-                .max(s.max_boundary_penetration);
+            add_steps(&mut d.stats, c.approximation().unwrap_or_default());
             d.dense_time += tau;
         }
     }
@@ -245,45 +246,27 @@ impl<F: Flight> Handover<F> {
     }
 
     fn local_time(&self) -> f64 {
-        match &self.part {
-            Part::Exact(sim) => Integrator::time(&**sim),
-            Part::Dense(c) => c.time(),
-        }
+        on_part!(&self.part, e => Integrator::time(e.as_ref()))
     }
 
     fn part_counts(&self) -> EventCounts {
-        match &self.part {
-            Part::Exact(sim) => Integrator::counts(&**sim),
-            Part::Dense(c) => c.counts(),
-        }
+        on_part!(&self.part, e => Integrator::counts(e.as_ref()))
     }
 
     fn part_flow(&self, tau: f64) -> EnergyFlow {
-        match &self.part {
-            Part::Exact(sim) => Integrator::energy_flow_at(&**sim, tau),
-            Part::Dense(c) => c.energy_flow_at(tau),
-        }
+        on_part!(&self.part, e => Integrator::energy_flow_at(e.as_ref(), tau))
     }
 
     fn part_virial(&self) -> f64 {
-        match &self.part {
-            Part::Exact(sim) => Integrator::virial(&**sim),
-            Part::Dense(c) => c.virial(),
-        }
+        on_part!(&self.part, e => Integrator::virial(e.as_ref()))
     }
 
     fn part_max_overlap(&self) -> f64 {
-        match &self.part {
-            Part::Exact(sim) => Integrator::max_overlap(&**sim),
-            Part::Dense(c) => c.max_overlap(),
-        }
+        on_part!(&self.part, e => Integrator::max_overlap(e.as_ref()))
     }
 
     fn part_set_interrupt(&mut self, flag: &'static AtomicBool) {
-        match &mut self.part {
-            Part::Exact(sim) => Integrator::set_interrupt(&mut **sim, flag),
-            Part::Dense(c) => c.set_interrupt(flag),
-        }
+        on_part!(&mut self.part, e => Integrator::set_interrupt(e.as_mut(), flag))
     }
 
     /// The exact engine runs to `target` within the window's collision budget; past it, the run
@@ -363,10 +346,7 @@ impl<F: Flight> Integrator for Handover<F> {
         self.part_set_interrupt(flag);
     }
     fn disks(&self) -> &Disks {
-        match &self.part {
-            Part::Exact(sim) => Integrator::disks(&**sim),
-            Part::Dense(c) => c.disks(),
-        }
+        on_part!(&self.part, e => Integrator::disks(e.as_ref()))
     }
     fn time(&self) -> f64 {
         self.t0 + self.local_time()
@@ -387,28 +367,16 @@ impl<F: Flight> Integrator for Handover<F> {
         }
     }
     fn visit_states(&self, t: f64, visit: impl FnMut(usize, [f64; 4])) {
-        match &self.part {
-            Part::Exact(sim) => Integrator::visit_states(&**sim, t - self.t0, visit),
-            Part::Dense(c) => c.visit_states(t - self.t0, visit),
-        }
+        on_part!(&self.part, e => Integrator::visit_states(e.as_ref(), t - self.t0, visit))
     }
     fn floor_height_at(&self, t: f64) -> Option<f64> {
-        match &self.part {
-            Part::Exact(sim) => Integrator::floor_height_at(&**sim, t - self.t0),
-            Part::Dense(c) => c.floor_height_at(t - self.t0),
-        }
+        on_part!(&self.part, e => Integrator::floor_height_at(e.as_ref(), t - self.t0))
     }
     fn rotational_energy(&self, t: f64) -> Option<f64> {
-        match &self.part {
-            Part::Exact(sim) => Integrator::rotational_energy(&**sim, t - self.t0),
-            Part::Dense(c) => c.rotational_energy(t - self.t0),
-        }
+        on_part!(&self.part, e => Integrator::rotational_energy(e.as_ref(), t - self.t0))
     }
     fn spins_at(&self, t: f64) -> Option<Vec<(f64, f64)>> {
-        match &self.part {
-            Part::Exact(sim) => Integrator::spins_at(&**sim, t - self.t0),
-            Part::Dense(c) => c.spins_at(t - self.t0),
-        }
+        on_part!(&self.part, e => Integrator::spins_at(e.as_ref(), t - self.t0))
     }
     fn inertia_factor(&self) -> Option<f64> {
         self.template.spins.as_ref().map(|s| s.q)
@@ -451,11 +419,7 @@ impl<F: Flight> Integrator for Handover<F> {
         let mut s = self.done.stats;
         let mut dense_time = self.done.dense_time;
         if let Part::Dense(c) = &self.part {
-            let p = c.approximation().unwrap_or_default();
-            s.step = p.step;
-            s.steps += p.steps;
-            s.sweeps += p.sweeps;
-            s.deep_overlaps += p.deep_overlaps;
+            add_steps(&mut s, c.approximation().unwrap_or_default());
             dense_time += c.time();
         }
         s.handovers = self.done.handovers;
@@ -480,4 +444,16 @@ impl<F: Flight> Integrator for Handover<F> {
             Part::Dense(_) => 0,
         }
     }
+}
+
+/// Adds a part of contact dynamics' steps and errors to the run's.
+fn add_steps(total: &mut SchemeStats, part: SchemeStats) {
+    total.step = part.step;
+    total.steps += part.steps;
+    total.sweeps += part.sweeps;
+    total.deep_overlaps += part.deep_overlaps;
+    total.missed += part.missed;
+    total.max_boundary_penetration = total
+        .max_boundary_penetration
+        .max(part.max_boundary_penetration);
 }

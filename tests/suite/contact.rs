@@ -4,7 +4,7 @@
 //! floor slows at μg and rolls on at v₀/(1 + q) (Coulomb), a bed on a static floor rests on it
 //! without sinking, and a run repeats bit for bit.
 
-use crate::common::same_run;
+use crate::common::{momentum_y, same_run};
 use vibrobed::engine::Scene;
 use vibrobed::physics::flight::Ballistic;
 use vibrobed::schemes::contact::Contact;
@@ -32,14 +32,6 @@ fn scenario(json: &str, sets: &[&str]) -> Scenario {
 fn engine(s: &Scenario) -> Contact<Ballistic> {
     let (scene, disks) = Scene::build(s).expect("scene");
     Contact::new(Ballistic { g: 1.0 }, &scene, disks, &s.engine).expect("engine")
-}
-
-/// Σ m v_y of the disks at the engine's time.
-fn momentum_y(sim: &Contact<Ballistic>) -> f64 {
-    let mut p = 0.0;
-    let t = sim.time();
-    sim.visit_states(t, |i, s| p += sim.disks().mass[i] * s[3]);
-    p
 }
 
 /// Pair impulses are internal: whatever the bed does, the floor's impulse is the change of

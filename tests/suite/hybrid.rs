@@ -2,7 +2,7 @@
 //! event; a dense bed goes to contact dynamics and, once it comes apart, back; momentum is
 //! conserved across every hand-over; a run repeats bit for bit.
 
-use crate::common::same_run;
+use crate::common::{momentum_y, same_run};
 use serde_json::Value;
 use vibrobed::engine::{Progress, Scene};
 use vibrobed::physics::flight::Ballistic;
@@ -31,14 +31,6 @@ fn scenario(sets: &[&str]) -> Scenario {
 fn engine(s: &Scenario) -> Handover<Ballistic> {
     let (scene, disks) = Scene::build(s).expect("scene");
     Handover::new(Ballistic { g: 1.0 }, &scene, disks, &s.engine).expect("engine")
-}
-
-/// Σ m v_y of the disks at the engine's time.
-fn momentum_y(sim: &Handover<Ballistic>) -> f64 {
-    let mut p = 0.0;
-    let t = sim.time();
-    sim.visit_states(t, |i, s| p += sim.disks().mass[i] * s[3]);
-    p
 }
 
 /// A fluidized bed (Γ = 3) never turns dense: the hybrid scheme is the exact engine with TC at

@@ -38,3 +38,11 @@ pub fn ballistic(json: &str) -> Simulation<Ballistic> {
 pub fn crate_path(rel: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
+
+/// Σ m v_y of the disks at the engine's time.
+pub fn momentum_y<E: vibrobed::schemes::Integrator>(sim: &E) -> f64 {
+    let mut p = 0.0;
+    let t = sim.time();
+    sim.visit_states(t, |i, s| p += sim.disks().mass[i] * s[3]);
+    p
+}
