@@ -14,9 +14,15 @@ use vibrobed::run::checkpoint::Checkpoint;
 use vibrobed::run::{CheckpointPlan, RunOptions};
 use vibrobed::Scenario;
 
-/// What a run hands back: the summary's JSON (the command line's, byte for byte) and the 2D
-/// fields when they were measured.
-pub type Ran = (String, Option<Py<PyDict>>);
+/// What a run hands back: the summary's JSON (the command line's, byte for byte), the 2D fields
+/// when they were measured, and what the Python side says at once without parsing the JSON: the
+/// ending and the outputs that failed (output, error).
+pub type Ran = (
+    String,
+    Option<Py<PyDict>>,
+    String,
+    Vec<(&'static str, String)>,
+);
 
 /// What a run starts from, beside its scenario and its files.
 pub struct Start {
@@ -66,14 +72,24 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
     ran(py, &summary)
 }
 
-/// The summary's JSON and the fields as numpy arrays.
+/// The summary's JSON, the fields as numpy arrays, the ending and the failed outputs.
 pub fn ran(py: Python<'_>, summary: &Summary) -> PyResult<Ran> {
     let fields = summary
         .fields
         .as_ref()
         .map(|f| fields_dict(py, f))
         .transpose()?;
-    Ok((summary.to_json(), fields))
+    let failures = summary
+        .output_failures
+        .iter()
+        .map(|f| (f.output, f.error.clone()))
+        .collect();
+    // The ending's name as the summary writes it (`event-limit`, …).
+    let ending = serde_json::to_value(summary.ending)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_owned))
+        .expect("an ending serialises as its name");
+    Ok((summary.to_json(), fields, ending, failures))
 }
 
 /// The 2D fields: `x` (the cells' centres across, `nx`) and `y` (up, `ny`), and each quantity

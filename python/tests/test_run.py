@@ -144,3 +144,21 @@ def test_numpy_is_imported_with_the_first_array(bed):
     out = subprocess.run([sys.executable, "-W", "ignore", "-c", code], capture_output=True,
                          text=True, check=True).stdout.split()
     assert out == ["False", "True"]
+
+
+def test_import_loads_nothing_a_run_does_not_need(bed, tmp_path):
+    """`import vibrobed` and a run of the shipped bed (no notes) that writes its summary import
+    no json, re, typing, warnings or numpy (the Python start is then the whole overhead over the
+    command line); reading the summary as a dict brings json."""
+    script = (
+        "import sys, vibrobed\n"
+        "heavy = ('json', 're', 'typing', 'warnings', 'numpy')\n"
+        "print(*sorted(m for m in heavy if m in sys.modules), sep=',')\n"
+        f"r = vibrobed.run({str(bed)!r}, summary={str(tmp_path / 's.json')!r})\n"
+        "print(r.ending, *sorted(m for m in heavy if m in sys.modules), sep=',')\n"
+        "r.summary\n"
+        "print('json' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert out == ["", "completed", "True"], out

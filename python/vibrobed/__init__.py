@@ -23,30 +23,27 @@ in a Rerun viewer embedded in the cell while it runs, and ``show("bed.rrd")`` a 
 
 from __future__ import annotations
 
-import json
 import os
-import warnings
-from typing import (
-    TYPE_CHECKING,
-    Any,
-    Dict,
-    Iterator,
-    List,
-    Mapping,
-    NamedTuple,
-    Optional,
-    Sequence,
-    Union,
-)
 
 from . import _vibrobed as _native
 from ._vibrobed import ScenarioError, __version__
 
-# numpy is imported where arrays are first made, not with the package: its import costs more
-# than Python's start (a tenth of a second), which a script that runs a scene and reads its
-# summary would pay for nothing; so is the viewer's module (threads, temporary files).
+# Nothing but the native module is imported with the package: a script that runs a scene and
+# writes its summary pays for no more than Python's start. json (and the re it pulls in),
+# typing, warnings and numpy are each imported where first needed (a dict scenario, the summary
+# read as a dict, a note, an array), the viewer's module with the viewer, the frame's type with
+# the first frame.
+TYPE_CHECKING = False
 if TYPE_CHECKING:
+    from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+
     import numpy as np
+
+    from ._frame import Frame
+
+    PathLike = Union[str, "os.PathLike[str]"]
+    Scenario = Union[PathLike, Mapping[str, Any]]
+    Sets = Union[None, str, Sequence[str], Mapping[str, Any]]
 
 __all__ = [
     "ScenarioError",
@@ -65,16 +62,14 @@ __all__ = [
     "Sweep",
 ]
 
-PathLike = Union[str, "os.PathLike[str]"]
-Scenario = Union[PathLike, Mapping[str, Any]]
-Sets = Union[None, str, Sequence[str], Mapping[str, Any]]
-
 
 def _given(scenario: Scenario) -> Dict[str, Any]:
     """The native functions' ``path`` or ``text`` for a file's path or a dict."""
-    if isinstance(scenario, Mapping):
-        return {"text": json.dumps(scenario)}
-    return {"path": os.fspath(scenario)}
+    if isinstance(scenario, (str, bytes, os.PathLike)):
+        return {"path": os.fspath(scenario)}
+    import json
+
+    return {"text": json.dumps(dict(scenario))}
 
 
 def _sets(sets: Sets) -> List[str]:
@@ -84,7 +79,9 @@ def _sets(sets: Sets) -> List[str]:
         return []
     if isinstance(sets, str):
         return [sets]
-    if isinstance(sets, Mapping):
+    if hasattr(sets, "items"):
+        import json
+
         return [f"{key}={json.dumps(value)}" for key, value in sets.items()]
     return [str(s) for s in sets]
 
@@ -146,9 +143,15 @@ def _arrays(value: Any) -> Any:
     return value
 
 
+def _warn(message: str, stacklevel: int) -> None:
+    import warnings
+
+    warnings.warn(message, stacklevel=stacklevel + 1)
+
+
 def _advise(notes: Sequence[str], stacklevel: int = 3) -> None:
     for note in notes:
-        warnings.warn(f"vibrobed: note: {note}", stacklevel=stacklevel)
+        _warn(f"vibrobed: note: {note}", stacklevel)
 
 
 class Fields:
@@ -181,15 +184,29 @@ class Result:
     ``velocity_distribution`` and ``phase`` (when the scenario measures them), ``summary_json``
     (the summary's text, byte for byte the command line's)."""
 
-    def __init__(self, summary_json: str, fields: Optional[Dict[str, np.ndarray]]):
+    def __init__(
+        self,
+        summary_json: str,
+        fields: Optional[Dict[str, np.ndarray]],
+        ending: str,
+        output_failures: Sequence[Any] = (),
+    ):
         self.summary_json = summary_json
-        self.summary: Dict[str, Any] = json.loads(summary_json)
+        self.ending = ending
+        """``completed``, ``interrupted``, ``event-limit``, ``wall-limit`` or ``stalled``."""
+        # The outputs that could not be written, (output, error): warned of at once.
+        self._output_failures = list(output_failures)
         self.fields = Fields(fields) if fields is not None else None
+        self._summary: Optional[Dict[str, Any]] = None
 
     @property
-    def ending(self) -> str:
-        """``completed``, ``interrupted``, ``event-limit``, ``wall-limit`` or ``stalled``."""
-        return self.summary["ending"]
+    def summary(self) -> Dict[str, Any]:
+        """The summary as a dict (read from ``summary_json`` when first asked for)."""
+        if self._summary is None:
+            import json
+
+            self._summary = json.loads(self.summary_json)
+        return self._summary
 
     @property
     def profiles(self):
@@ -221,22 +238,22 @@ class Result:
 
 def _result(ran, what: str) -> Result:
     result = Result(*ran)
-    s = result.summary
-    if s["ending"] == "interrupted":
-        warnings.warn(
-            f"vibrobed: {what} interrupted at t = {s['sim_time']}: the result covers the "
-            "time simulated so far",
-            stacklevel=3,
+    if result.ending == "interrupted":
+        _warn(
+            f"vibrobed: {what} interrupted at t = {result.summary['sim_time']}: the result "
+            "covers the time simulated so far",
+            3,
         )
-    for failure in s.get("output_failures", []):
-        warnings.warn(f"vibrobed: the {failure['output']} was not written: {failure['error']}",
-                      stacklevel=3)
+    for output, error in result._output_failures:
+        _warn(f"vibrobed: the {output} was not written: {error}", 3)
     return result
 
 
 def load(scenario: Scenario, set: Sets = None) -> Dict[str, Any]:
     """The scenario, overrides applied, checked and typed: a dict with every default filled in.
     Its advisories (likely unintended settings) come as warnings."""
+    import json
+
     text, notes = _native.load(**_given(scenario), sets=_sets(set))
     _advise(notes)
     return json.loads(text)
@@ -370,24 +387,6 @@ def resume(
     return _result(_viewed(go, rrd, view), "resumed run")
 
 
-class Frame(NamedTuple):
-    """One frame: the disks in the scene at ``time``, one row each."""
-
-    index: int
-    time: float
-    ids: np.ndarray
-    """Each row's disk id (uint32)."""
-    positions: np.ndarray
-    """``x, y`` (n × 2)."""
-    velocities: np.ndarray
-    """``vx, vy`` (n × 2)."""
-    spins: Optional[np.ndarray]
-    """``angle, ω`` (n × 2), rough disks only."""
-    floor_height: Optional[float]
-    series: Dict[str, float]
-    """The recording's time series at this frame (energies, temperature, centre of mass)."""
-
-
 class Frames:
     """A run under way, iterated frame by frame (at ``output.frame_interval``) without a file.
     The run waits while ``queue`` frames are unread. ``result()`` waits for the end (frames not
@@ -406,6 +405,8 @@ class Frames:
         return self
 
     def __next__(self) -> Frame:
+        from ._frame import Frame
+
         return Frame(**next(self._native))
 
     def stop(self) -> None:
@@ -462,7 +463,9 @@ def sweep(
     scenario path taken from the working directory). Runs done before are skipped; a failed run
     raises ``RuntimeError`` once the others are done."""
     out = os.fspath(out)
-    if isinstance(sweep, Mapping):
+    if not isinstance(sweep, (str, bytes, os.PathLike)):
+        import json
+
         spec = dict(sweep)
         if "scenario" in spec:
             spec["scenario"] = os.path.abspath(spec["scenario"])
@@ -480,10 +483,19 @@ def sweep(
             f"{len(failed)} of {total} runs failed (their folders hold error.txt); run {i}: {first}"
         )
     if interrupted:
-        warnings.warn(f"vibrobed: sweep interrupted ({interrupted} runs)", stacklevel=2)
+        _warn(f"vibrobed: sweep interrupted ({interrupted} runs)", 2)
     return Sweep(out, ran, skipped, interrupted)
 
 
 def collect(out: PathLike) -> Sweep:
     """The tables of the sweep in ``out`` (``vibrobed sweep collect``, without the plot)."""
     return Sweep(out)
+
+
+def __getattr__(name: str) -> Any:
+    # The frame's type comes with the first frame (typing's NamedTuple is not imported before).
+    if name == "Frame":
+        from ._frame import Frame
+
+        return Frame
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
