@@ -7,15 +7,22 @@ use pyo3::prelude::*;
 use std::path::Path;
 use std::sync::atomic::Ordering;
 use vibrobed::output::progress::DEFAULT_EVERY;
+use vibrobed::output::summary::Ending;
 use vibrobed::platform::signals::stop_flag;
 use vibrobed::studies::sweep::command::writable_out;
 use vibrobed::studies::sweep::local::{run_pool, PoolOptions};
 use vibrobed::studies::sweep::plan::expand;
 use vibrobed::{Error, Result};
 
-/// How a sweep went: runs completed now, done before, interrupted, and the failed ones (index
-/// and message).
-pub type Report = (usize, usize, usize, Vec<(usize, String)>);
+/// How a sweep went: runs completed now, done before, interrupted, the failed ones (index and
+/// message), and those stopped by a limit, now or before (index and how, in words).
+pub type Report = (
+    usize,
+    usize,
+    usize,
+    Vec<(usize, String)>,
+    Vec<(usize, &'static str)>,
+);
 
 /// Runs every run of the sweep file `sweep` not yet done into `out` on `jobs` workers (default:
 /// every core), off the GIL; Ctrl-C stops the pool as SIGINT stops `sweep run`.
@@ -45,11 +52,24 @@ pub fn run(
     let report = detached::run(py, flag, || run_pool(&exp, out, options));
     flag.store(false, Ordering::Relaxed);
     let report = report?.py()?;
+    let mut early: Vec<(usize, &'static str)> = report
+        .ended_early
+        .iter()
+        .map(|&(i, ending)| (i, ending.words()))
+        .chain(
+            report
+                .limited_before
+                .iter()
+                .map(|&i| (i, Ending::EventLimit.words())),
+        )
+        .collect();
+    early.sort_unstable();
     Ok((
         report.ran,
         report.skipped,
         report.interrupted,
         report.failed,
+        early,
     ))
 }
 

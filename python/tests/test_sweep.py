@@ -32,6 +32,21 @@ def test_a_sweep_and_its_tables(tmp_path, bed):
     assert summary["ending"] == "completed"
 
 
+def test_runs_stopped_by_their_limit_are_named(tmp_path, bed):
+    """A sweep whose runs stop at their event limit is incomplete (the command line exits 4):
+    a warning names them, on the first invocation and on a rerun that skips them."""
+    spec = {
+        "scenario": str(bed),
+        "set": ["run.duration=4", "run.warmup=1"],
+        "axes": [{"key": "run.max_events", "values": [100, 100000000]}],
+    }
+    for _ in range(2):
+        with pytest.warns(UserWarning, match=r"the sweep is incomplete: run 0 stopped by the "
+                                             r"event limit \(run.max_events\)$"):
+            s = vibrobed.sweep(spec, tmp_path / "out", jobs=1)
+        assert list(s.runs["ending"]) == ["event-limit", "completed"]
+
+
 def test_a_shipped_sweep_file_is_checked_first(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({

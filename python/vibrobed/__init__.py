@@ -461,7 +461,8 @@ def sweep(
     """``vibrobed sweep run`` on this machine's cores (``jobs`` workers, default all), then its
     tables. ``sweep`` is a sweep file or a dict of one (written to ``out/sweep.json``, its
     scenario path taken from the working directory). Runs done before are skipped; a failed run
-    raises ``RuntimeError`` once the others are done."""
+    raises ``RuntimeError`` once the others are done; runs stopped by their event or wall-clock
+    limit (now or before) are named in a warning."""
     out = os.fspath(out)
     if not isinstance(sweep, (str, bytes, os.PathLike)):
         import json
@@ -475,7 +476,8 @@ def sweep(
             json.dump(spec, f, indent=2)
     else:
         path = os.fspath(sweep)
-    ran, skipped, interrupted, failed = _native.sweep_run(path, out, jobs=jobs, progress=progress)
+    ran, skipped, interrupted, failed, early = _native.sweep_run(path, out, jobs=jobs,
+                                                                progress=progress)
     if failed:
         i, first = failed[0]
         total = ran + skipped + interrupted + len(failed)
@@ -484,6 +486,10 @@ def sweep(
         )
     if interrupted:
         _warn(f"vibrobed: sweep interrupted ({interrupted} runs)", 2)
+    if early:
+        # The command line exits non-zero for them (4, 5): the sweep's results are incomplete.
+        runs = "; ".join(f"run {i} {how}" for i, how in early)
+        _warn(f"vibrobed: the sweep is incomplete: {runs}", 2)
     return Sweep(out, ran, skipped, interrupted)
 
 

@@ -948,12 +948,34 @@ fn incomplete_points_are_named_with_the_fits_they_left_out() {
     }"#;
     std::fs::write(dir.join("early.json"), sweep).unwrap();
     let ran = vibrobed(&dir, &["sweep", "run", "early.json", "--out", "out"]);
-    assert_ok(&ran);
+    // Runs stopped by their event limit leave the sweep incomplete: it exits as they do (4).
+    assert_eq!(ran.status.code(), Some(4), "{}", describe(&ran));
     let err = String::from_utf8_lossy(&ran.stderr).into_owned();
     assert!(
         err.contains("run 0 stopped by the event limit (run.max_events)"),
         "{err}"
     );
+    // A rerun skips them (it would only repeat them) and still exits 4, naming them.
+    let again = vibrobed(&dir, &["sweep", "run", "early.json", "--out", "out"]);
+    assert_eq!(again.status.code(), Some(4), "{}", describe(&again));
+    assert!(
+        String::from_utf8_lossy(&again.stderr)
+            .contains("6 done before (of them stopped by the event limit: run 0, 1)"),
+        "{}",
+        describe(&again)
+    );
+    // So does the Slurm task of such a run; one of a completed run exits 0.
+    let task = |i: &str| {
+        vibrobed(
+            &dir,
+            &["sweep", "task", "early.json", "--index", i, "--out", "out"],
+        )
+    };
+    let limited = task("1");
+    assert_eq!(limited.status.code(), Some(4), "{}", describe(&limited));
+    assert!(String::from_utf8_lossy(&limited.stderr)
+        .contains("run 1: already ran, stopped by the event limit"));
+    assert_ok(&task("2"));
     let out = vibrobed(
         &dir,
         &[
@@ -1009,7 +1031,8 @@ fn a_sweep_bounds_the_wall_time_of_each_run() {
             "0.2",
         ],
     );
-    assert_ok(&out);
+    // Runs stopped by their wall-clock limit leave the sweep incomplete: it exits 5.
+    assert_eq!(out.status.code(), Some(5), "{}", describe(&out));
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     for i in 0..4 {
         let s = read_json(&dir.join(format!("out/{i}/summary.json")));

@@ -7,7 +7,8 @@ use crate::scenario::Scheme;
 use crate::studies::sweep::collect::collect;
 use crate::studies::sweep::fit::{FitOptions, Offset};
 use crate::studies::sweep::local::{
-    check_plan, is_done, run_one, run_pool, write_atomic, write_plan, PoolOptions, PoolReport,
+    check_plan, is_done, recorded_ending, run_one, run_pool, write_atomic, write_plan, PoolOptions,
+    PoolReport,
 };
 use crate::studies::sweep::plan::{expand, point_label, Expanded, Plan};
 use crate::studies::sweep::report::{collect_command, Asked};
@@ -296,7 +297,9 @@ fn plan(sweep: &Path, out: Option<&Path>, estimate: Option<f64>) -> Result<i32> 
 }
 
 /// `sweep run`: every run not yet completed, on a pool of worker threads. A signal stops the
-/// pool (exit 128 + its number); a failed run fails the sweep once the others are done.
+/// pool (exit 128 + its number); a failed run fails the sweep once the others are done; a run
+/// stopped by a limit, now or before, gives the sweep its exit code (4, 5), since the sweep's
+/// results are then incomplete.
 fn run(sweep: &Path, out: &Path, jobs: Option<usize>, options: PoolOptions) -> Result<i32> {
     if jobs == Some(0) {
         return Err(Error::input("--jobs", "must be at least 1"));
@@ -318,7 +321,9 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, options: PoolOptions) -> R
             exp.plan.runs.len()
         )));
     }
-    Ok(0)
+    Ok(report
+        .first_early()
+        .map_or(0, |(_, ending)| ending.exit_code()))
 }
 
 /// Refuses (exit 2) an output directory that cannot be created or written in, before any run.
@@ -344,8 +349,18 @@ fn pool_tally(plan: &Plan, report: &PoolReport, jobs: usize, out: &Path) -> Stri
             .collect();
         format!(" (of them ended early: {})", runs.join("; "))
     };
+    let limited = match report.limited_before.as_slice() {
+        [] => String::new(),
+        runs => format!(
+            " (of them stopped by the event limit: run {})",
+            runs.iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
     format!(
-        "sweep {}: {} runs: {} ran now{early}, {} done before{}{}{} ({})",
+        "sweep {}: {} runs: {} ran now{early}, {} done before{limited}{}{}{} ({})",
         plan.name,
         n,
         report.ran,
@@ -384,9 +399,18 @@ fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
         ));
     }
     write_plan(&exp.plan, out)?;
-    if is_done(out, index) {
-        eprintln!("run {index}: already completed");
-        return Ok(0);
+    // A run done before exits as it did then (0, or 4 for its event limit, which a rerun
+    // would only repeat).
+    match recorded_ending(out, index).as_deref() {
+        Some("completed") => {
+            eprintln!("run {index}: already completed");
+            return Ok(0);
+        }
+        Some("event-limit") => {
+            eprintln!("run {index}: already ran, {}", Ending::EventLimit.words());
+            return Ok(Ending::EventLimit.exit_code());
+        }
+        _ => {}
     }
     crate::platform::signals::install();
     let spec = &exp.plan.runs[index];

@@ -27,18 +27,22 @@ pub fn run_dir(out: &Path, index: usize) -> PathBuf {
 /// Whether run `index` has a complete summary (`"ending": "completed"`, or `"event-limit"`,
 /// which a rerun would only repeat) and wrote all its outputs (no `output_failures`).
 pub fn is_done(out: &Path, index: usize) -> bool {
+    recorded_ending(out, index).is_some_and(|ending| DONE.contains(&ending.as_str()))
+}
+
+/// The endings of the runs a rerun skips.
+const DONE: [&str; 2] = ["completed", "event-limit"];
+
+/// The ending run `index`'s summary records (`completed`, `event-limit`, …), if it has a
+/// summary that lists no `output_failures` (a run that lost an output is to be run again).
+pub fn recorded_ending(out: &Path, index: usize) -> Option<String> {
     let path = run_dir(out, index).join("summary.json");
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return false;
-    };
-    let Ok(summary) = serde_json::from_str::<serde_json::Value>(&text) else {
-        return false;
-    };
-    let complete = matches!(
-        summary.get("ending").and_then(|e| e.as_str()),
-        Some("completed" | "event-limit")
-    );
-    complete && summary.get("output_failures").is_none()
+    let text = std::fs::read_to_string(path).ok()?;
+    let summary = serde_json::from_str::<serde_json::Value>(&text).ok()?;
+    if summary.get("output_failures").is_some() {
+        return None;
+    }
+    summary.get("ending")?.as_str().map(str::to_owned)
 }
 
 /// Writes `DIR/plan.json`, or checks that the one already there is the same sweep (the same
@@ -159,6 +163,22 @@ pub struct PoolReport {
     pub interrupted: usize,
     /// Runs that ended before their duration (an event or wall-clock limit): index and ending.
     pub ended_early: Vec<(usize, Ending)>,
+    /// Runs skipped that an earlier invocation saw stopped by their event limit.
+    pub limited_before: Vec<usize>,
+}
+
+impl PoolReport {
+    /// The first run, by index, that ended early, now or in an earlier invocation, and how: a
+    /// sweep whose runs all ran is complete only when there is none (its exit code is that
+    /// run's, as `run` exits for it).
+    pub fn first_early(&self) -> Option<(usize, Ending)> {
+        let now = self.ended_early.first().copied();
+        let before = self
+            .limited_before
+            .first()
+            .map(|&i| (i, Ending::EventLimit));
+        now.into_iter().chain(before).min_by_key(|&(i, _)| i)
+    }
 }
 
 /// How a pool runs its runs.
@@ -183,9 +203,18 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
     let PoolOptions { jobs, progress, .. } = options;
     write_plan(&exp.plan, out)?;
     let runs = &exp.plan.runs;
-    let pending: Vec<usize> = (0..runs.len()).filter(|&i| !is_done(out, i)).collect();
+    let recorded: Vec<Option<String>> = (0..runs.len()).map(|i| recorded_ending(out, i)).collect();
+    let ended = |i: &usize, endings: &[&str]| {
+        recorded[*i]
+            .as_deref()
+            .is_some_and(|ending| endings.contains(&ending))
+    };
+    let pending: Vec<usize> = (0..runs.len()).filter(|i| !ended(i, &DONE)).collect();
     let mut report = PoolReport {
         skipped: runs.len() - pending.len(),
+        limited_before: (0..runs.len())
+            .filter(|i| ended(i, &["event-limit"]))
+            .collect(),
         ..Default::default()
     };
     let bar = if progress {
