@@ -246,13 +246,18 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
 }
 
 /// Refuses an output named twice, or over an input (`files`: each output's option and path;
-/// `inputs`: the files read): a later write would destroy the earlier. Paths are compared
-/// canonically (links and `..` resolved; a file not yet there by its directory's canonical
-/// path). A resumed checkpoint may be checkpointed into again, by `--checkpoint` only.
+/// `inputs`: the files read), or over the name another output is written under until it is
+/// complete: a later write would destroy the earlier. Paths are compared canonically (links and
+/// `..` resolved; a file not yet there by its directory's canonical path). A resumed checkpoint
+/// may be checkpointed into again, by `--checkpoint` only.
 fn distinct_files(files: &[(&str, Option<&Path>)], inputs: &[(&'static str, &Path)]) -> Result<()> {
     let outputs: Vec<(&str, PathBuf)> = files
         .iter()
         .filter_map(|(field, path)| Some((*field, canonical(path.as_ref()?))))
+        .collect();
+    let temporaries: Vec<(&str, PathBuf)> = outputs
+        .iter()
+        .filter_map(|(field, path)| Some((*field, canonical(&temporary_name(field, path)?))))
         .collect();
     for (k, (field, path)) in outputs.iter().enumerate() {
         if let Some((other, _)) = outputs[..k].iter().find(|(_, p)| p == path) {
@@ -264,14 +269,28 @@ fn distinct_files(files: &[(&str, Option<&Path>)], inputs: &[(&'static str, &Pat
                 ),
             ));
         }
+        if let Some((other, _)) = temporaries.iter().find(|(_, p)| p == path) {
+            return Err(Error::input(
+                *field,
+                format!(
+                    "{} is the name {other} is written under until it is complete: one would \
+                     overwrite the other (name another file)",
+                    path.display()
+                ),
+            ));
+        }
+        let temporary = temporaries.iter().find(|(f, _)| f == field);
         for (input, read) in inputs {
             let resumed_into = *input == "CHECKPOINT" && *field == "--checkpoint";
-            if !resumed_into && canonical(read) == *path {
+            let read = canonical(read);
+            let over = (!resumed_into && read == *path).then_some(path);
+            let over = over.or(temporary.map(|(_, t)| t).filter(|t| **t == read));
+            if let Some(over) = over {
                 return Err(Error::input(
                     *field,
                     format!(
                         "{} is the {} this command reads: writing it would destroy it (name another file)",
-                        path.display(),
+                        over.display(),
                         if *input == "CHECKPOINT" { "checkpoint" } else { "scenario" }
                     ),
                 ));
@@ -279,6 +298,19 @@ fn distinct_files(files: &[(&str, Option<&Path>)], inputs: &[(&'static str, &Pat
         }
     }
     Ok(())
+}
+
+/// The name `field`'s output is written under until it is complete, where that name is fixed: a
+/// recording's or trajectory's `FILE.partial`, a checkpoint's `FILE.tmp` (the summary, profiles
+/// and fields go through a hidden name of the process's own).
+fn temporary_name(field: &str, path: &Path) -> Option<PathBuf> {
+    match field {
+        "--checkpoint" => Some(crate::run::checkpoint::temporary_name(path)),
+        "--rrd" | "output.rrd" | "--trajectory" | "output.trajectory" => {
+            Some(crate::output::partial::partial_name(path))
+        }
+        _ => None,
+    }
 }
 
 /// `path` made absolute and canonical: itself if it exists, else its directory's canonical path
@@ -534,10 +566,9 @@ fn resume(
         files.checkpoint.clone(),
         checkpoint_every,
     )?;
-    output_paths(
-        &s,
-        &files.as_output_args(vec![("CHECKPOINT", checkpoint_file)]),
-    )?;
+    let mut args = files.as_output_args(vec![("CHECKPOINT", checkpoint_file)]);
+    args.checkpoint = Some(&plan.path);
+    output_paths(&s, &args)?;
     if !shown.quiet {
         eprintln!(
             "resuming {} (scenario {}) at t = {}",

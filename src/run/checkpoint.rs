@@ -77,6 +77,13 @@ fn checksum(bytes: &[u8]) -> u64 {
     h.finish()
 }
 
+/// `FILE.tmp`, the name a checkpoint is written under before it is renamed over `FILE`.
+pub fn temporary_name(path: &Path) -> PathBuf {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    PathBuf::from(tmp)
+}
+
 fn refuse(path: &Path, why: impl std::fmt::Display) -> Error {
     Error::input("CHECKPOINT", format!("{}: {why}", path.display()))
 }
@@ -96,9 +103,7 @@ impl Checkpoint {
         bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
         bytes.extend_from_slice(&checksum(&payload).to_le_bytes());
         bytes.extend_from_slice(&payload);
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
-        let tmp = PathBuf::from(tmp);
+        let tmp = temporary_name(path);
         let written = (|| {
             use std::io::Write;
             let mut f = std::fs::File::create(&tmp)?;

@@ -1108,6 +1108,36 @@ fn two_outputs_on_one_path_are_refused() {
     );
 }
 
+/// A streamed output goes to `FILE.partial`, a checkpoint to `FILE.tmp`, until complete: another
+/// output given that name would be overwritten by it (or replace it mid-run), and a scenario so
+/// named would be destroyed.
+#[test]
+fn an_output_on_another_s_temporary_name_is_refused() {
+    run_refuses(
+        "over-partial",
+        "vibrated_bed.json",
+        &["--trajectory", "t.xyz", "--checkpoint", "t.xyz.partial"],
+        SHORT,
+        &["--checkpoint"],
+    );
+    run_refuses(
+        "over-tmp",
+        "vibrated_bed.json",
+        &["--checkpoint", "c.ckpt", "--trajectory", "./c.ckpt.tmp"],
+        SHORT,
+        &["--trajectory"],
+    );
+    let dir = fresh_dir("bad-scenario-as-partial");
+    let text = std::fs::read_to_string(scenario("bouncing_ball.json")).expect("scenario");
+    std::fs::write(dir.join("t.xyz.partial"), &text).expect("copy");
+    let args = guarded::args(&["run", "t.xyz.partial", "--quiet", "--trajectory", "t.xyz"]);
+    let out = vibrobed(&dir, &args);
+    assert_refused(&out, &["--trajectory"], &dir, &["t.xyz.partial"]);
+    let kept = std::fs::read_to_string(dir.join("t.xyz.partial")).expect("scenario");
+    assert_eq!(kept, text, "the scenario was changed");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Runs the shipped `scene` to `cut` with a checkpoint `c.ckpt` in a fresh directory.
 fn checkpointed(test: &str, scene: &str, sets: &[&str], cut: &str) -> std::path::PathBuf {
     let dir = fresh_dir(&format!("bad-{test}"));
@@ -1147,6 +1177,8 @@ fn a_summary_over_the_resumed_checkpoint_is_refused() {
         &["--checkpoint", "d.ckpt", "--profiles", "./c.ckpt"],
         "--profiles",
     );
+    // A resume checkpoints into the file it resumed, through `c.ckpt.tmp`.
+    resume_refuses(&dir, &["--trajectory", "c.ckpt.tmp"], "--trajectory");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
