@@ -10,6 +10,7 @@
 //! `ending`) and closes its recording properly.
 
 use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
+use crate::output::canonical;
 use crate::output::summary::{Ending, Summary};
 use crate::platform::signals;
 use crate::run::checkpoint::{check_resume_duration, check_resume_sets, Checkpoint};
@@ -310,22 +311,6 @@ fn temporary_name(field: &str, path: &Path) -> Option<PathBuf> {
             Some(crate::output::partial::partial_name(path))
         }
         _ => None,
-    }
-}
-
-/// `path` made absolute and canonical: itself if it exists, else its directory's canonical path
-/// joined with its name (else `path` as given).
-fn canonical(path: &Path) -> PathBuf {
-    if let Ok(p) = path.canonicalize() {
-        return p;
-    }
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    match (dir.canonicalize(), path.file_name()) {
-        (Ok(d), Some(name)) => d.join(name),
-        _ => path.to_path_buf(),
     }
 }
 

@@ -62,6 +62,22 @@ fn temp_name(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.partial", std::process::id()))
 }
 
+/// `path` made absolute and canonical: itself if it exists, else its directory's canonical path
+/// joined with its name (else `path` as given). Two spellings of one file compare equal.
+pub fn canonical(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (dir.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
 /// Why no file can be written as `path`, if so: its directory does not exist, cannot be reached,
 /// is not a directory, or refuses a new file (permissions, ownership, a read-only filesystem;
 /// tried with an empty file, removed at once, so that what the system says is what a run would

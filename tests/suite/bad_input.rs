@@ -1231,3 +1231,57 @@ fn a_bad_duration_of_a_scene_with_inlets_is_blamed_on_the_duration() {
         &["inlets.0.start"],
     );
 }
+
+// --- sweep collect: a bad plot or axis is refused before any table is written. ---
+
+/// A sweep of the bouncing ball over two restitutions, one short run each, run in `dir`/out.
+fn small_sweep(dir: &Path) {
+    let ball = scenario("bouncing_ball.json");
+    let sweep = serde_json::json!({
+        "name": "ball",
+        "scenario": ball,
+        "set": ["run.duration=1", "run.warmup=0"],
+        "axes": [{ "key": "floor.restitution", "values": [0.5, 0.9] }],
+        "seeds": 1
+    });
+    std::fs::write(dir.join("ball.json"), sweep.to_string()).expect("sweep file");
+    let args = guarded::args(&["sweep", "run", "ball.json", "--out", "out", "--quiet"]);
+    let out = vibrobed(dir, &args);
+    assert_eq!(out.code(), Some(0), "{}", out.describe());
+}
+
+#[test]
+fn sweep_collect_refuses_a_plot_over_the_sweep_s_files_or_a_bad_axis_writing_nothing() {
+    let dir = fresh_dir("bad-collect");
+    small_sweep(&dir);
+    let out = dir.join("out");
+    let plan = std::fs::read(out.join("plan.json")).expect("plan");
+    let ran = entries(&out);
+    let x = ["--x", "floor.restitution", "--y", "com_height"];
+    let cases: [(&[&str], &str); 5] = [
+        (&["--x", "nope", "--y", "com_height"], "--x"),
+        (&["--plot", "out/plan.json"], "--plot"),
+        (&["--plot", "out/0"], "--plot"),
+        (&["--plot", "./out/1/plot.svg"], "--plot"),
+        (&["--plot", "missing/plot.svg"], "--plot"),
+    ];
+    for (extra, field) in cases {
+        let mut words = vec!["sweep", "collect", "out"];
+        if field == "--plot" {
+            words.extend(x);
+        }
+        words.extend(extra);
+        let got = vibrobed(&dir, &guarded::args(&words));
+        let allowed: Vec<&str> = ran.iter().map(String::as_str).collect();
+        assert_refused(&got, &[field], &out, &allowed);
+        let plan_now = std::fs::read(out.join("plan.json")).expect("plan");
+        assert!(plan_now == plan, "{words:?} changed the sweep's plan");
+    }
+    // The same plot elsewhere is drawn.
+    let mut words = vec!["sweep", "collect", "out", "--plot", "plot.svg"];
+    words.extend(x);
+    let got = vibrobed(&dir, &guarded::args(&words));
+    assert_eq!(got.code(), Some(0), "{}", got.describe());
+    assert!(dir.join("plot.svg").exists() && out.join("runs.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -322,6 +322,21 @@ impl Collected {
             || (self.has_drive() && DRIVE_COLUMNS.contains(&column))
     }
 
+    /// Refuses `key`, given to `option`, unless it is a point-level column (an axis, or a drive
+    /// column for a vibrating floor).
+    pub fn require_axis(&self, option: &str, key: &str) -> Result<()> {
+        if self.is_point_column(key) {
+            return Ok(());
+        }
+        Err(Error::input(
+            option,
+            format!(
+                "`{key}` is not an axis of this sweep (choose from: {})",
+                self.point_columns().join(", ")
+            ),
+        ))
+    }
+
     /// The point-level columns, for messages.
     pub fn point_columns(&self) -> Vec<String> {
         let mut cols = self.plan.axes.clone();
@@ -415,15 +430,7 @@ impl Collected {
 
     /// [`series`](Self::series) over the points `points` only (a group).
     pub fn series_of(&self, x: &str, field: &str, points: &[usize]) -> Result<Vec<(f64, Stat)>> {
-        if !self.is_point_column(x) {
-            return Err(Error::input(
-                "--x",
-                format!(
-                    "`{x}` is not an axis of this sweep (choose one of: {})",
-                    self.point_columns().join(", ")
-                ),
-            ));
-        }
+        self.require_axis("--x", x)?;
         let k = self
             .numeric
             .iter()
@@ -456,17 +463,8 @@ impl Collected {
     /// Each point's state over the axes `x` and `y` (the map `sweep collect --states` draws);
     /// points with no state or no value on an axis are left out.
     pub fn state_points(&self, x: &str, y: &str) -> Result<Vec<StatePoint>> {
-        for (flag, axis) in [("--states", x), ("--states", y)] {
-            if !self.is_point_column(axis) {
-                return Err(Error::input(
-                    flag,
-                    format!(
-                        "`{axis}` is not an axis of this sweep (choose from: {})",
-                        self.point_columns().join(", ")
-                    ),
-                ));
-            }
-        }
+        self.require_axis("--states", x)?;
+        self.require_axis("--states", y)?;
         Ok(self
             .points
             .iter()

@@ -532,7 +532,9 @@ fn state_map(dir: &Path, x: &str, y: &str) -> Result<StateMap> {
     if points.is_empty() {
         return Err(Error::input(
             "--states",
-            "no completed run of this sweep has a bed state (a floor under gravity)",
+            "no completed run of this sweep has a bed state: a state needs a floor under \
+             gravity and a window after the warm-up that resolves the floor's periods (check \
+             notes so when it does not)",
         ));
     }
     let title = format!(

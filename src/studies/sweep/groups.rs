@@ -15,20 +15,13 @@ pub struct Group {
 }
 
 /// The groups of `c`'s points by the values of `by` (in the order each value first appears);
-/// one group of every point without `by`. Refused (bad input): a key that is not an axis, and
+/// one group of every point without `by`. Refused (bad input): `x` or a key that is not an axis, and
 /// an axis other than `x` and `by` that takes several values at one x within a group (a second
 /// axis: it would be pooled into the series and its fit).
 pub fn groups(c: &Collected, x: &str, by: &[String]) -> Result<Vec<Group>> {
+    c.require_axis("--x", x)?;
     for key in by {
-        if !c.is_point_column(key) {
-            return Err(Error::input(
-                "--by",
-                format!(
-                    "`{key}` is not an axis of this sweep (choose from: {})",
-                    c.point_columns().join(", ")
-                ),
-            ));
-        }
+        c.require_axis("--by", key)?;
     }
     let mut out: Vec<Group> = Vec::new();
     for p in c.points.iter().map(|p| p.point) {

@@ -3,6 +3,7 @@
 //! into one plot and `fit.json`.
 
 use crate::error::{Error, Result};
+use crate::output::canonical;
 use crate::studies::sweep::collect::{collect, Collected, Stat};
 use crate::studies::sweep::fit::{fit, FitOptions, PowerFit};
 use crate::studies::sweep::groups::{groups, Group};
@@ -57,6 +58,13 @@ pub fn collect_command(dirs: &[PathBuf], asked: Asked) -> Result<i32> {
         Some(x) => lines(dirs, &sweeps, x, &asked)?,
         None => Vec::new(),
     };
+    let path = asked
+        .plot
+        .clone()
+        .unwrap_or_else(|| dirs[0].join("plot.svg"));
+    if x.is_some() {
+        writable_plot(&path, dirs)?;
+    }
     for (dir, c) in dirs.iter().zip(&sweeps) {
         c.write_tables(dir)?;
         eprintln!(
@@ -89,10 +97,6 @@ pub fn collect_command(dirs: &[PathBuf], asked: Asked) -> Result<i32> {
                 .collect(),
         })
         .collect();
-    let path = asked
-        .plot
-        .clone()
-        .unwrap_or_else(|| dirs[0].join("plot.svg"));
     let names: Vec<&str> = sweeps.iter().map(|c| c.plan.name.as_str()).collect();
     let title = format!(
         "sweep {}: against {x} ({} seeds per point)",
@@ -102,6 +106,46 @@ pub fn collect_command(dirs: &[PathBuf], asked: Asked) -> Result<i32> {
     draw(&path, &title, &x, &panels, asked.log, asked.log)?;
     eprintln!("wrote {}", path.display());
     Ok(0)
+}
+
+/// The files of a sweep folder that `sweep collect` reads or writes besides the plot.
+const SWEEP_FILES: [&str; 5] = [
+    "plan.json",
+    "runs.csv",
+    "points.csv",
+    "fit.json",
+    "states.svg",
+];
+
+/// Refuses, before anything is written, a plot `path` that cannot be written (a directory, a
+/// directory that does not exist) or that would overwrite a file of a sweep in `dirs`: its plan,
+/// its tables, or anything in a run's folder.
+fn writable_plot(path: &Path, dirs: &[PathBuf]) -> Result<()> {
+    if path.is_dir() {
+        return Err(Error::input(
+            "--plot",
+            format!("{} is a directory: name a file", path.display()),
+        ));
+    }
+    crate::output::writable_directory(path)
+        .map_err(|why| Error::input("--plot", format!("{}: {why}", path.display())))?;
+    let plot = canonical(path);
+    for dir in dirs.iter().map(|d| canonical(d)) {
+        let in_a_run = plot
+            .parent()
+            .is_some_and(|p| p != dir && p.starts_with(&dir));
+        if in_a_run || SWEEP_FILES.iter().any(|f| plot == dir.join(f)) {
+            return Err(Error::input(
+                "--plot",
+                format!(
+                    "{} would overwrite a file of the sweep in {} (its plan, tables or runs): name another file",
+                    path.display(),
+                    dir.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Every series: for each field, each folder and each of its groups, the statistics per point
