@@ -568,7 +568,7 @@ fn validate_run(r: &Run) -> Result<()> {
         return Err(Error::input(
             "run.warmup",
             format!(
-                "must lie in [0, run.duration) (got {} with duration {})",
+                "must lie in [0, run.duration) (got {:?} with duration {:?})",
                 r.warmup, r.duration
             ),
         ));
@@ -703,7 +703,8 @@ fn validate_engine(s: &Scenario) -> Result<()> {
 }
 
 /// Frames, samples and trajectory frames: how many the run asks for (their defaults follow
-/// [`crate::scenario::Output`]: the frame interval, else `run.duration / 200`).
+/// [`crate::scenario::Output`]: the frame interval, else `run.duration / 200`), and what the
+/// frames and samples cost, each a visit of every disk.
 fn validate_output_counts(s: &Scenario) -> Result<()> {
     let d = s.run.duration;
     let o = &s.output;
@@ -726,7 +727,44 @@ fn validate_output_counts(s: &Scenario) -> Result<()> {
             MAX_OUTPUT_TIMES,
         )?;
     }
-    Ok(())
+    validate_output_visits(s)
+}
+
+/// Disk visits of the frames and samples (every disk the scene may hold, each frame and each
+/// sample), at most [`MAX_OUTPUT_VISITS`]; the error names the interval that asks for more of
+/// them (the frame interval when neither is given).
+fn validate_output_visits(s: &Scenario) -> Result<()> {
+    let d = s.run.duration;
+    let frames = d / s.output.frame_interval.unwrap_or(d / 200.0) + 1.0;
+    let samples = d / s.sample_interval() + 1.0;
+    let disks = most_disks(s);
+    let visits = disks * (frames + samples);
+    if visits <= MAX_OUTPUT_VISITS {
+        return Ok(());
+    }
+    let field = if samples > frames && s.output.sample_interval.is_some() {
+        "output.sample_interval"
+    } else {
+        "output.frame_interval"
+    };
+    Err(Error::input(
+        field,
+        format!(
+            "asks for {frames:.3e} frames and {samples:.3e} samples of up to {disks:.3e} disks \
+             ({visits:.3e} disk visits, each some nanoseconds); at most {MAX_OUTPUT_VISITS:e} \
+             are supported (longer intervals, or fewer disks)"
+        ),
+    ))
+}
+
+/// The most disks the scene may hold: its initial disks and every disk an inlet may bring.
+fn most_disks(s: &Scenario) -> f64 {
+    let d = s.run.duration;
+    s.disk_count() as f64
+        + s.inlets
+            .iter()
+            .map(|i| inlet_disks(i, i.end.unwrap_or(d)))
+            .sum::<f64>()
 }
 
 /// Disk frames (disks × frames) of a recording or trajectory asked for by `field` (a frame
@@ -736,11 +774,7 @@ pub fn validate_recorded(s: &Scenario, field: &str, interval: Option<f64>) -> Re
     let d = s.run.duration;
     let frame_dt = s.output.frame_interval.unwrap_or(d / 200.0);
     let frames = d / interval.unwrap_or(frame_dt) + 1.0;
-    let disks = s.disk_count() as f64
-        + s.inlets
-            .iter()
-            .map(|i| inlet_disks(i, i.end.unwrap_or(d)))
-            .sum::<f64>();
+    let disks = most_disks(s);
     let size = frames * disks;
     if size <= MAX_RECORDED_DISKS {
         return Ok(());

@@ -26,6 +26,9 @@ pub const MAX_FIELD_BINS: usize = 100_000;
 pub const MAX_FIELD_CELLS: usize = 4_000_000;
 /// Most disk frames (disks × frames) a recording or a trajectory may hold: some 10¹¹ bytes.
 pub const MAX_RECORDED_DISKS: f64 = 1e10;
+/// Most disk visits the frames and samples of a run may cost (disks × (frames + samples)):
+/// each visits every disk, some nanoseconds a disk (8 on a Zen 4 core): hours at the bound.
+pub const MAX_OUTPUT_VISITS: f64 = 1e12;
 /// Most checkpoints a run may ask for (`--checkpoint-every`); each writes the whole state.
 pub const MAX_CHECKPOINTS: f64 = 1e5;
 /// Farthest any disk may be sent over the run at its initial or entering speed, in smallest

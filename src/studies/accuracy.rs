@@ -191,8 +191,19 @@ pub struct Report {
     pub wall_seconds: f64,
 }
 
-/// Runs the accuracy report for `scenario` and writes its files into `opts.out`.
+/// Runs the accuracy report for `scenario` and writes its files into `opts.out`. A report that
+/// fails writes nothing: the folder it made is removed.
 pub fn report(scenario: &Scenario, opts: &Options) -> Result<Report> {
+    let created = !opts.out.exists();
+    let made = measure_and_write(scenario, opts);
+    if made.is_err() && created {
+        let _ = std::fs::remove_dir_all(&opts.out);
+    }
+    made
+}
+
+/// [`report`]'s work: the ensembles, the rows, the files.
+fn measure_and_write(scenario: &Scenario, opts: &Options) -> Result<Report> {
     let clock = Instant::now();
     let reference = reference_scenario(scenario, opts.quick);
     let mut runner = Runner::new(&reference, opts);
@@ -344,23 +355,27 @@ impl<'a> Runner<'a> {
     /// The variant on `k` seeds (the scenario's and the next ones) run all at once, each on a
     /// thread of its own.
     fn at_once(&self, v: &Variant, k: usize) -> Result<Ensemble> {
-        let runs: Vec<Result<Measured>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..k as u64)
-                .map(|i| {
-                    let seed = self.seeds[0].wrapping_add(i);
-                    std::thread::Builder::new()
-                        .stack_size(16 << 20)
-                        .spawn_scoped(scope, move || self.measure(v, seed))
-                        .expect("a thread starts")
-                })
-                .collect();
-            handles
+        let runs: Result<Vec<Result<Measured>>> = std::thread::scope(|scope| {
+            let mut handles = Vec::with_capacity(k);
+            for i in 0..k as u64 {
+                let seed = self.seeds[0].wrapping_add(i);
+                let started = std::thread::Builder::new()
+                    .stack_size(16 << 20)
+                    .spawn_scoped(scope, move || self.measure(v, seed));
+                handles.push(started.map_err(|e| {
+                    Error::input(
+                        "--cores",
+                        format!("cannot start {k} runs at once, a thread each: {e} (give fewer)"),
+                    )
+                })?);
+            }
+            Ok(handles
                 .into_iter()
                 .map(|h| h.join().expect("a run does not panic"))
-                .collect()
+                .collect())
         });
         Ok(Ensemble {
-            runs: runs.into_iter().collect::<Result<_>>()?,
+            runs: runs?.into_iter().collect::<Result<_>>()?,
         })
     }
 

@@ -10,7 +10,9 @@
 //! The cases come in a fixed order (every field of every scene before any field's second
 //! value; pairs drawn from a seeded generator) and run until a time budget is spent:
 //! `VIBROBED_FUZZ_SECONDS` (default 20 per command) sets it, `VIBROBED_FUZZ_SEED` draws other
-//! pairs. A failing case is reported with the command line that reproduces it.
+//! pairs. A failing case is reported with the command line that reproduces it. Every case, and
+//! many more pairs, also go through the checks in this process (no engine built), which takes
+//! seconds: the checks' whole reach is covered on every run of the suite.
 
 use crate::guarded;
 
@@ -20,10 +22,13 @@ use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use vibrobed::error::Error;
 use vibrobed::scenario::checks::{
-    MAX_CHECKPOINTS, MAX_DISKS, MAX_FIELD_BINS, MAX_FIELD_CELLS, MAX_MAGNITUDE, MAX_PHASE_BINS,
-    MAX_PROFILE_BINS, MAX_STRIPS, MAX_THREADS, MIN_INERTIA_FACTOR, MIN_MAGNITUDE,
+    MAX_CHECKPOINTS, MAX_DISKS, MAX_FIELD_BINS, MAX_FIELD_CELLS, MAX_LENGTH_RATIO, MAX_MAGNITUDE,
+    MAX_OUTPUT_TIMES, MAX_PHASE_BINS, MAX_PROFILE_BINS, MAX_STEPS, MAX_STRIPS, MAX_THREADS,
+    MAX_TRAVEL, MIN_INERTIA_FACTOR, MIN_MAGNITUDE,
 };
+use vibrobed::scenario::Scenario;
 
 /// Seconds of cases per command when `VIBROBED_FUZZ_SECONDS` is not set: the two commands
 /// together add about 40 s of one core to the suite (measured under the full suite: the first
@@ -68,6 +73,30 @@ const OPTIONAL: &[(&str, &str)] = &[
         r#"[{"x": {"from": 1, "to": 9}, "y": {"from": 20, "to": 22}, "rate": 10}]"#,
     ),
 ];
+
+/// The limits that follow the scene's duration `d` and smallest radius `a` (as the scene gives
+/// them), at the limit and one part in 10¹⁵ either side.
+fn scene_limits(d: f64, a: f64) -> Vec<(&'static str, Vec<String>)> {
+    let just = |v: f64| {
+        vec![
+            format!("{v:e}"),
+            format!("{:e}", v * (1.0 + 1e-15)),
+            format!("{:e}", v * (1.0 - 1e-15)),
+        ]
+    };
+    vec![
+        ("output.frame_interval", just(d / MAX_OUTPUT_TIMES)),
+        ("output.sample_interval", just(d / MAX_OUTPUT_TIMES)),
+        ("output.trajectory_interval", just(d / MAX_OUTPUT_TIMES)),
+        ("engine.dt", just(d / MAX_STEPS)),
+        ("domain.width", just(MAX_LENGTH_RATIO * a)),
+        ("domain.height", just(MAX_LENGTH_RATIO * a)),
+        ("floor.amplitude", just(MAX_LENGTH_RATIO * a)),
+        ("particles.temperature", just((MAX_TRAVEL * a / d).powi(2))),
+        ("inlets.0.speed", just(MAX_TRAVEL * a / d)),
+        ("--checkpoint-every", just(d / MAX_CHECKPOINTS)),
+    ]
+}
 
 /// The checks' limits, and one past them, for the fields they bound.
 fn limits() -> Vec<(&'static str, Vec<String>)> {
@@ -174,7 +203,9 @@ fn singles(scene: &Value) -> Vec<Change> {
     for (field, value) in OPTIONAL {
         per_field.push(vec![change(field, value.to_string())]);
     }
-    for (field, values) in limits() {
+    let duration = scene["run"]["duration"].as_f64().unwrap_or(1.0);
+    let radius = scene["particles"]["radius"].as_f64().unwrap_or(0.5);
+    for (field, values) in limits().into_iter().chain(scene_limits(duration, radius)) {
         per_field.push(values.into_iter().map(|v| change(field, v)).collect());
     }
     interleave(&per_field)
@@ -205,9 +236,15 @@ fn shipped() -> Vec<(PathBuf, Value)> {
         .collect()
 }
 
+/// Seeded pairs of changes the commands are given after the single changes.
+const PAIRS: usize = 4096;
+
+/// Seeded pairs of changes checked in process (a few seconds).
+const PAIRS_IN_PROCESS: usize = 100_000;
+
 /// The cases in order: every scene's single changes taken round-robin (so that each scene's
-/// first changes come before any scene's last), then pairs from a seeded generator.
-fn cases(scenes: &[(PathBuf, Value)], seed: u64) -> Vec<(usize, Vec<Change>)> {
+/// first changes come before any scene's last), then `pairs` pairs from a seeded generator.
+fn cases(scenes: &[(PathBuf, Value)], seed: u64, pairs: usize) -> Vec<(usize, Vec<Change>)> {
     let per_scene: Vec<Vec<(usize, Vec<Change>)>> = scenes
         .iter()
         .enumerate()
@@ -223,7 +260,7 @@ fn cases(scenes: &[(PathBuf, Value)], seed: u64) -> Vec<(usize, Vec<Change>)> {
         state ^= state >> 27;
         (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % n.max(1)
     };
-    for _ in 0..4096 {
+    for _ in 0..pairs {
         let s = next(scenes.len());
         let list = &per_scene[s];
         let (a, b) = (
@@ -357,7 +394,7 @@ fn fuzz(cmd: Command) {
         Duration::from_secs(env_number("VIBROBED_FUZZ_SECONDS").unwrap_or(DEFAULT_SECONDS));
     let seed = env_number("VIBROBED_FUZZ_SEED").unwrap_or(0x62);
     let scenes = shipped();
-    let all = cases(&scenes, seed);
+    let all = cases(&scenes, seed, PAIRS);
     let name = format!("{cmd:?}").to_lowercase();
     let root = guarded::fresh_dir(&format!("fuzz-fields-{name}"));
     let start = Instant::now();
@@ -415,4 +452,60 @@ fn every_field_changed_and_paired_is_checked_within_the_contract() {
 #[test]
 fn every_field_changed_and_paired_runs_within_the_contract() {
     fuzz(Command::Run);
+}
+
+/// Every single change of every scene and [`PAIRS_IN_PROCESS`] seeded pairs, each scene read
+/// and checked in this process, without building the engine: the checks' whole reach in a few
+/// seconds (the commands above run as many of the same cases as their budget allows, on the
+/// binary). A case must be accepted, or refused naming a field (or, for malformed JSON, where);
+/// never a panic.
+#[test]
+fn every_field_changed_and_paired_is_refused_by_name_or_accepted_by_the_checks() {
+    let seed = env_number("VIBROBED_FUZZ_SEED").unwrap_or(0x62);
+    let scenes = shipped();
+    let texts: Vec<String> = scenes
+        .iter()
+        .map(|(p, _)| std::fs::read_to_string(p).expect("a shipped scenario"))
+        .collect();
+    let start = Instant::now();
+    let all = cases(&scenes, seed, PAIRS_IN_PROCESS);
+    let (mut accepted, mut refused) = (0, 0);
+    let mut failures = String::new();
+    for (i, (s, changes)) in all.iter().enumerate() {
+        let sets: Vec<String> = changes
+            .iter()
+            .filter(|c| c.field != "--checkpoint-every")
+            .map(|c| format!("{}={}", c.field, c.value))
+            .collect();
+        let got =
+            std::panic::catch_unwind(|| Scenario::from_json_with_overrides(&texts[*s], &sets));
+        let why = match got {
+            Err(_) => Some("panicked".to_string()),
+            Ok(Ok(_)) => {
+                accepted += 1;
+                None
+            }
+            Ok(Err(Error::Input { field, message }))
+                if !field.is_empty() || message.contains(" at line ") =>
+            {
+                refused += 1;
+                None
+            }
+            Ok(Err(e)) => Some(format!("refused naming no field: {e}")),
+        };
+        if let Some(why) = why {
+            let _ = writeln!(
+                failures,
+                "\n=== case #{i}: {why}\nvibrobed check {} --set {}",
+                scenes[*s].0.display(),
+                sets.join(" --set ")
+            );
+        }
+    }
+    eprintln!(
+        "fuzz fields in process: {} cases in {:.1} s: {accepted} accepted, {refused} refused",
+        all.len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert!(failures.is_empty(), "fuzz fields in process:{failures}");
 }

@@ -1,0 +1,629 @@
+//! Structure-aware fuzzing of the commands other than `check` and `run` (whose scenes
+//! `fuzz_fields` changes field by field), on the real binary: `resume` of a checkpointed run
+//! with every option it takes (its `--set`s, its outputs, its checkpoint interval) near and past
+//! their limits; `sweep plan` of the shipped sweep files changed field by field; `sweep task`,
+//! `sweep slurm` and `sweep collect` of a small sweep with their options; `accuracy` of a short
+//! scene with its options and the scene's fields. Every case must end with an exit code of the
+//! contract (0; 2 naming the field or option, nothing written and no input changed; for
+//! `resume`, 4, 5 or 6 for a run ended by a limit or a stall) in bounded memory — never a
+//! panic, an abort or a signal — or, still running after [`INTERRUPT_AFTER`], stop on SIGINT.
+//!
+//! The cases come in a fixed order, a command's first cases before any command's later ones,
+//! and run until a time budget is spent (`VIBROBED_FUZZ_SECONDS`, default
+//! [`DEFAULT_SECONDS`]). A failing case is reported with its command line and its directory.
+
+use crate::guarded;
+
+use guarded::{error_field, error_line, Limits, Outcome};
+use serde_json::Value;
+use std::ffi::OsString;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use vibrobed::scenario::checks::{MAX_CHECKPOINTS, MAX_THREADS};
+
+/// Seconds of cases when `VIBROBED_FUZZ_SECONDS` is not set. A case takes 10–200 ms; the setup
+/// (two checkpointed runs and a sweep of two runs) well under a second.
+const DEFAULT_SECONDS: u64 = 12;
+
+/// A case still running after this long is sent SIGINT (then SIGKILL 5 s later).
+const INTERRUPT_AFTER: Duration = Duration::from_secs(8);
+
+/// Most seeds `accuracy --seeds` takes (`cli::MAX_SEEDS`).
+const MAX_SEEDS: u64 = 1000;
+
+/// Numbers tried where an option or field holds `x`: itself, nearby, far, and not numbers.
+fn near(x: f64) -> Vec<String> {
+    let mut out: Vec<String> = [
+        x,
+        0.0,
+        -x,
+        x * (1.0 + 1e-15),
+        x * 1e6,
+        x / 1e6,
+        1e-101,
+        1e101,
+        5e-324,
+        1.7e308,
+    ]
+    .iter()
+    .map(|y| format!("{y:e}"))
+    .collect();
+    out.extend(["NaN".into(), "inf".into(), "-1".into(), "x".into()]);
+    out
+}
+
+/// What a case needs in its directory before it runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Setup {
+    /// Nothing.
+    Empty,
+    /// `c.ckpt`, a checkpoint of the scene of this name run to t = [`CUT`].
+    Checkpoint(&'static str),
+    /// `out/`, the small sweep run; `small.json`, its file.
+    Sweep,
+}
+
+/// Where checkpointed runs stop.
+const CUT: f64 = 0.05;
+
+/// Scenes checkpointed for `resume`: a bed on a vibrating floor, and a pour through an inlet.
+const CHECKPOINTED: [&str; 2] = ["vibrated_bed.json", "pour.json"];
+
+/// One case: its command's name, what it needs, its arguments.
+#[derive(Debug, Clone)]
+struct Case {
+    command: &'static str,
+    setup: Setup,
+    args: Vec<String>,
+}
+
+fn case(command: &'static str, setup: Setup, args: &[String]) -> Case {
+    Case {
+        command,
+        setup,
+        args: args.to_vec(),
+    }
+}
+
+fn strings(items: &[&str]) -> Vec<String> {
+    items.iter().map(|s| s.to_string()).collect()
+}
+
+/// `resume c.ckpt` with one option or override changed at a time.
+fn resume_cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for scene in CHECKPOINTED {
+        let setup = Setup::Checkpoint(scene);
+        let base = strings(&["resume", "c.ckpt", "--quiet", "--summary", "s.json"]);
+        let with = |extra: &[String]| {
+            let mut args = base.clone();
+            args.extend(extra.iter().cloned());
+            case("resume", setup, &args)
+        };
+        for v in near(2.0 * CUT) {
+            out.push(with(&strings(&["--set", &format!("run.duration={v}")])));
+            out.push(with(&strings(&["--checkpoint-every", &v])));
+            out.push(with(&strings(&[
+                "--set",
+                &format!("run.max_wall_seconds={v}"),
+            ])));
+        }
+        for v in ["0", "1", "100000", "18446744073709551615", "-1", "1e3"] {
+            out.push(with(&strings(&["--set", &format!("run.max_events={v}")])));
+        }
+        let every = 2.0 * CUT / MAX_CHECKPOINTS;
+        for v in [every, every * (1.0 + 1e-15), every * (1.0 - 1e-15)] {
+            let extra = [
+                "--set",
+                "run.duration=0.1",
+                "--checkpoint-every",
+                &format!("{v:e}"),
+            ];
+            out.push(with(&strings(&extra)));
+        }
+        for extra in [
+            &["--set", "particles.count=5"][..],
+            &["--set", "run.warmup=0"],
+            &["--set", "run.duration"],
+            &["--set", "=1"],
+            &["--summary", "c.ckpt"],
+            &["--profiles", "./c.ckpt"],
+            &["--trajectory", "c.ckpt.tmp"],
+            &["--trajectory", "s.json"],
+            &["--checkpoint", "s.json"],
+            &["--checkpoint", "d.ckpt", "--trajectory", "d.ckpt.tmp"],
+            &["--fields", "f.csv"],
+            &["--profiles", "missing/p.csv"],
+            &["--trajectory", "."],
+            &["--progress-every", "0"],
+            &["--progress-every", "NaN"],
+        ] {
+            out.push(with(&strings(extra)));
+        }
+    }
+    out
+}
+
+/// The shipped sweep files, their scenario made absolute, with their JSON.
+fn shipped_sweeps() -> Vec<Value> {
+    let dir = guarded::crate_root().join("scenarios").join("sweeps");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("scenarios/sweeps/")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|p| {
+            let mut v: Value =
+                serde_json::from_str(&std::fs::read_to_string(p).expect("sweep")).expect("JSON");
+            let scene = v["scenario"].as_str().expect("a scenario").to_string();
+            v["scenario"] = Value::String(dir.join(scene).display().to_string());
+            v
+        })
+        .collect()
+}
+
+/// Each leaf of `v` (numbers and strings; lists looked into), by its path of keys and indices.
+fn leaves(v: &Value, path: &[String], out: &mut Vec<(Vec<String>, Value)>) {
+    let mut down = |k: String, x: &Value| {
+        let mut p = path.to_vec();
+        p.push(k);
+        leaves(x, &p, out);
+    };
+    match v {
+        Value::Object(map) => map.iter().for_each(|(k, x)| down(k.clone(), x)),
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .take(2)
+            .for_each(|(i, x)| down(i.to_string(), x)),
+        _ => out.push((path.to_vec(), v.clone())),
+    }
+}
+
+/// `v` with the leaf at `path` replaced by `value`.
+fn replaced(v: &Value, path: &[String], value: Value) -> Value {
+    let mut out = v.clone();
+    let mut at = &mut out;
+    for k in path {
+        at = match at {
+            Value::Array(items) => &mut items[k.parse::<usize>().expect("an index")],
+            other => &mut other[k.as_str()],
+        };
+    }
+    *at = value;
+    out
+}
+
+/// Values tried at a sweep file's leaf holding `v`.
+fn sweep_values(v: &Value) -> Vec<Value> {
+    let mut out: Vec<Value> = match v {
+        Value::Number(n) => near(n.as_f64().unwrap_or(1.0))
+            .iter()
+            .filter_map(|s| serde_json::from_str(s).ok())
+            .collect(),
+        Value::String(s) if s.contains('=') => {
+            let key = s.split('=').next().unwrap_or("");
+            [
+                format!("{key}=1e300"),
+                format!("{key}="),
+                "nope=1".into(),
+                format!("{key}.x.y=1"),
+                "=".into(),
+            ]
+            .map(Value::String)
+            .to_vec()
+        }
+        Value::String(_) => ["", "nope", "floor", "particles.radius.min", "run.duration"]
+            .map(|s| Value::String(s.into()))
+            .to_vec(),
+        _ => Vec::new(),
+    };
+    out.extend([
+        Value::Null,
+        serde_json::json!([]),
+        serde_json::json!({}),
+        serde_json::json!(100001),
+    ]);
+    out
+}
+
+/// `sweep plan` of each shipped sweep file changed at one leaf at a time, and with its axes'
+/// and seeds' counts at the bounds.
+fn plan_cases() -> Vec<Case> {
+    let mut per_sweep: Vec<Vec<Case>> = Vec::new();
+    for sweep in shipped_sweeps() {
+        let mut found = Vec::new();
+        leaves(&sweep, &[], &mut found);
+        let mut cases = Vec::new();
+        for (path, v) in found.iter().filter(|(p, _)| p[0] != "scenario") {
+            for value in sweep_values(v) {
+                cases.push(plan_case(&replaced(&sweep, path, value)));
+            }
+        }
+        for n in [99_999u64, 100_000, 100_001, u64::MAX] {
+            cases.push(plan_case(&replaced(
+                &sweep,
+                &strings(&["seeds"]),
+                serde_json::json!(n),
+            )));
+            let range = serde_json::json!([{"key": "run.duration", "range": {"from": 1, "to": 2, "count": n}}]);
+            cases.push(plan_case(&replaced(&sweep, &strings(&["axes"]), range)));
+        }
+        per_sweep.push(cases);
+    }
+    interleave(&per_sweep)
+}
+
+/// `sweep plan FILE`, the file given inline (written into the case's directory as `s.json`).
+fn plan_case(sweep: &Value) -> Case {
+    let text = sweep.to_string();
+    case(
+        "sweep plan",
+        Setup::Empty,
+        &["sweep".into(), "plan".into(), format!("@{text}")],
+    )
+}
+
+/// `sweep task`, `sweep slurm` and `sweep collect` of the small sweep with their options.
+fn small_sweep_cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    let collect = |extra: &[&str]| {
+        let mut args = strings(&["sweep", "collect", "out"]);
+        args.extend(strings(extra));
+        case("sweep collect", Setup::Sweep, &args)
+    };
+    let plot = ["--x", "floor.restitution", "--y", "com_height"];
+    for extra in [
+        &[] as &[&str],
+        &plot,
+        &["--x", "nope", "--y", "com_height"],
+        &["--x", "floor.restitution", "--y", "nope"],
+        &["--x", "floor.restitution"],
+        &["--y", "com_height"],
+        &["--states", "floor.restitution", "seed"],
+        &["--states", "nope", "nope"],
+        &["--log"],
+    ] {
+        out.push(collect(extra));
+    }
+    for extra in [
+        &["--plot", "out/plan.json"][..],
+        &["--plot", "out/0"],
+        &["--plot", "out/0/x.svg"],
+        &["--plot", "missing/x.svg"],
+        &["--plot", "."],
+        &["--by", "nope"],
+        &["--by", "floor.restitution"],
+        &["--fit", "power", "--offset", "fit"],
+    ] {
+        let mut all = plot.to_vec();
+        all.extend(extra);
+        out.push(collect(&all));
+    }
+    for v in near(1.0) {
+        let mut all = plot.to_vec();
+        all.extend(["--fit", "power", "--offset", &v]);
+        out.push(collect(&all));
+        let mut all = plot.to_vec();
+        all.extend(["--fit", "power", "--fit-range", &v, "2"]);
+        out.push(collect(&all));
+    }
+    for index in ["0", "1", "2", "18446744073709551615", "-1"] {
+        let args = strings(&[
+            "sweep",
+            "task",
+            "small.json",
+            "--index",
+            index,
+            "--out",
+            "out",
+        ]);
+        out.push(case("sweep task", Setup::Sweep, &args));
+    }
+    for extra in [
+        &["--time", "01:00:00"][..],
+        &["--time", "nope"],
+        &["--array-max", "0"],
+        &["--array-max", "18446744073709551615"],
+        &["--partition", ""],
+        &["--sbatch", "--mem=2G\nrm -rf /"],
+    ] {
+        let mut args = strings(&["sweep", "slurm", "small.json", "--out", "slurm"]);
+        args.extend(strings(extra));
+        out.push(case("sweep slurm", Setup::Sweep, &args));
+    }
+    out
+}
+
+/// `accuracy` of the bouncing ball cut short, with its options and, one at a time, the
+/// scene's numeric fields changed.
+fn accuracy_cases() -> Vec<Case> {
+    let ball = guarded::scenario("bouncing_ball.json")
+        .display()
+        .to_string();
+    let base = strings(&[
+        "accuracy",
+        &ball,
+        "--quick",
+        "--quiet",
+        "--out",
+        "a",
+        "--set",
+        "run.duration=2",
+        "--set",
+        "run.warmup=0",
+    ]);
+    let with = |extra: &[String]| {
+        let mut args = base.clone();
+        args.extend(extra.iter().cloned());
+        case("accuracy", Setup::Empty, &args)
+    };
+    let mut out = Vec::new();
+    for n in [0, 1, 2, MAX_SEEDS + 1, u64::MAX] {
+        out.push(with(&strings(&["--seeds", &n.to_string()])));
+    }
+    let most = MAX_THREADS;
+    for n in [0, 1, most, most + 1] {
+        out.push(with(&strings(&["--cores", &n.to_string()])));
+    }
+    out.push(with(&strings(&["--effects"])));
+    out.push(with(&strings(&["--out", "missing/a"])));
+    for field in [
+        "floor.amplitude",
+        "floor.frequency",
+        "floor.restitution",
+        "gravity",
+    ] {
+        for v in near(0.5) {
+            out.push(with(&strings(&["--set", &format!("{field}={v}")])));
+        }
+    }
+    out
+}
+
+/// The first item of each list, then the second of each, and so on.
+fn interleave<T: Clone>(lists: &[Vec<T>]) -> Vec<T> {
+    let longest = lists.iter().map(Vec::len).max().unwrap_or(0);
+    (0..longest)
+        .flat_map(|k| lists.iter().filter_map(move |l| l.get(k).cloned()))
+        .collect()
+}
+
+/// Copies `from` into `to`, folders and all.
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("a directory");
+    for entry in std::fs::read_dir(from).expect("a directory").flatten() {
+        let target = to.join(entry.file_name());
+        if entry.path().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).expect("a copy");
+        }
+    }
+}
+
+/// The files under `dir` with their contents, for "nothing written, nothing changed".
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = entry.path();
+            if p.is_dir() {
+                out.push((p.clone(), Vec::new()));
+                stack.push(p);
+            } else {
+                let bytes = std::fs::read(&p).unwrap_or_default();
+                out.push((p, bytes));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Runs `vibrobed args` in `dir` under the guard.
+fn vibrobed(dir: &Path, args: &[String]) -> Outcome {
+    let os: Vec<OsString> = args.iter().map(OsString::from).collect();
+    let logs = dir.with_extension("logs");
+    let out = guarded::run(
+        &os,
+        dir,
+        &logs,
+        Limits {
+            interrupt_after: INTERRUPT_AFTER,
+            kill_after: Duration::from_secs(5),
+        },
+    );
+    let _ = std::fs::remove_dir_all(&logs);
+    out
+}
+
+/// Prepares each setup once under `root`: the checkpoints and the small sweep.
+fn prepare(root: &Path) {
+    for scene in CHECKPOINTED {
+        let dir = root.join(scene);
+        std::fs::create_dir_all(&dir).expect("setup directory");
+        let path = guarded::scenario(scene).display().to_string();
+        let cut = format!("run.duration={CUT}");
+        let args = strings(&[
+            "run",
+            &path,
+            "--quiet",
+            "--checkpoint",
+            "c.ckpt",
+            "--summary",
+            "first.json",
+            "--set",
+            &cut,
+            "--set",
+            "run.warmup=0",
+        ]);
+        let out = vibrobed(&dir, &args);
+        assert_eq!(out.code(), Some(0), "setup: {}", out.describe());
+        std::fs::remove_file(dir.join("first.json")).expect("the first part's summary");
+    }
+    let dir = root.join("sweep");
+    std::fs::create_dir_all(&dir).expect("setup directory");
+    let sweep = serde_json::json!({
+        "name": "small",
+        "scenario": guarded::scenario("bouncing_ball.json"),
+        "set": ["run.duration=1", "run.warmup=0"],
+        "axes": [{ "key": "floor.restitution", "values": [0.5, 0.9] }],
+        "seeds": 1
+    });
+    std::fs::write(dir.join("small.json"), sweep.to_string()).expect("sweep file");
+    let out = vibrobed(
+        &dir,
+        &strings(&["sweep", "run", "small.json", "--out", "out", "-q"]),
+    );
+    assert_eq!(out.code(), Some(0), "setup: {}", out.describe());
+}
+
+/// Fills `dir` with what `setup` needs (from `root`); returns the arguments with an inline
+/// sweep file written out.
+fn set_up(root: &Path, dir: &Path, c: &Case) -> Vec<String> {
+    match c.setup {
+        Setup::Empty => {}
+        Setup::Checkpoint(scene) => {
+            std::fs::copy(root.join(scene).join("c.ckpt"), dir.join("c.ckpt")).expect("copy");
+        }
+        Setup::Sweep => copy_tree(&root.join("sweep"), dir),
+    }
+    c.args
+        .iter()
+        .map(|a| match a.strip_prefix('@') {
+            Some(text) => {
+                std::fs::write(dir.join("s.json"), text).expect("sweep file");
+                "s.json".to_string()
+            }
+            None => a.clone(),
+        })
+        .collect()
+}
+
+/// What is wrong with one finished case (None: within the contract). `before`: the directory
+/// before the case ran.
+fn judge(c: &Case, out: &Outcome, dir: &Path, before: &[(PathBuf, Vec<u8>)]) -> Option<String> {
+    let mut problems: Vec<String> = Vec::new();
+    if out.panicked() {
+        problems.push("panicked or aborted".into());
+    }
+    if out.killed {
+        problems.push("did not stop within 5 s of SIGINT".into());
+    } else if let Some(sig) = out.signal() {
+        if !(sig == 2 && out.interrupted_at.is_some()) {
+            problems.push(format!("ended by signal {sig}"));
+        }
+    }
+    let resume = c.command == "resume";
+    match out.code() {
+        Some(0) | None => {}
+        Some(4..=6) if resume => {}
+        Some(130) if out.interrupted_at.is_some() => {}
+        // A comparison that cannot be made (a variant stopped by its event cap) fails as it
+        // runs, writing nothing.
+        Some(1) if c.command == "accuracy" && snapshot(dir) == before => {}
+        Some(2) => {
+            if !names_a_field(&out.stderr) {
+                problems.push(format!(
+                    "exit 2 naming no field: {:?}",
+                    error_line(&out.stderr)
+                ));
+            }
+            let after = snapshot(dir);
+            if after != before {
+                let names = |s: &[(PathBuf, Vec<u8>)]| -> Vec<String> {
+                    s.iter().map(|(p, _)| p.display().to_string()).collect()
+                };
+                problems.push(format!(
+                    "exit 2 but files were written or changed: before {:?}, after {:?}",
+                    names(before),
+                    names(&after)
+                ));
+            }
+        }
+        Some(code) => problems.push(format!("exit code {code} is not in the contract")),
+    }
+    (!problems.is_empty()).then(|| problems.join("; "))
+}
+
+/// Whether the error names a field or option: `vibrobed: FIELD: …`, that of a sweep's point
+/// (`vibrobed: point N (AXES): FIELD: …`), a field with its value (`vibrobed: FIELD (…): …`),
+/// a place in a JSON file, or an option as the command-line parser names it.
+fn names_a_field(stderr: &str) -> bool {
+    let line = error_line(stderr).unwrap_or("");
+    let located = line.contains("field `") || line.contains(" at line ");
+    let parser = stderr.contains("Usage:") || stderr.contains("--help");
+    let of_a_point = line
+        .strip_prefix("point ")
+        .and_then(|rest| rest.split_once("): "))
+        .is_some_and(|(_, rest)| error_field(&format!("vibrobed: {rest}")).is_some());
+    // A sweep file's field with what it holds: `set[0] (--set …): …`.
+    let with_context = line
+        .split_once(" (")
+        .is_some_and(|(field, _)| error_field(&format!("vibrobed: {field}: …")).is_some());
+    error_field(stderr).is_some() || located || parser || of_a_point || with_context
+}
+
+fn budget() -> Duration {
+    let secs = std::env::var("VIBROBED_FUZZ_SECONDS")
+        .ok()
+        .map(|t| t.trim().parse().expect("VIBROBED_FUZZ_SECONDS is a number"));
+    Duration::from_secs(secs.unwrap_or(DEFAULT_SECONDS))
+}
+
+#[test]
+fn every_command_and_option_changed_ends_within_the_contract() {
+    let root = guarded::fresh_dir("fuzz-commands");
+    let start = Instant::now();
+    prepare(&root.join("setup"));
+    let all = interleave(&[
+        resume_cases(),
+        plan_cases(),
+        small_sweep_cases(),
+        accuracy_cases(),
+    ]);
+    let budget = budget();
+    let mut failures = String::new();
+    let mut tally: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut ran = 0;
+    for (i, c) in all.iter().enumerate() {
+        if start.elapsed() > budget {
+            break;
+        }
+        let dir = root.join(format!("case-{i:05}"));
+        std::fs::create_dir_all(&dir).expect("case directory");
+        let args = set_up(&root.join("setup"), &dir, c);
+        let before = snapshot(&dir);
+        let out = vibrobed(&dir, &args);
+        ran += 1;
+        let code = out.code().map_or("signal".into(), |k| format!("exit {k}"));
+        *tally.entry(format!("{} {code}", c.command)).or_default() += 1;
+        match judge(c, &out, &dir, &before) {
+            Some(why) => {
+                let _ = writeln!(
+                    failures,
+                    "\n=== case #{i} in {}: {why}\nvibrobed {}\n{}",
+                    dir.display(),
+                    args.join(" "),
+                    out.describe()
+                );
+            }
+            None => {
+                let _ = std::fs::remove_dir_all(&dir);
+            }
+        }
+    }
+    eprintln!(
+        "fuzz commands: {ran} of {} cases in {:.0} s: {tally:?}",
+        all.len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert!(failures.is_empty(), "fuzz commands:{failures}");
+    let _ = std::fs::remove_dir_all(&root);
+}
