@@ -13,7 +13,8 @@ makes them and compares:
   (`scenarios/hard/pile_equal_periodic_tc.json`) in bins half a diameter high reads above the
   densest packing of the plane (0.907) and never above 1; its largest value is quoted;
 - the sweeps page's worked example: `scenarios/sweeps/temperature_vs_drive.json` on two workers,
-  its points table, fits and local slopes, and its CPU time (checked to a factor of 2: a machine
+  its points table, fits (plain, over the dense part, the centre of mass's rise above a fitted
+  offset) and local slopes, and its CPU time (checked to a factor of 2: a machine
   differs from another; everything else is deterministic and must match to the digits quoted).
 
     python3 docs/book/numbers.py [--bin PATH]          # check (exit 1 naming each difference)
@@ -181,6 +182,14 @@ def sweep(binary: str, tmp: Path) -> dict[str, str]:
         ]) + " |")
     fits = {f["field"]: f["fit"] for f in json.loads((out / "fit.json").read_text())["power_law"]}
     t_fit, com_fit = fits["temperature.mean"], fits["com_height"]
+    # The centre of mass's rise above a fitted height at rest, and T over the dense part only.
+    run(binary, "sweep", "collect", str(out), "--x", "drive.peak_velocity", "--y", "com_height",
+        "--fit", "power", "--offset", "fit", "--plot", str(tmp / "rise.svg"))
+    rise = json.loads((out / "fit.json").read_text())["power_law"][0]["fit"]
+    run(binary, "sweep", "collect", str(out), "--x", "drive.peak_velocity", "--y",
+        "temperature.mean", "--fit", "power", "--fit-range", "0.6", "2", "--plot",
+        str(tmp / "dense.svg"))
+    dense = json.loads((out / "fit.json").read_text())["power_law"][0]["fit"]
     x = [float(p["drive.peak_velocity"]) for p in points]
     y = [float(p["temperature.mean:mean"]) for p in points]
     slopes = [math.log(y[i + 1] / y[i]) / math.log(x[i + 1] / x[i]) for i in range(len(x) - 1)]
@@ -191,6 +200,11 @@ def sweep(binary: str, tmp: Path) -> dict[str, str]:
         "tvd-delta-seeds": f"{t_fit['exponent_seed_se']:.3f}",
         "tvd-slopes": ", ".join(f"{s:.2f}" for s in slopes),
         "tvd-com": f"{com_fit['exponent']:.2f} ± {com_fit['exponent_se']:.2f}",
+        "tvd-rise": f"{rise['exponent']:.2f} ± {rise['exponent_se']:.2f}",
+        "tvd-rise-seeds": f"{rise['exponent_seed_se']:.3f}",
+        "tvd-rise-y0": f"{rise['offset']:.2f}",
+        "tvd-dense": f"{dense['exponent']:.2f} ± {dense['exponent_se']:.2f}",
+        "tvd-dense-points": f"{dense['points']}",
         "tvd-cpu": f"{cpu:.0f} s",
         "tvd-wall": f"{wall:.0f} s",
     }

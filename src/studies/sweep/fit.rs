@@ -11,7 +11,8 @@ pub struct PowerFit {
     /// Exponent δ (the slope on log–log axes).
     pub exponent: f64,
     /// Standard error of δ from the scatter of the points about the line,
-    /// √(Σ r² / (n − 2) / Σ (ln x − mean)²); absent with two points.
+    /// √(Σ r² / (n − p) / Σ (ln x − mean)²) for p fitted parameters (2; 3 with a fitted
+    /// offset, the error then taken at that offset); absent with p points or fewer.
     pub exponent_se: Option<f64>,
     /// Prefactor c.
     pub prefactor: f64,
@@ -21,7 +22,8 @@ pub struct PowerFit {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub offset: Option<f64>,
     /// Standard error of δ from the seeds: the spread of δ over fits to bootstrap resamples of
-    /// each point's runs (absent without two runs at some point).
+    /// each point's runs, a fitted offset fitted again to each (absent without two runs at some
+    /// point).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub exponent_seed_se: Option<f64>,
 }
@@ -57,8 +59,8 @@ const BOOTSTRAP: usize = 1000;
 const BOOTSTRAP_SEED: u64 = 0x05ee_df17;
 
 /// Fits y − y₀ = c·x^δ to points given as (x, the values of each of the point's runs), their
-/// means fitted; the exponent's seed error by a bootstrap over each point's runs (with the same
-/// offset). None as for [`power_law`].
+/// means fitted; the exponent's seed error by a bootstrap over each point's runs (a fitted
+/// offset fitted again to each resample). None as for [`power_law`].
 pub fn fit(points: &[(f64, Vec<f64>)], options: FitOptions) -> Option<PowerFit> {
     let kept: Vec<&(f64, Vec<f64>)> = points
         .iter()
@@ -67,18 +69,27 @@ pub fn fit(points: &[(f64, Vec<f64>)], options: FitOptions) -> Option<PowerFit> 
         })
         .collect();
     let means: Vec<(f64, f64)> = kept.iter().map(|(x, v)| (*x, mean(v))).collect();
-    let offset = match options.offset {
-        None => None,
-        Some(Offset::Given(y0)) => Some(y0),
-        Some(Offset::Fitted) => Some(fitted_offset(&means)?),
+    // The power law of means less the offset, the offset fitted to them if asked.
+    let fitted = |m: &[(f64, f64)]| -> Option<PowerFit> {
+        let y0 = match options.offset {
+            None => None,
+            Some(Offset::Given(y0)) => Some(y0),
+            Some(Offset::Fitted) => Some(fitted_offset(m)?),
+        };
+        let shifted: Vec<(f64, f64)> = m.iter().map(|(x, y)| (*x, y - y0.unwrap_or(0.0))).collect();
+        let mut f = power_law(&shifted)?;
+        f.offset = y0;
+        Some(f)
     };
-    let shifted = |m: &[(f64, f64)]| -> Vec<(f64, f64)> {
-        m.iter()
-            .map(|(x, y)| (*x, y - offset.unwrap_or(0.0)))
-            .collect()
-    };
-    let mut f = power_law(&shifted(&means))?;
-    f.offset = offset;
+    let mut f = fitted(&means)?;
+    if options.offset == Some(Offset::Fitted) {
+        // One more parameter: n − 3 degrees of freedom for the scatter (none with 3 points).
+        let n = f.points as f64;
+        f.exponent_se = f
+            .exponent_se
+            .filter(|_| f.points > 3)
+            .map(|se| se * ((n - 2.0) / (n - 3.0)).sqrt());
+    }
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(BOOTSTRAP_SEED);
     let several = kept.iter().any(|(_, v)| v.len() > 1);
     let exponents: Vec<f64> = (0..if several { BOOTSTRAP } else { 0 })
@@ -90,7 +101,7 @@ pub fn fit(points: &[(f64, Vec<f64>)], options: FitOptions) -> Option<PowerFit> 
                     (*x, sum / v.len() as f64)
                 })
                 .collect();
-            Some(power_law(&shifted(&resampled))?.exponent)
+            Some(fitted(&resampled)?.exponent)
         })
         .collect();
     f.exponent_seed_se = (exponents.len() > 1).then(|| {
@@ -261,6 +272,42 @@ mod tests {
         )
         .unwrap();
         assert!((plain.exponent - 1.5).abs() > 0.05, "{plain:?}");
+    }
+
+    #[test]
+    fn a_fitted_offset_counts_as_a_parameter() {
+        // y = 2 + 3 x^1.5 with two seeds a point, ±5 % apart: three points leave no scatter
+        // error with the offset fitted (three parameters), four do.
+        let pts = |xs: &[f64]| -> Vec<(f64, Vec<f64>)> {
+            xs.iter()
+                .map(|&x| {
+                    let y = 2.0 + 3.0 * x.powf(1.5);
+                    (x, vec![0.95 * y, 1.05 * y + 0.01 * x])
+                })
+                .collect()
+        };
+        let fitted = FitOptions {
+            range: None,
+            offset: Some(Offset::Fitted),
+        };
+        let three = fit(&pts(&[1.0, 2.0, 4.0]), fitted).unwrap();
+        assert_eq!(three.exponent_se, None, "{three:?}");
+        let five = pts(&[1.0, 2.0, 4.0, 8.0, 16.0]);
+        let f = fit(&five, fitted).unwrap();
+        assert!(f.exponent_se.is_some(), "{f:?}");
+        // The seeds move the fitted offset too: δ then spreads more than at that offset held.
+        let held = fit(
+            &five,
+            FitOptions {
+                range: None,
+                offset: Some(Offset::Given(f.offset.unwrap())),
+            },
+        )
+        .unwrap();
+        assert!(
+            f.exponent_seed_se.unwrap() > 1.5 * held.exponent_seed_se.unwrap(),
+            "{f:?} {held:?}"
+        );
     }
 
     #[test]

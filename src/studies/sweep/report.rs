@@ -247,14 +247,18 @@ fn report_fits(dir: &Path, x: &str, by: &[String], lines: &[Line]) -> Result<()>
 /// A fit of `name` in words: `com_height − 2.1 = c·(x)^δ: δ = 1.92 ± 0.01 (scatter) ± 0.02
 /// (seeds), c = …`.
 fn fit_text(name: &str, x: &str, f: &PowerFit) -> String {
-    let offset = f.offset.map_or(String::new(), |y0| format!(" − {y0:.6}"));
+    let offset = match f.offset {
+        None => String::new(),
+        Some(y0) if y0 < 0.0 => format!(" + {:.6}", -y0),
+        Some(y0) => format!(" − {y0:.6}"),
+    };
     format!(
         "{name}{offset} = c·({x})^δ: δ = {:.4}{}{}, c = {:.4} ({} points, log–log least squares)",
         f.exponent,
-        f.exponent_se
-            .map_or(" (no scatter error with two points)".into(), |se| format!(
-                " ± {se:.4} (scatter)"
-            )),
+        f.exponent_se.map_or(
+            " (no scatter error: as many points as fitted parameters)".into(),
+            |se| format!(" ± {se:.4} (scatter)")
+        ),
         f.exponent_seed_se
             .map_or(String::new(), |se| format!(" ± {se:.4} (seeds)")),
         f.prefactor,
