@@ -90,11 +90,12 @@ pub struct CheckpointPlan {
 pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
     crate::platform::memory::for_disks(s.disk_count());
     if (opts.checkpoint.is_some() || opts.resume.is_some())
-        && s.engine.scheme != Scheme::EventDriven
+        && !matches!(s.scheme(), Scheme::EventDriven | Scheme::Hybrid)
     {
         return Err(Error::input(
             "engine.scheme",
-            "checkpoints need the event-driven scheme (the approximate schemes cannot be resumed)",
+            "checkpoints need the event-driven or hybrid scheme (the approximate schemes cannot \
+             be resumed)",
         ));
     }
     if let Some(every) = opts.checkpoint.as_ref().and_then(|c| c.every) {
@@ -179,8 +180,8 @@ fn with_engine<W: WithEngine>(
         disks: crate::physics::disks::Disks,
         then: W,
     ) -> Result<W::Output> {
-        match s.engine.scheme {
-            Scheme::EventDriven => then.with(Simulation::new(flight, scene, disks)?),
+        match s.scheme() {
+            Scheme::EventDriven | Scheme::Auto => then.with(Simulation::new(flight, scene, disks)?),
             Scheme::TimeStep => then.with(TimeStep::new(flight, scene, disks, &s.engine)?),
             Scheme::SpaceTime => then.with(SpaceTime::new(flight, scene, disks, &s.engine)?),
             Scheme::Contact => then.with(Contact::new(flight, scene, disks, &s.engine)?),

@@ -15,14 +15,14 @@
 //! The payload carries the scenario *text* and its `--set` overrides (the resumed run parses them
 //! again, so the scene is the one that was saved, wherever the file has moved), the driver's state
 //! (stop schedule, averages, profiles, the initial energy) and the engine's
-//! ([`crate::engine::EngineState`]). Floating-point values are stored as their
+//! ([`crate::schemes::SavedState`]). Floating-point values are stored as their
 //! bits, so nothing is rounded. A file written by another build (whose engine could pop events in
 //! another order), cut short, or damaged is refused with a message, never half read.
 
 use super::state::DriverState;
-use crate::engine::EngineState;
 use crate::error::{Error, Result};
 use crate::scenario::Scenario;
+use crate::schemes::SavedState;
 use serde::{Deserialize, Serialize};
 use std::hash::Hasher;
 use std::path::{Path, PathBuf};
@@ -35,8 +35,8 @@ const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// 15: rough disks' spins, the rotational energy and temperature; 16: slides on a rough floor;
 /// 17: the 2D fields; 18: the pool of live and dead disks, and the phase bins by place in a
 /// group of four periods; 19: the pool counts exits at the top, and its inlets bring sizes; 20: the riders keep the time
-/// every disk came to rest and the wakes).
-const FORMAT_VERSION: u32 = 20;
+/// every disk came to rest and the wakes; 21: the engine may be the hybrid scheme's).
+const FORMAT_VERSION: u32 = 21;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.
@@ -57,7 +57,7 @@ pub struct Checkpoint {
     /// The driver: stop schedule, averages, initial energy, counters.
     pub driver: DriverState,
     /// The engine.
-    pub engine: EngineState,
+    pub engine: SavedState,
 }
 
 /// A hash of the file this code was loaded from (the executable, or the Python package's

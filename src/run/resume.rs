@@ -69,7 +69,7 @@ impl<E: Integrator> Driver<'_, E> {
         let engine = self.sim.saved_state().ok_or_else(|| {
             Error::input(
                 "engine.scheme",
-                "only the event-driven scheme can be checkpointed",
+                "only the event-driven and hybrid schemes can be checkpointed",
             )
         })?;
         Checkpoint {

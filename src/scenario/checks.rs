@@ -255,7 +255,7 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
              disks on a smooth floor are (its corners are smooth too)",
         ));
     }
-    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+    if s.scheme() != crate::scenario::Scheme::EventDriven {
         return Err(Error::input(
             "floor.orifice",
             "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
@@ -350,7 +350,7 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
                 ));
             }
         }
-        if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+        if s.scheme() != crate::scenario::Scheme::EventDriven {
             return Err(Error::input(
                 "inlets",
                 "need engine.scheme = event-driven: the approximate schemes keep the same disks \
@@ -483,7 +483,7 @@ fn validate_exit_height(s: &Scenario) -> Result<()> {
             "needs domain.y_boundary = open: disks leave by rising through an open top",
         ));
     }
-    if s.engine.scheme != crate::scenario::Scheme::EventDriven {
+    if s.scheme() != crate::scenario::Scheme::EventDriven {
         return Err(Error::input(
             FIELD,
             "needs engine.scheme = event-driven: the approximate schemes keep every disk for \
@@ -687,7 +687,7 @@ fn validate_engine(s: &Scenario) -> Result<()> {
     if let Some(skin) = e.skin {
         positive("engine.skin", skin)?;
     }
-    validate_scheme_knobs(e)?;
+    validate_scheme_knobs(e, s.scheme())?;
     if let Some(dt) = e.dt {
         at_most("engine.dt", "steps", s.run.duration / dt, MAX_STEPS)?;
     }
@@ -835,7 +835,7 @@ pub const MAX_STRIPS: u64 = 1 << 16;
 
 /// The approximate schemes' knobs: positive, and only with the scheme they belong to (a knob
 /// that the chosen scheme would ignore is refused rather than silently dropped).
-fn validate_scheme_knobs(e: &Engine) -> Result<()> {
+fn validate_scheme_knobs(e: &Engine, scheme: Scheme) -> Result<()> {
     let knobs = [
         (
             "engine.dt",
@@ -890,7 +890,7 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
     for (field, value, schemes) in knobs.into_iter().chain([threads]) {
         let Some(v) = value else { continue };
         positive(field, v)?;
-        if !schemes.contains(&e.scheme) {
+        if !schemes.contains(&scheme) {
             let names: Vec<&str> = schemes
                 .iter()
                 .map(|s| match s {
@@ -899,6 +899,7 @@ fn validate_scheme_knobs(e: &Engine) -> Result<()> {
                     Scheme::Contact => "contact",
                     Scheme::Hybrid => "hybrid",
                     Scheme::EventDriven => "event-driven",
+                    Scheme::Auto => "auto",
                 })
                 .collect();
             return Err(Error::input(
@@ -1196,8 +1197,7 @@ const BED: usize = 10;
 fn collapse_without_cure(s: &Scenario) -> Option<String> {
     let c = &s.collisions;
     let bed = s.disk_count() >= BED;
-    let cured =
-        c.tc.is_some() || c.speed_cutoff.is_some() || s.engine.scheme != Scheme::EventDriven;
+    let cured = c.tc.is_some() || c.speed_cutoff.is_some() || s.scheme() != Scheme::EventDriven;
     if !bed || !can_rest(s) || c.restitution >= 1.0 || cured {
         return None;
     }

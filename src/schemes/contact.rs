@@ -39,6 +39,7 @@ use crate::physics::floor::Floor;
 use crate::physics::rough::Roughness;
 use crate::physics::walls::{SideBounds, Top};
 use crate::scenario::Engine;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -147,8 +148,38 @@ pub struct Contact<F: Flight> {
     virial: f64,
     max_overlap: f64,
     stats: SchemeStats,
+    /// Disks at rest after the last step ([`Contact::count_at_rest`]), and since when every disk
+    /// has been.
+    at_rest: usize,
+    rest_since: Option<f64>,
+    /// Scratch: which disks a contact pushed in the last step.
+    pushed: Vec<bool>,
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
+}
+
+/// Contact dynamics' state between steps, for a checkpoint: what a step carries to the next (the
+/// disks, the Verlet list and its warm start, the clock, the tallies). The scene and the knobs are
+/// rebuilt from the scenario; the step is kept, as it may have been chosen from the disks' speeds.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ContactState {
+    disks: Disks,
+    dt: f64,
+    pairs: Vec<(u32, u32)>,
+    warm: Vec<(f64, f64)>,
+    warm_floor: Vec<(f64, f64)>,
+    built_x: Vec<f64>,
+    built_y: Vec<f64>,
+    step: u64,
+    sweeps: u64,
+    energy: f64,
+    counts: EventCounts,
+    flow: EnergyFlow,
+    virial: f64,
+    max_overlap: f64,
+    deep_overlaps: u64,
+    at_rest: usize,
+    rest_since: Option<f64>,
 }
 
 impl<F: Flight> Contact<F> {
@@ -223,6 +254,9 @@ impl<F: Flight> Contact<F> {
                 step: dt,
                 ..SchemeStats::default()
             },
+            at_rest: 0,
+            rest_since: None,
+            pushed: vec![false; n + 1],
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
         };
@@ -239,9 +273,83 @@ impl<F: Flight> Contact<F> {
         self.step as f64 * self.dt
     }
 
+    /// The step dt.
+    pub fn step(&self) -> f64 {
+        self.dt
+    }
+
     /// Whether a whole step fits before local time `target`.
     pub fn can_step_to(&self, target: f64) -> bool {
         (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt
+    }
+
+    /// The state between steps, for a checkpoint.
+    pub fn state(&self) -> ContactState {
+        ContactState {
+            disks: self.disks.clone(),
+            dt: self.dt,
+            pairs: self.pairs.clone(),
+            warm: self.warm.clone(),
+            warm_floor: self.warm_floor.clone(),
+            built_x: self.built_x.clone(),
+            built_y: self.built_y.clone(),
+            step: self.step,
+            sweeps: self.sweeps,
+            energy: self.energy,
+            counts: self.counts,
+            flow: self.flow,
+            virial: self.virial,
+            max_overlap: self.max_overlap,
+            deep_overlaps: self.stats.deep_overlaps,
+            at_rest: self.at_rest,
+            rest_since: self.rest_since,
+        }
+    }
+
+    /// Puts a saved state into an engine built for the same scene; refuses one of another shape.
+    pub fn restore(&mut self, state: ContactState) -> Result<()> {
+        let n = self.disks.len();
+        let d = &state.disks;
+        let fits = d.len() == n
+            && d.spins.is_some() == self.disks.spins.is_some()
+            && state.warm.len() == state.pairs.len()
+            && state.warm_floor.len() == n
+            && state.built_x.len() == n
+            && state.built_y.len() == n
+            && state
+                .pairs
+                .iter()
+                .all(|&(i, j)| (i as usize) < n && (j as usize) < n)
+            && state.dt > 0.0;
+        if !fits {
+            return Err(Error::input(
+                "checkpoint",
+                "the saved contact dynamics does not fit this scene",
+            ));
+        }
+        self.disks = state.disks;
+        self.dt = state.dt;
+        self.pairs = state.pairs;
+        self.warm = state.warm;
+        self.warm_floor = state.warm_floor;
+        self.built_x = state.built_x;
+        self.built_y = state.built_y;
+        self.step = state.step;
+        self.sweeps = state.sweeps;
+        self.energy = state.energy;
+        self.counts = state.counts;
+        self.flow = state.flow;
+        self.virial = state.virial;
+        self.max_overlap = state.max_overlap;
+        self.at_rest = state.at_rest;
+        self.rest_since = state.rest_since;
+        self.stats = SchemeStats {
+            step: self.dt,
+            steps: self.step,
+            deep_overlaps: state.deep_overlaps,
+            ..SchemeStats::default()
+        };
+        Ok(())
     }
 
     /// Removes every overlap (pairs, floor, walls, lid) by moving disks apart, positions only: the
@@ -373,6 +481,7 @@ impl<F: Flight> Contact<F> {
         self.gather_rows(t0, t1);
         self.solve();
         self.book(t1);
+        self.count_at_rest(t1);
         self.advance(t1);
         self.step += 1;
         self.stats.steps = self.step;
@@ -664,6 +773,29 @@ impl<F: Flight> Contact<F> {
         }
     }
 
+    /// Counts the disks at rest after the step ending at `t1`: held by a contact that pushed in
+    /// the step and moving with the floor (still, on a static one) slower than a step of gravity
+    /// changes a speed, `g dt`. A bed riding the floor below Γ = 1 is at rest as a whole, as the
+    /// exact engine's riders are.
+    fn count_at_rest(&mut self, t1: f64) {
+        let n = self.disks.len();
+        self.pushed.iter_mut().for_each(|p| *p = false);
+        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
+            self.pushed[r.i as usize] = true;
+            self.pushed[(r.j as usize).min(n)] = true;
+        }
+        let floor_v = self.floor.as_ref().map_or(0.0, |f| f.velocity(t1));
+        let slow = self.g() * self.dt;
+        self.at_rest = (self.disks.motion.iter().zip(&self.pushed))
+            .filter(|&(m, &pushed)| pushed && m.vx.abs() < slow && (m.vy - floor_v).abs() < slow)
+            .count();
+        self.rest_since = match self.rest_since {
+            _ if self.at_rest < n => None,
+            None => Some(t1),
+            since => since,
+        };
+    }
+
     /// Every disk moves on its new velocity's parabola to `t1`; the energy lost beyond the
     /// floor's work is booked as dissipated; the Verlet list is rebuilt when a disk has moved
     /// half the skin.
@@ -748,6 +880,12 @@ impl<F: Flight> Integrator for Contact<F> {
     }
     fn max_overlap(&self) -> f64 {
         self.max_overlap
+    }
+    fn disks_at_rest(&self) -> usize {
+        self.at_rest
+    }
+    fn at_rest_since(&self) -> Option<f64> {
+        self.rest_since
     }
     fn check_state(&self, _t: f64) -> Result<()> {
         Ok(())

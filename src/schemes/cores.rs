@@ -119,7 +119,7 @@ pub fn available() -> usize {
 /// `engine.threads` are left as they are.
 pub fn share(scenario: &Scenario, jobs: usize, cores: usize) -> Scenario {
     let mut s = scenario.clone();
-    if s.engine.scheme != Scheme::EventDriven && s.engine.threads.is_none() {
+    if s.scheme() != Scheme::EventDriven && s.engine.threads.is_none() {
         s.engine.threads = Some((cores / jobs.max(1)).max(1) as u64);
     }
     s

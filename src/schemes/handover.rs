@@ -4,29 +4,35 @@
 //! The exact engine's cost is its collisions; where disks endure in contact, inelastic collapse
 //! and the rules that end it make those collisions unbounded in number. Contact dynamics costs a
 //! fixed step whatever the contacts do. So the run watches the exact engine's collisions: when,
-//! within a window of simulated time (the floor's period), they pass [`RATE_IN`] per disk and
-//! unit time, the state at the last event is handed to contact dynamics. Contact dynamics watches
-//! its enduring contacts: when, over a window, fewer than [`CONTACTS_OUT`] push per disk and
-//! step, the bed has come apart and the state goes back to the exact engine. Both decisions are
+//! within a window (the floor's period), they pass [`EVENTS_PER_STEP`] per disk and step of
+//! contact dynamics, the state at the last event is handed to contact dynamics. Contact dynamics
+//! watches its enduring contacts: when, over a window, fewer than [`CONTACTS_OUT`] push per disk
+//! and step, the bed has come apart and the state goes back to the exact engine. Both decisions
+//! are in the scene's own measure (steps of contact dynamics, not units of time), and both are
 //! on counts, never on the wall clock: a run repeats bit for bit.
 //!
 //! Each part is a fresh engine built at the hand-over time on the scene at that instant (its
 //! floor's phase moved on), from every disk's position, velocity and spin; a state from contact
 //! dynamics first has its overlaps removed (the exact engine accepts none).
 
-use super::contact::Contact;
-use super::{Integrator, SchemeStats, Setup};
-use crate::engine::{EnergyFlow, EventCounts, Progress, Scene, Simulation};
+use super::contact::{Contact, ContactState};
+use super::{Integrator, SavedState, SchemeStats, Setup};
+use crate::engine::{EnergyFlow, EngineState, EventCounts, Progress, Scene, Simulation};
 use crate::error::{Error, Result};
 use crate::physics::disks::{Disks, Spins};
 use crate::physics::flight::Flight;
 use crate::scenario::Engine;
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 
-/// Events of the exact engine per disk and unit time above which it hands over: about contact
-/// dynamics' own cost per disk and unit time, counted in the exact engine's events (on the
-/// shipped bed a step of contact dynamics costs what some 40 events per disk and unit time do).
-pub const RATE_IN: f64 = 50.0;
+/// Events of the exact engine per disk and step of contact dynamics above which it hands over:
+/// about what a step of contact dynamics costs, counted in the exact engine's events (on the
+/// shipped bed, 2 per disk and step of a fiftieth of the floor's period, 50 per unit time).
+pub const EVENTS_PER_STEP: f64 = 2.0;
+
+/// Steps of contact dynamics in a watch window without a vibrating floor (with one, the window
+/// is its period).
+const STEPS_PER_WINDOW: f64 = 50.0;
 
 /// Contacts pushing per disk and step (averaged over a window) below which contact dynamics
 /// hands back: a bed at rest has about two, a gas almost none.
@@ -46,16 +52,70 @@ enum Part<F: Flight> {
 }
 
 /// What the parts before the present one did, for the totals.
-#[derive(Debug, Default, Clone, Copy)]
+#[derive(Debug, Default, Clone, Copy, Serialize, Deserialize)]
 struct Done {
     counts: EventCounts,
     flow: EnergyFlow,
     virial: f64,
     max_overlap: f64,
-    stats: SchemeStats,
+    steps: DenseSteps,
     /// Simulated time spent in contact dynamics.
     dense_time: f64,
     handovers: u64,
+}
+
+/// Contact dynamics' steps and errors, summed over its parts.
+#[derive(Debug, Default, Clone, Copy, Serialize, Deserialize)]
+struct DenseSteps {
+    step: f64,
+    steps: u64,
+    sweeps: u64,
+    deep_overlaps: u64,
+    max_boundary_penetration: f64,
+}
+
+impl DenseSteps {
+    /// Adds a part's steps and errors.
+    fn add(&mut self, part: SchemeStats) {
+        self.step = part.step;
+        self.steps += part.steps;
+        self.sweeps += part.sweeps;
+        self.deep_overlaps += part.deep_overlaps;
+        self.max_boundary_penetration = self
+            .max_boundary_penetration
+            .max(part.max_boundary_penetration);
+    }
+
+    fn stats(&self) -> SchemeStats {
+        SchemeStats {
+            step: self.step,
+            steps: self.steps,
+            sweeps: self.sweeps,
+            deep_overlaps: self.deep_overlaps,
+            max_boundary_penetration: self.max_boundary_penetration,
+            ..SchemeStats::default()
+        }
+    }
+}
+
+/// The hybrid scheme's state, for a checkpoint: the present part's and the totals of the parts
+/// before it, with the watch window.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct HandoverState {
+    part: SavedPart,
+    t0: f64,
+    done: Done,
+    window_end: f64,
+    window_from: (u64, u64),
+    stay: u32,
+    stayed: u32,
+}
+
+/// The present part's state.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+enum SavedPart {
+    Exact(Box<EngineState>),
+    Dense(Box<ContactState>),
 }
 
 /// `$body` with `$e` the engine running now (`&Box` or `&mut Box` of either), whichever it is.
@@ -92,8 +152,9 @@ pub struct Handover<F: Flight> {
     exact_setup: Setup,
     /// `run.max_events`, over all parts (checked at each part's window ends too).
     event_limit: u64,
-    /// [`RATE_IN`] and [`CONTACTS_OUT`], unless a test sets others.
-    rate_in: f64,
+    /// The exact engine's collision budget in a window: [`EVENTS_PER_STEP`] per disk and step.
+    budget: u64,
+    /// [`CONTACTS_OUT`], unless a test sets another.
     contacts_out: f64,
     interrupt: Option<&'static AtomicBool>,
 }
@@ -111,20 +172,22 @@ impl<F: Flight> Handover<F> {
         let event_limit = scene.max_events.unwrap_or(u64::MAX);
         let mut scene = scene.clone();
         scene.max_events = None;
-        if scene.restitution.e < 1.0 && scene.restitution.tc.is_none() {
+        let law = &scene.restitution;
+        if law.e < 1.0 && law.tc.is_none() && law.speed_cutoff.is_none() {
             scene.restitution.tc = Some(DEFAULT_TC);
         }
         let template = disks.clone();
         let sim = Simulation::new(flight, &scene, disks)?;
         let mut exact_setup = Integrator::setup(&sim);
         exact_setup.scheme = "hybrid";
+        // Contact dynamics must accept the scene too: refused knobs are found before the run.
+        let step = Contact::new(flight, &scene, template.clone(), engine)?.step();
         let window = scene
             .floor
             .as_ref()
             .filter(|f| !f.is_static())
-            .map_or(1.0, |f| f.period_or_one());
-        // Contact dynamics must accept the scene too: refused knobs are found before the run.
-        Contact::new(flight, &scene, template.clone(), engine)?;
+            .map_or(STEPS_PER_WINDOW * step, |f| f.period_or_one());
+        let per_step = template.len().max(1) as f64 * window / step;
         Ok(Handover {
             flight,
             scene,
@@ -140,15 +203,17 @@ impl<F: Flight> Handover<F> {
             stayed: 0,
             exact_setup,
             event_limit,
-            rate_in: RATE_IN,
+            budget: (EVENTS_PER_STEP * per_step) as u64,
             contacts_out: CONTACTS_OUT,
             interrupt: None,
         })
     }
 
-    /// The same with other thresholds of the hand-overs (tests).
-    pub fn with_thresholds(mut self, rate_in: f64, contacts_out: f64) -> Handover<F> {
-        (self.rate_in, self.contacts_out) = (rate_in, contacts_out);
+    /// The same with other thresholds of the hand-overs (tests): `events_per_step` in place of
+    /// [`EVENTS_PER_STEP`], `contacts_out` of [`CONTACTS_OUT`].
+    pub fn with_thresholds(mut self, events_per_step: f64, contacts_out: f64) -> Handover<F> {
+        self.budget = (self.budget as f64 * events_per_step / EVENTS_PER_STEP) as u64;
+        self.contacts_out = contacts_out;
         self
     }
 
@@ -203,7 +268,7 @@ impl<F: Flight> Handover<F> {
         d.max_overlap = d.max_overlap.max(overlap);
         d.handovers += 1;
         if let Part::Dense(c) = &self.part {
-            add_steps(&mut d.stats, c.approximation().unwrap_or_default());
+            d.steps.add(c.approximation().unwrap_or_default());
             d.dense_time += tau;
         }
     }
@@ -272,8 +337,7 @@ impl<F: Flight> Handover<F> {
     /// The exact engine runs to `target` within the window's collision budget; past it, the run
     /// goes to contact dynamics.
     fn exact_to(&mut self, target: f64) -> Result<Option<Progress>> {
-        let n = self.template.len().max(1) as f64;
-        let budget = (self.rate_in * n * self.window) as u64;
+        let budget = self.budget;
         let stop = target.min(self.window_end);
         let Part::Exact(sim) = &mut self.part else {
             unreachable!()
@@ -416,27 +480,24 @@ impl<F: Flight> Integrator for Handover<F> {
         self.exact_setup.clone()
     }
     fn approximation(&self) -> Option<SchemeStats> {
-        let mut s = self.done.stats;
+        let mut steps = self.done.steps;
         let mut dense_time = self.done.dense_time;
         if let Part::Dense(c) = &self.part {
-            add_steps(&mut s, c.approximation().unwrap_or_default());
+            steps.add(c.approximation().unwrap_or_default());
             dense_time += c.time();
         }
-        s.handovers = self.done.handovers;
-        s.dense_time = dense_time;
+        let s = SchemeStats {
+            handovers: self.done.handovers,
+            dense_time,
+            ..steps.stats()
+        };
         (s.steps > 0).then_some(s)
     }
     fn disks_at_rest(&self) -> usize {
-        match &self.part {
-            Part::Exact(sim) => Integrator::disks_at_rest(&**sim),
-            Part::Dense(_) => 0,
-        }
+        on_part!(&self.part, e => Integrator::disks_at_rest(e.as_ref()))
     }
     fn at_rest_since(&self) -> Option<f64> {
-        match &self.part {
-            Part::Exact(sim) => Integrator::at_rest_since(&**sim).map(|t| t + self.t0),
-            Part::Dense(_) => None,
-        }
+        on_part!(&self.part, e => Integrator::at_rest_since(e.as_ref())).map(|t| t + self.t0)
     }
     fn rest_wakes(&self) -> u64 {
         match &self.part {
@@ -444,16 +505,48 @@ impl<F: Flight> Integrator for Handover<F> {
             Part::Dense(_) => 0,
         }
     }
-}
-
-/// Adds a part of contact dynamics' steps and errors to the run's.
-fn add_steps(total: &mut SchemeStats, part: SchemeStats) {
-    total.step = part.step;
-    total.steps += part.steps;
-    total.sweeps += part.sweeps;
-    total.deep_overlaps += part.deep_overlaps;
-    total.missed += part.missed;
-    total.max_boundary_penetration = total
-        .max_boundary_penetration
-        .max(part.max_boundary_penetration);
+    fn saved_state(&self) -> Option<SavedState> {
+        let part = match &self.part {
+            Part::Exact(sim) => SavedPart::Exact(Box::new(sim.state())),
+            Part::Dense(c) => SavedPart::Dense(Box::new(c.state())),
+        };
+        Some(SavedState::Hybrid(Box::new(HandoverState {
+            part,
+            t0: self.t0,
+            done: self.done,
+            window_end: self.window_end,
+            window_from: self.window_from,
+            stay: self.stay,
+            stayed: self.stayed,
+        })))
+    }
+    fn restore_state(&mut self, state: SavedState) -> Result<()> {
+        let SavedState::Hybrid(state) = state else {
+            return Err(SavedState::other_scheme("event-driven"));
+        };
+        let state = *state;
+        self.part = match state.part {
+            SavedPart::Exact(saved) => {
+                let mut sim = Simulation::new(self.flight, &self.scene, self.template.clone())?;
+                sim.restore(*saved)?;
+                Part::Exact(Box::new(sim))
+            }
+            SavedPart::Dense(saved) => {
+                let scene = self.scene_at(state.t0);
+                let mut c = Contact::new(self.flight, &scene, self.template.clone(), &self.engine)?;
+                c.restore(*saved)?;
+                Part::Dense(Box::new(c))
+            }
+        };
+        self.t0 = state.t0;
+        self.done = state.done;
+        self.window_end = state.window_end;
+        self.window_from = state.window_from;
+        self.stay = state.stay;
+        self.stayed = state.stayed;
+        if let Some(flag) = self.interrupt {
+            self.part_set_interrupt(flag);
+        }
+        Ok(())
+    }
 }

@@ -25,8 +25,29 @@ use crate::error::{Error, Result};
 use crate::physics::disks::Disks;
 use crate::physics::flight::Flight;
 use crate::physics::walls::{into_period, nearest_image, SideBounds, Top};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
+
+/// A checkpoint's engine: the exact engine's state, or the hybrid scheme's.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum SavedState {
+    /// `event-driven`.
+    Exact(Box<EngineState>),
+    /// `hybrid`.
+    Hybrid(Box<handover::HandoverState>),
+}
+
+impl SavedState {
+    /// A checkpoint of scheme `saved` resumed on a scene of another.
+    fn other_scheme(saved: &str) -> Error {
+        Error::input(
+            "engine.scheme",
+            format!(
+                "the checkpoint was written by the {saved} scheme, and this scene runs another"
+            ),
+        )
+    }
+}
 
 /// How the engine was set up, for the summary (`engine` there, less the sample count).
 #[derive(Debug, Clone, PartialEq)]
@@ -178,15 +199,15 @@ pub trait Integrator {
         0
     }
     /// The engine's complete state between events, for a checkpoint (`None`: this scheme has
-    /// none; only the exact engine can be checkpointed).
-    fn saved_state(&self) -> Option<EngineState> {
+    /// none; the exact engine and the hybrid scheme can be checkpointed).
+    fn saved_state(&self) -> Option<SavedState> {
         None
     }
     /// Puts a checkpoint's state back into an engine built for the same scene.
-    fn restore_state(&mut self, _state: EngineState) -> Result<()> {
+    fn restore_state(&mut self, _state: SavedState) -> Result<()> {
         Err(Error::input(
             "engine.scheme",
-            "only the event-driven scheme can be checkpointed and resumed",
+            "only the event-driven and hybrid schemes can be checkpointed and resumed",
         ))
     }
 }
@@ -268,11 +289,14 @@ impl<F: Flight> Integrator for Simulation<F> {
     fn approximation(&self) -> Option<SchemeStats> {
         None
     }
-    fn saved_state(&self) -> Option<EngineState> {
-        Some(self.state())
+    fn saved_state(&self) -> Option<SavedState> {
+        Some(SavedState::Exact(Box::new(self.state())))
     }
-    fn restore_state(&mut self, state: EngineState) -> Result<()> {
-        self.restore(state)
+    fn restore_state(&mut self, state: SavedState) -> Result<()> {
+        match state {
+            SavedState::Exact(state) => self.restore(*state),
+            SavedState::Hybrid(_) => Err(SavedState::other_scheme("hybrid")),
+        }
     }
 }
 

@@ -194,11 +194,15 @@ fn phase_bins_sum_to_the_window() {
         (mean - measured).abs() < 1e-9 * measured,
         "{mean} {measured}"
     );
-    // The bed lands (the most impacts) while its lower edge is lowest.
+    // The bed lands (the most impacts) while its lower edge is low: within a fifth of the edge's
+    // range above its lowest (the edge is flat for several bins around its lowest, so the bin of
+    // the lowest is not a sharp phase; half a period off, the edge is near its highest).
     let most = (0..16).max_by_key(|&k| p.impacts[k]).unwrap();
-    let lowest = (0..16)
-        .min_by(|&i, &j| p.lower_edge[i].total_cmp(&p.lower_edge[j]))
-        .unwrap();
-    let apart = (most as i64 - lowest as i64).rem_euclid(16);
-    assert!(apart.min(16 - apart) <= 2, "{most} {lowest}");
+    let edge = &p.lower_edge;
+    let lowest = edge.iter().copied().fold(f64::INFINITY, f64::min);
+    let highest = edge.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        edge[most] - lowest < 0.2 * (highest - lowest),
+        "most impacts in bin {most}: {edge:?}"
+    );
 }

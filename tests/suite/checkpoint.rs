@@ -260,6 +260,33 @@ fn a_resumed_renumbered_run_is_the_uninterrupted_run() {
 #[test]
 fn a_resumed_vibrated_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("bed", "vibrated_bed.json", &["run.warmup=2"], 4.7, 9.0);
+    let exact = ["run.warmup=2", "engine.scheme=event-driven"];
+    resumed_equals_uninterrupted("exact-bed", "vibrated_bed.json", &exact, 4.7, 9.0);
+}
+
+/// The hybrid scheme (`auto` for this bed): riding the floor, the bed goes to contact dynamics
+/// near t = 12. Cut before the hand-over and after it, the resumed run is the uninterrupted one.
+#[test]
+fn a_resumed_hybrid_bed_is_the_uninterrupted_bed() {
+    let riding = [
+        "floor.gamma=0.5",
+        "particles.temperature=0.01",
+        "particles.count=200",
+        "domain.width=40.3",
+        "run.warmup=2",
+    ];
+    resumed_equals_uninterrupted("hybrid-exact", "vibrated_bed.json", &riding, 8.7, 20.0);
+    resumed_equals_uninterrupted("hybrid-dense", "vibrated_bed.json", &riding, 15.3, 20.0);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-dense");
+    let whole = physics(&dir.join("full.json"));
+    let dense = &whole["approximation"];
+    assert!(
+        dense["handovers"].as_u64() >= Some(1) && dense["dense_time"].as_f64() > Some(5.0),
+        "the bed did not go to contact dynamics: {dense}"
+    );
+    let cut = physics(&dir.join("first.json"));
+    let cut_dense = cut["approximation"]["dense_time"].as_f64();
+    assert!(cut_dense > Some(1.0), "the cut fell before the hand-over");
 }
 
 /// The other event queue, Isobe's tree, goes into the checkpoint as well as the calendar.

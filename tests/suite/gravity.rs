@@ -347,7 +347,7 @@ fn the_pressure_on_the_floor_is_the_weight_of_the_bed() {
     let p = s
         .floor_pressure
         .expect("a floor scene reports its pressure");
-    assert_eq!(p.weight, 1000.0 * 1.0 / 200.0);
+    assert_eq!(p.weight, 1000.0 * 1.0 / scenario.domain.width);
     assert!(
         (p.measured / p.weight - 1.0).abs() < 0.01,
         "pressure {} against a weight of {} per unit width",

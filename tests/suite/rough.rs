@@ -427,7 +427,7 @@ fn a_rough_vibrated_bed_closes_its_energy_budget_under_the_invariant_checks() {
             t_rot[k]
         );
     }
-    let bin_area = (height[1] - height[0]) * 200.0;
+    let bin_area = (height[1] - height[0]) * s.domain.width;
     let total: f64 = (0..height.len())
         .map(|k| t_rot[k].unwrap_or(0.0) * density[k] * bin_area)
         .sum();

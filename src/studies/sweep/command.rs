@@ -508,7 +508,7 @@ fn task_cpus(exp: &Expanded, pending: &[usize]) -> usize {
         .map(|&i| {
             let s = &exp.scenarios[i];
             match s.engine.threads {
-                Some(t) if s.engine.scheme != Scheme::EventDriven => t as usize,
+                Some(t) if s.scheme() != Scheme::EventDriven => t as usize,
                 _ => 1,
             }
         })
