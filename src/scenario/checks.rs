@@ -23,6 +23,36 @@ fn positive(field: &str, v: f64) -> Result<()> {
     }
 }
 
+/// A refused relation between two fields, blamed on the one the user set (`sets`: the `--set`
+/// overrides, a sweep's axes): a warm-up past the run's end is the duration's fault when only
+/// `run.duration` was set (a shorter run of a scene, or a resume), the warm-up's otherwise.
+pub fn blame_what_was_set(e: Error, s: &Scenario, sets: &[String]) -> Error {
+    let set = |field: &str| {
+        sets.iter()
+            .any(|x| x.split_once('=').is_some_and(|(k, _)| k.trim() == field))
+    };
+    let warmup = s.run.warmup;
+    match &e {
+        Error::Input { field, .. }
+            if field == "run.warmup"
+                && set("run.duration")
+                && !set("run.warmup")
+                && warmup.is_finite()
+                && warmup >= 0.0 =>
+        {
+            Error::input(
+                "run.duration",
+                format!(
+                    "must be longer than run.warmup = {warmup:?} (got {:?}): lengthen it, or \
+                     set a shorter run.warmup",
+                    s.run.duration
+                ),
+            )
+        }
+        _ => e,
+    }
+}
+
 /// At most `limit` of something asked for by `count = span / interval`.
 pub fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
     if count <= limit {

@@ -771,7 +771,9 @@ impl Scenario {
         }
         json::lists_only_where_lists_belong(&value)?;
         let scenario = Scenario::from_value(value)?;
-        scenario.validate()?;
+        scenario
+            .validate()
+            .map_err(|e| checks::blame_what_was_set(e, &scenario, sets))?;
         Ok(scenario)
     }
 

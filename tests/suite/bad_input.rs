@@ -1304,6 +1304,20 @@ fn a_bad_duration_of_a_scene_with_inlets_is_blamed_on_the_duration() {
         &["run.duration=12", "inlets.0.start=13"],
         &["inlets.0.start"],
     );
+    // A duration set shorter than the file's warm-up (10) is the duration's fault ...
+    check_refuses(
+        "silo-short",
+        "silo.json",
+        &["run.duration=5"],
+        &["run.duration"],
+    );
+    // ... and a warm-up set past the file's duration (60), the warm-up's.
+    check_refuses(
+        "silo-warmup",
+        "silo.json",
+        &["run.warmup=70"],
+        &["run.warmup"],
+    );
 }
 
 // --- sweep collect: a bad plot or axis is refused before any table is written. ---
