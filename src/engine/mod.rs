@@ -108,24 +108,37 @@ pub struct Simulation<F: Flight> {
 impl<F: Flight> Simulation<F> {
     /// Runs events until absolute time `target` (events at exactly `target` are left for later).
     pub fn advance_to(&mut self, target: f64) -> Result<Progress> {
-        let progress = self.run_to(target);
-        if let Some(pool) = self.pool.as_mut() {
-            pool.refresh();
-        }
-        progress
-    }
-
-    /// The event loop of [`advance_to`](Self::advance_to): a scene whose disks enter (a pool)
-    /// runs a loop that also wakes at the next entry; any other runs the loop without it.
-    fn run_to(&mut self, target: f64) -> Result<Progress> {
-        if self.pool.is_some() {
+        let progress = if self.pool.is_some() {
             self.event_loop::<true>(target)
         } else {
             self.event_loop::<false>(target)
+        };
+        self.refresh_pool();
+        progress
+    }
+
+    /// Processes the next `k` turns of the event loop (events, re-mappings, entries through
+    /// inlets), whatever their times: for benchmarks, which measure throughput rather than
+    /// reach a time.
+    pub fn step_events(&mut self, k: u64) -> Result<()> {
+        let stepped = if self.pool.is_some() {
+            self.steps::<true>(k)
+        } else {
+            self.steps::<false>(k)
+        };
+        self.refresh_pool();
+        stepped
+    }
+
+    /// The live disks' view, after disks entered or left (a scene with a pool).
+    fn refresh_pool(&mut self) {
+        if let Some(pool) = self.pool.as_mut() {
+            pool.refresh();
         }
     }
 
-    /// The event loop, waking at entries through inlets if `POOL`.
+    /// The event loop of [`advance_to`](Self::advance_to), with its guards: the event budget,
+    /// the interrupt and the stall (see [`stall`](stall.rs)).
     fn event_loop<const POOL: bool>(&mut self, target: f64) -> Result<Progress> {
         // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
         // at the start, so that a run stops within a bounded wall time whatever it is doing.
@@ -145,40 +158,61 @@ impl<F: Flight> Simulation<F> {
                 }
             }
             turns = turns.wrapping_add(1);
-            let i = self.events.queue.min();
-            self.prefetch_next();
-            let te = self.events.time[i];
-            let deadline = self.map.dutc.deadline;
-            // The next entry through an inlet (∞ without inlets) wakes the loop like the DUTC.
-            let wake = if POOL {
-                deadline.min(self.control.entry)
-            } else {
-                deadline
-            };
-            if wake <= te && wake < local_target {
-                self.now = wake;
-                if POOL && wake != deadline {
-                    self.enter_due()?;
-                } else {
-                    self.remap()?;
-                }
-                continue;
-            }
-            if te >= local_target {
+            if !self.turn::<POOL>(local_target)? {
                 self.now = self.now.max(local_target);
                 return Ok(Progress::Reached);
             }
-            if self.control.check && te < self.now {
-                return Err(Error::Runtime(format!(
-                    "event of disk {} at {} is before the present {}",
-                    self.map.numbering.id(i),
-                    self.base.absolute(te),
-                    self.base.absolute(self.now)
-                )));
-            }
-            self.now = te;
-            self.fire(i)?;
         }
+    }
+
+    /// The loop of [`step_events`](Self::step_events): `k` turns, or fewer if nothing is left
+    /// to happen.
+    fn steps<const POOL: bool>(&mut self, k: u64) -> Result<()> {
+        for _ in 0..k {
+            if !self.turn::<POOL>(f64::INFINITY)? {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// One turn of the event loop: the re-mapping, the entry through an inlet (if `POOL`: ∞
+    /// without inlets) or the event that comes first, if before `local_target`. `false` if
+    /// none is.
+    #[inline(always)]
+    fn turn<const POOL: bool>(&mut self, local_target: f64) -> Result<bool> {
+        let i = self.events.queue.min();
+        self.prefetch_next();
+        let te = self.events.time[i];
+        let deadline = self.map.dutc.deadline;
+        let wake = if POOL {
+            deadline.min(self.control.entry)
+        } else {
+            deadline
+        };
+        if wake <= te && wake < local_target {
+            self.now = wake;
+            if POOL && wake != deadline {
+                self.enter_due()?;
+            } else {
+                self.remap()?;
+            }
+            return Ok(true);
+        }
+        if te >= local_target {
+            return Ok(false);
+        }
+        if self.control.check && te < self.now {
+            return Err(Error::Runtime(format!(
+                "event of disk {} at {} is before the present {}",
+                self.map.numbering.id(i),
+                self.base.absolute(te),
+                self.base.absolute(self.now)
+            )));
+        }
+        self.now = te;
+        self.fire(i)?;
+        Ok(true)
     }
 
     /// Hints the memory system at the states and events of the disks likely to come next.
@@ -272,27 +306,5 @@ impl<F: Flight> Simulation<F> {
         self.control
             .interrupt
             .is_some_and(|flag| flag.load(Ordering::Relaxed))
-    }
-
-    /// Processes the next `k` events (collisions, stale events, re-mappings), whatever their
-    /// times: for benchmarks, which measure throughput rather than reach a time (with the
-    /// same hints to the memory system as [`advance_to`](Self::advance_to)).
-    pub fn step_events(&mut self, k: u64) -> Result<()> {
-        for _ in 0..k {
-            let i = self.events.queue.min();
-            self.prefetch_next();
-            let te = self.events.time[i];
-            if self.map.dutc.deadline <= te {
-                self.now = self.map.dutc.deadline;
-                self.remap()?;
-                continue;
-            }
-            if te == f64::INFINITY {
-                return Ok(());
-            }
-            self.now = te;
-            self.fire(i)?;
-        }
-        Ok(())
     }
 }
