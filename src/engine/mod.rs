@@ -28,8 +28,6 @@ mod counts;
 mod event;
 mod fire;
 mod floor;
-#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-mod lanes;
 mod log;
 mod motion;
 mod observe;

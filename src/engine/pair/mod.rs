@@ -1,5 +1,9 @@
 //! Pair collisions, the engine's main event source: when a disk next meets a listed neighbour
-//! ([`search`](search.rs)), and what their collision does ([`collide`](collide.rs)).
+//! ([`search`](search.rs)), and what their collision does ([`collide`](collide.rs)). Where AVX2
+//! is, the search's loop over the list and the shells' filter of candidate neighbours run four
+//! at a time ([`lanes`](lanes.rs)).
 
 mod collide;
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+pub(in crate::engine) mod lanes;
 mod search;

@@ -155,7 +155,7 @@ impl<F: Flight> Simulation<F> {
         unsafe {
             let m = &self.disks.motion[i];
             let (x, y, vx, vy) = self.flight.advance(m.x, m.y, m.vx, m.vy, self.now - m.t);
-            let probe = crate::engine::lanes::Probe {
+            let probe = super::lanes::Probe {
                 i: i as u32,
                 now: self.now,
                 x,
@@ -168,7 +168,7 @@ impl<F: Flight> Simulation<F> {
                 half: self.bounds.images.half(),
                 period: self.bounds.images.period(),
             };
-            crate::engine::lanes::earliest_contact::<WITHIN>(
+            super::lanes::earliest_contact::<WITHIN>(
                 &probe,
                 list,
                 &self.disks.motion,

@@ -196,7 +196,7 @@ fn leave_circle(dx: f64, dy: f64, vx: f64, vy: f64, rho: f64) -> f64 {
 /// Keeps at the front of `found[..n]`, in order, the candidates whose anchors lie within reach
 /// of disk `i`'s: `j ≠ i` and `|Δ|² ≤ (reach + a_j)²` for the minimum image `Δ` of the two
 /// anchors (`reach` = `a_i` + the list's margin); returns how many. Without a branch per
-/// candidate (about a third are kept, at random). Where AVX2 is, `lanes::within_reach` does
+/// candidate (about a third are kept, at random). Where AVX2 is, `pair::lanes::within_reach` does
 /// the same four at a time (a test compares the two).
 #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
 pub(in crate::engine) fn within_reach(
@@ -381,7 +381,7 @@ impl<F: Flight> Simulation<F> {
         // every candidate is a disk (indexing is checked).
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
         let kept = unsafe {
-            crate::engine::lanes::within_reach(
+            crate::engine::pair::lanes::within_reach(
                 found,
                 n,
                 i,

@@ -11,14 +11,14 @@
 //! as the scalar loops, which stay for other processors (tests compare the two). Built where
 //! AVX2 is (the engine's x86-64-v3 target: `.cargo/config.toml`).
 
-use super::event::code;
-use super::motion::Images;
+use crate::engine::event::code;
+use crate::engine::motion::Images;
 use crate::physics::disks::{Motion, PerDisk};
 use std::arch::x86_64::*;
 
 /// What the four-lane search needs to know of the disk that predicts and of the domain.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Probe {
+pub(in crate::engine) struct Probe {
     /// The disk (its own list's padding: a disk never meets itself).
     pub i: u32,
     /// The present (engine clock).
@@ -66,7 +66,7 @@ unsafe fn nearest_image(d: __m256d, half: __m256d, neg_half: __m256d, period: __
 /// `repr(C)` [`Motion`] per disk, and every entry of `list` indexes it (indexing is checked).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
+pub(in crate::engine) unsafe fn earliest_contact<const WITHIN: bool>(
     p: &Probe,
     list: &[u32],
     motion: &[Motion],
@@ -247,7 +247,7 @@ pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
     (t_best, who)
 }
 
-/// [`within_reach`](super::remap::shells::within_reach) four candidates at a time: the same
+/// [`within_reach`](crate::engine::remap::shells::within_reach) four candidates at a time: the same
 /// candidates kept in the same order, each lane doing the scalar filter's operations in its
 /// order (the two share their parameters: one interface, two ways).
 ///
@@ -256,7 +256,7 @@ pub(super) unsafe fn earliest_contact<const WITHIN: bool>(
 /// Sound wherever this module is built (AVX2 is enabled at compile time); every candidate and
 /// `i` index `anchor` (indexing is checked).
 #[inline(always)]
-pub(super) unsafe fn within_reach(
+pub(in crate::engine) unsafe fn within_reach(
     found: &mut [u32],
     n: usize,
     i: usize,
@@ -357,13 +357,16 @@ mod tests {
         let scenes = [
             (
                 "gas_periodic_phi07",
-                include_str!("../../scenarios/gas_periodic_phi07.json"),
+                include_str!("../../../scenarios/gas_periodic_phi07.json"),
             ),
             (
                 "polydisperse",
-                include_str!("../../scenarios/polydisperse.json"),
+                include_str!("../../../scenarios/polydisperse.json"),
             ),
-            ("box_walls", include_str!("../../scenarios/box_walls.json")),
+            (
+                "box_walls",
+                include_str!("../../../scenarios/box_walls.json"),
+            ),
         ];
         for (what, json) in scenes {
             for remap in ["local", "global"] {
@@ -384,7 +387,7 @@ mod tests {
                 );
             }
         }
-        let bed = include_str!("../../scenarios/vibrated_bed.json");
+        let bed = include_str!("../../../scenarios/vibrated_bed.json");
         let mut sim = engine(bed, |s| Ballistic {
             g: s.gravity.expect("the bed has gravity"),
         });
@@ -497,7 +500,7 @@ mod tests {
                     let ka = unsafe {
                         super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
                     };
-                    let kb = super::super::remap::shells::within_reach(
+                    let kb = crate::engine::remap::shells::within_reach(
                         &mut b, n, i, reach, &anchor, &radius, &images,
                     );
                     assert_eq!(a[..ka], b[..kb], "disk {i}, mixed {mixed}");
