@@ -81,17 +81,9 @@ impl<F: Flight> Simulation<F> {
         if rode[0] != rode[1] && self.rest.resting_contacts {
             let (k, s) = if rode[0] { (j, i) } else { (i, j) };
             // Separation from the disk at rest to the flying one.
-            let (sx, sy) = if k == i { (dx, dy) } else { (-dx, -dy) };
-            // From above, or level within a flat angle (rows at rest differ in height by
-            // round-off): a push that cannot lift the disk at rest.
-            let level = sy >= -crate::engine::rest::jams::WEDGE_DROP * sx.abs();
-            if level && self.pushed_gently(k, s, (sx, sy)) {
-                self.tally.jams.gentle_push += 1;
-                return self.meet_held(k, s, (sx, sy));
-            }
-            if level && self.in_jammed_row(s, -sx) {
-                self.tally.jams.jammed_row += 1;
-                return self.meet_held(k, s, (sx, sy));
+            let sep = if k == i { (dx, dy) } else { (-dx, -dy) };
+            if self.push_gently(k, s, sep)? || self.hit_jammed_row(k, s, sep)? {
+                return Ok(());
             }
         }
         let d = &self.disks;
@@ -152,31 +144,6 @@ impl<F: Flight> Simulation<F> {
             self.settle_if_jammed(i, j);
         }
         Ok(())
-    }
-
-    /// Disks `i` and `j` touch (`(dx, dy)` from `j` to `i`, both brought to now) and one of them
-    /// slides on a rough floor, meeting the other slower than its sleep speed: the friction
-    /// under it presses it into the other, and colliding would exchange next to nothing, at one
-    /// instant, for ever. The slider takes the end of its slide at once and rolls (the
-    /// friction impulse left, `q/(1 + q)` of its slip, at once: the approximation of the
-    /// engine before slides were followed, here only for a contact this gentle); both are
-    /// predicted again. `true` if it did.
-    fn roll_pressed_slider(&mut self, i: usize, j: usize, (dx, dy): (f64, f64)) -> bool {
-        let (mi, mj) = (self.disks.motion[i], self.disks.motion[j]);
-        let dist = (dx * dx + dy * dy).sqrt();
-        let approach = -((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
-        let slider = [i, j]
-            .into_iter()
-            .find(|&k| self.rest.riders.slide(k).is_some() && approach < self.sleep_speed(k));
-        let Some(k) = slider else {
-            return false;
-        };
-        self.roll_at_once(k);
-        self.stop_if_slow(k);
-        self.tally.jams.pressed_slider += 1;
-        self.moved(k);
-        self.predict(if k == i { j } else { i });
-        true
     }
 
     /// The rest rules that may take a collision of disks `i` and `j` over (`rode`: whether each

@@ -5,8 +5,11 @@
 //!
 //! - [`slot`](slot.rs): a slot between supports at rest that do not give;
 //! - [`cluster`](cluster.rs): a jammed cluster of slow flying disks that only hold as a whole;
-//! - [`held`](held.rs): a jammed row, disks at rest side by side from wall to wall, and a
-//!   gentle push on a disk at rest;
+//! - [`jammed_row`](jammed_row.rs): a jammed row, disks at rest side by side from wall to
+//!   wall, hit level;
+//! - [`gentle_push`](gentle_push.rs): a gentle push on a disk at rest;
+//! - [`held`](held.rs): what those two share, a flying disk meeting a disk at rest that does
+//!   not give;
 //! - [`pocket`](pocket.rs): a pocket by a side wall, where a frictionless disk slides to the
 //!   wall and back;
 //! - [`zeno`](zeno.rs): a closed wedge, or disks ringing in gaps of round-off, where a flying
@@ -15,13 +18,18 @@
 //!   disks that came to rest a hair apart, where a disk would stay wedged above the floor and
 //!   tilt every column above it;
 //! - [`full_rows`](full_rows.rs): a full row of flying disks seated on a row at rest, and a
-//!   full row on the floor, each with no play but round-off, ringing sideways between the walls.
+//!   full row on the floor, each with no play but round-off, ringing sideways between the walls;
+//! - [`pressed_slider`](pressed_slider.rs): a disk sliding on a rough floor pressed gently
+//!   into another, which rolls at once.
 
 mod cluster;
 mod floor_room;
 mod full_rows;
+mod gentle_push;
 mod held;
+mod jammed_row;
 mod pocket;
+mod pressed_slider;
 mod slot;
 mod zeno;
 
@@ -58,6 +66,14 @@ const TIGHT: f64 = 1e-12;
 
 /// The longest row pushed aside (see `room_on_floor`).
 const ROOM_ROW: usize = 64;
+
+/// Whether a flying disk at `(sx, sy)` from a disk at rest meets it from above, or level within
+/// a flat angle (rows at rest differ in height by round-off): a push that cannot lift the disk
+/// at rest.
+#[inline]
+fn level(sx: f64, sy: f64) -> bool {
+    sy >= -WEDGE_DROP * sx.abs()
+}
 
 /// How to let a disk down onto the floor (see `room_on_floor`): move the disks `shifts` in the
 /// direction `dir` (±1 in x), each by its distance (the landing disk first, by a negative one:
