@@ -125,6 +125,16 @@ pub struct EnergyFlow {
     pub floor_impulse: f64,
 }
 
+impl EnergyFlow {
+    /// The floor changes a disk's vertical velocity from `before` to `after` (an impact, a
+    /// launch): the work it does and the momentum it gives, for a disk of mass `mass`.
+    #[inline]
+    pub fn floor_work(&mut self, mass: f64, before: f64, after: f64) {
+        self.injected += 0.5 * mass * (after * after - before * before);
+        self.floor_impulse += mass * (after - before);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -54,12 +54,7 @@ impl<F: Flight> Simulation<F> {
             *next = self.flying_with_outlets(state, a, *next);
             return;
         }
-        if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
-            if now + dt < next.t {
-                next.t = now + dt;
-                next.who = code::LID;
-            }
-        }
+        self.lid_event(state, a, next);
         // Nothing after the re-mapping matters: it re-predicts every disk.
         let limit = next.t.min(self.map.dutc.deadline);
         match floor.next_event(y, vy, a, g, now, limit) {
@@ -84,12 +79,7 @@ impl<F: Flight> Simulation<F> {
             .expect("outlets are in a scene with a floor");
         let (now, g) = (self.now, self.flight.g());
         let (_, y, _, vy) = state;
-        if let Some(dt) = self.bounds.top.impact(y, vy, a, g) {
-            if now + dt < next.t {
-                next.t = now + dt;
-                next.who = code::LID;
-            }
-        }
+        self.lid_event(state, a, &mut next);
         let limit = next.t.min(self.map.dutc.deadline);
         match floor.next_event(y, vy, a, g, now, limit) {
             Some(FloorEvent::Impact(tf)) if tf < next.t && !self.lands_in_gap(state, tf) => {
@@ -182,8 +172,7 @@ impl<F: Flight> Simulation<F> {
     /// floor momentum).
     pub(super) fn set_vy(&mut self, i: usize, vy: f64) {
         let m = &mut self.disks.motion[i];
-        self.tally.flow.injected += 0.5 * self.disks.mass[i] * (vy * vy - m.vy * m.vy);
-        self.tally.flow.floor_impulse += self.disks.mass[i] * (vy - m.vy);
+        self.tally.flow.floor_work(self.disks.mass[i], m.vy, vy);
         m.vy = vy;
     }
 
@@ -198,10 +187,7 @@ impl<F: Flight> Simulation<F> {
             .as_ref()
             .expect("floor impacts need a floor");
         let vy = self.disks.motion[i].vy;
-        let elastic = self
-            .restitution
-            .boundary_elastic(i, now, (hd - vy).max(0.0));
-        let after = floor.bounce_on(vy, hd, elastic);
+        let after = floor.hit(&mut self.restitution, i, now, vy, hd);
         // Rebound relative to what a resting disk would do: move with the floor (exact model)
         // or stay put (fixed-position model).
         let (h, hd_ride) = floor.ride(now);

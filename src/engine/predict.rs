@@ -67,7 +67,7 @@ impl<F: Flight> Simulation<F> {
         if self.bounds.floor.is_some() {
             self.floor_events(i, state, a, &mut next);
         } else {
-            self.lid_event(state, a, best, &mut next);
+            self.lid_event(state, a, &mut next);
         }
         if self.map.shells.is_some() {
             let exit = self.shell_exit(i, state);

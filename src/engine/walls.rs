@@ -73,12 +73,11 @@ impl<F: Flight> Simulation<F> {
         first
     }
 
-    /// The lid's impact in a scene without a floor, if earlier than `best` from now (the
-    /// earliest pair contact or wall): it becomes `next`.
+    /// The lid's impact, if earlier than `next`: it becomes `next`.
     #[inline(always)]
-    pub(super) fn lid_event(&self, (_, y, _, vy): State, a: f64, best: f64, next: &mut Next) {
+    pub(super) fn lid_event(&self, (_, y, _, vy): State, a: f64, next: &mut Next) {
         if let Some(dt) = self.bounds.top.impact(y, vy, a, self.flight.g()) {
-            if dt < best {
+            if self.now + dt < next.t {
                 next.t = self.now + dt;
                 next.who = code::LID;
             }

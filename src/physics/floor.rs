@@ -11,6 +11,7 @@
 
 use crate::physics::drive::{Drive, FloorModel, Waveform};
 use crate::physics::flight::time_to_fall;
+use crate::physics::restitution::CollisionLaw;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// The floor: its motion and restitution.
@@ -230,6 +231,16 @@ impl Floor {
     #[inline]
     pub fn bounce(&self, vy: f64, t: f64) -> f64 {
         self.bounce_on(vy, self.velocity(t), false)
+    }
+
+    /// Disk `i` moving vertically with `vy` hits the floor, moving with `hd`, at local time
+    /// `now`: the collision law says whether a cure makes the impact elastic, and the vertical
+    /// velocity after is returned — the one place every scheme handles a floor impact, as
+    /// [`SideBounds::hit`](crate::physics::walls::SideBounds::hit) a wall's.
+    #[inline]
+    pub fn hit(&self, law: &mut CollisionLaw, i: usize, now: f64, vy: f64, hd: f64) -> f64 {
+        let elastic = law.boundary_elastic(i, now, (hd - vy).max(0.0));
+        self.bounce_on(vy, hd, elastic)
     }
 
     /// [`bounce`](Self::bounce) on a floor moving with vertical velocity `hd`; `elastic` when a

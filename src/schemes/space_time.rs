@@ -906,17 +906,13 @@ impl<F: Flight> Strip<F> {
                 let a = self.disks.radius[i];
                 let before = self.disks.motion[i].vy;
                 let hd = floor.velocity(now);
-                let elastic = self
-                    .restitution
-                    .boundary_elastic(i, now, (hd - before).max(0.0));
-                let mut after = floor.bounce_on(before, hd, elastic);
+                let mut after = floor.hit(&mut self.restitution, i, now, before, hd);
                 if floor.comes_to_rest(after - hd, a, g, now) {
                     let (_, hd_ride) = floor.ride(now);
                     after = hd_ride + (2.0 * g * REST_HOP * a).sqrt();
                     self.counts.rest += 1;
                 }
-                self.flow.injected += 0.5 * self.disks.mass[i] * (after * after - before * before);
-                self.flow.floor_impulse += self.disks.mass[i] * (after - before);
+                self.flow.floor_work(self.disks.mass[i], before, after);
                 let vx = self.disks.motion[i].vx;
                 self.disks.motion[i].vy = after;
                 self.flow.dissipated += self.rub.boundary(

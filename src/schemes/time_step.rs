@@ -453,10 +453,8 @@ impl<F: Flight> TimeStep<F> {
         let (a, mass) = (self.disks.radius[i], self.disks.mass[i]);
         let m = &mut self.disks.motion[i];
         if m.y - a < h && m.vy < hd {
-            let elastic = self.restitution.boundary_elastic(i, now, hd - m.vy);
-            let after = floor.bounce_on(m.vy, hd, elastic);
-            self.flow.injected += 0.5 * mass * (after * after - m.vy * m.vy);
-            self.flow.floor_impulse += mass * (after - m.vy);
+            let after = floor.hit(&mut self.restitution, i, now, m.vy, hd);
+            self.flow.floor_work(mass, m.vy, after);
             self.stats.max_boundary_penetration =
                 self.stats.max_boundary_penetration.max(h - (m.y - a));
             let before = (m.vx, m.vy);
