@@ -10,9 +10,7 @@ use crate::physics::walls::{SideBounds, Top};
 /// never wrap there). Kept as plain numbers rather than read from [`SideBounds`] and [`Top`]:
 /// `Top::Open` carries no height, and a compiler that hoists `0.5 · height` out of a pair loop
 /// (it may: the product is only used under a test) then multiplies whatever bytes lie in the
-/// unused payload — a subnormal among them costs a microcode assist at every prediction, which
-/// slowed the vibrated bed markedly in an AVX2 build that hoisted it (the book's performance
-/// history has the figures).
+/// unused payload — a subnormal among them costs a microcode assist at every prediction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Images {
     period: [f64; 2],

@@ -1,4 +1,6 @@
-//! Locals: things a single disk hits — side walls, the lid, the floor.
+//! What bounds the domain at the sides and the top, as a single disk meets it: the side walls
+//! (or periodic sides) and the lid (or an open or periodic top). The floor is
+//! [`floor`](super::floor)'s.
 
 use crate::physics::disks::Motion;
 use crate::physics::flight::time_to_rise;

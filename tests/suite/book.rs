@@ -608,3 +608,59 @@ fn every_page_is_in_the_summary_and_reads_on_github() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The names in backticks of the contributing page's engine table (from its lead-in to the
+/// next heading).
+fn engine_table_names() -> BTreeSet<String> {
+    let page = read(&book_src().join("contributing.md"));
+    let start = page
+        .find("The engine, `engine/`, reads by concept")
+        .expect("the contributing page has the engine's table");
+    let table = &page[start..];
+    let table = &table[..table.find("\n## ").unwrap_or(table.len())];
+    table
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
+}
+
+/// The name the engine table gives a file or folder of `src/engine` at `depth` (0: directly in
+/// it): `name.rs` and `name/` at the top, a folder's files by their stem and its folders as
+/// `name/` below.
+fn engine_entries(dir: &Path, depth: usize, out: &mut Vec<String>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|e| e.expect("a directory entry").path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if path.is_dir() {
+            out.push(format!("{name}/"));
+            engine_entries(&path, depth + 1, out);
+        } else if name == "mod.rs" && depth > 0 {
+            continue;
+        } else if depth == 0 {
+            out.push(name);
+        } else {
+            out.push(name.trim_end_matches(".rs").to_string());
+        }
+    }
+}
+
+/// The contributing page's engine table names every file and folder of `src/engine`, so that
+/// a newcomer finds each in it.
+#[test]
+fn the_engine_table_names_every_engine_file() {
+    let named = engine_table_names();
+    let mut entries = Vec::new();
+    engine_entries(&root().join("src/engine"), 0, &mut entries);
+    assert!(entries.len() > 20, "{entries:?}");
+    let missing: Vec<_> = entries.iter().filter(|e| !named.contains(*e)).collect();
+    assert!(
+        missing.is_empty(),
+        "the engine table of docs/book/src/contributing.md does not name {missing:?}"
+    );
+}

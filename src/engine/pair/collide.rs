@@ -62,8 +62,8 @@ impl<F: Flight> Simulation<F> {
 
     /// A collision of disks `i` and `j` (or what stands in for one: a landing, a jammed row).
     ///
-    /// Out of line: the event loop and `fire` are then compiled as one compact loop, which the
-    /// fluidized beds run faster (the performance history has the figures).
+    /// Out of line: the event loop and `fire` then compile to one compact loop, which the
+    /// fluidized beds run faster.
     #[inline(never)]
     pub(in crate::engine) fn pair(&mut self, i: usize, j: usize) -> Result<()> {
         let now = self.now;

@@ -25,7 +25,7 @@ pub const RENUMBER_EVERY: u64 = 8;
 /// Under gravity (a bed dense below and dilute above: no one packing tells how far its disks
 /// go) [`RENUMBER_EVERY`]. Each renumbering is a whole re-mapping under the local re-mapping,
 /// which a dense gas renumbered as often as a dilute one would pay for with a noticeable share
-/// of its speed (the book's performance history has the figures).
+/// of its speed.
 pub fn renumber_every(a: f64, phi: f64, settled: bool) -> u64 {
     if settled {
         return RENUMBER_EVERY;

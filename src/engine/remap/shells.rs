@@ -84,8 +84,7 @@ pub const LEAN_LISTS_FROM: usize = 1 << 18;
 
 /// How many neighbours beyond contact the lists of `n` disks at packing `phi` are sized for:
 /// longer lists mean fewer shell exits but longer predictions. Eight up to φ = 0.4, falling
-/// to six at φ = 0.6 and above (chosen by measurement: the book's performance history has the
-/// figures); six from [`LEAN_LISTS_FROM`] disks on, at every packing, where the longer lists
+/// to six at φ = 0.6 and above (chosen by measurement); six from [`LEAN_LISTS_FROM`] disks on, at every packing, where the longer lists
 /// would still be a little faster but memory is what limits a run.
 pub fn beyond_contact(phi: f64, n: usize) -> f64 {
     if n >= LEAN_LISTS_FROM {
@@ -102,7 +101,7 @@ pub fn beyond_contact(phi: f64, n: usize) -> f64 {
 /// short (dense gases) the next collision turns it back: the shift is `min(r/2, 0.7 λ)`, and
 /// none where that is less than `r/4` (a disk rattling in its cage gains nothing; from
 /// φ ≈ 0.5 on). The shift saves shell exits in dilute gases; in dense ones a longer shift
-/// would only cost (chosen by measurement: the book's performance history has the figures).
+/// would only cost (chosen by measurement).
 /// Under gravity, 0 (flights bend, beds rattle).
 pub fn anchor_ahead(r: f64, a: f64, phi: f64, gravity: bool) -> f64 {
     let ahead = (0.5 * r).min(0.7 * mean_free_path(a, phi));
@@ -119,8 +118,7 @@ pub const SETTLED_BED_PACKING: f64 = 0.7;
 
 /// The packing the shells are sized for: the scene's, or with a floor at least a settled bed's
 /// ([`SETTLED_BED_PACKING`]): a bed spends its run settled, and shells sized for a looser
-/// initial placement would be too wide for it, its lists too long (the book's performance
-/// history has the figures).
+/// initial placement would be too wide for it, its lists too long.
 pub fn packing_for_shells(packing: f64, floor: bool) -> f64 {
     if floor {
         packing.max(SETTLED_BED_PACKING)

@@ -61,8 +61,8 @@ pub const HAIR: f64 = 1e-4;
 /// that.
 /// Frictionless, a disk on a support tilted toward the wall would slide the hair into it; but
 /// a disk rattling in such a pocket under a cure is rarely within [`TOUCH`] of both at once
-/// (one was seen 9·10⁻⁵ radii off the wall for ever, in a column of disks by a wall, each
-/// hop elastic).
+/// (in a column of disks by a wall, each hop elastic, one can stay 9·10⁻⁵ radii off the wall
+/// for ever).
 pub const WALL_TOUCH: f64 = HAIR;
 
 impl<F: Flight> Simulation<F> {
