@@ -193,22 +193,25 @@ fn a_pour_brings_every_disk_once_and_conserves_the_count() {
     assert_eq!(seen, 520, "all 500 poured by t = 25");
 }
 
-/// A lone inlet over an empty floor: its disks enter at the exact scheduled times (one every
-/// 1/rate), falling at the inlet's speed (fast enough to clear the one place between entries).
+/// A lone inlet over an empty floor: a disk every 1/4 from t = 0.1, falling at speed 5 from
+/// y = 50.
+const DRIP: &str = r#"{
+    "name": "drip",
+    "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
+    "gravity": 1.0,
+    "floor": { "restitution": 0.5 },
+    "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
+                   "placement": { "positions": [[1.0, 0.5]], "velocities": [[0.0, 0.0]] } },
+    "inlets": [ { "x": { "from": 5.0, "to": 5.0 }, "y": { "from": 50.0, "to": 50.0 },
+                  "rate": 4.0, "start": 0.1, "speed": 5.0 } ],
+    "run": { "duration": 2.0 }
+}"#;
+
+/// The drip: its disks enter at the exact scheduled times (one every 1/rate), falling at the
+/// inlet's speed (fast enough to clear the one place between entries).
 #[test]
 fn disks_enter_at_their_scheduled_times() {
-    let json = r#"{
-        "name": "drip",
-        "domain": { "width": 10.0, "x_boundary": "walls", "y_boundary": "open" },
-        "gravity": 1.0,
-        "floor": { "restitution": 0.5 },
-        "particles": { "count": 1, "radius": 0.5, "temperature": 0.0,
-                       "placement": { "positions": [[1.0, 0.5]], "velocities": [[0.0, 0.0]] } },
-        "inlets": [ { "x": { "from": 5.0, "to": 5.0 }, "y": { "from": 50.0, "to": 50.0 },
-                      "rate": 4.0, "start": 0.1, "speed": 5.0 } ],
-        "run": { "duration": 2.0 }
-    }"#;
-    let mut sim = ballistic(json);
+    let mut sim = ballistic(DRIP);
     // Entries at 0.1, 0.35, 0.6, …: just before and after each.
     for j in 0..4 {
         let t = 0.1 + j as f64 * 0.25;
@@ -221,6 +224,26 @@ fn disks_enter_at_their_scheduled_times() {
         assert!((s.vy[row] + 5.0 + 1e-9).abs() < 1e-12, "vy = {}", s.vy[row]);
         assert!((s.y[row] - 50.0).abs() < 1e-8 && (s.x[row] - 5.0).abs() < 1e-12);
     }
+}
+
+/// The benchmarks' loop (`step_events`) is the event loop: it wakes for the entries through an
+/// inlet, as `advance_to` does.
+#[test]
+fn stepping_events_enters_disks_as_advancing_does() {
+    let mut stepped = ballistic(DRIP);
+    for _ in 0..100_000 {
+        if stepped.time() >= 0.95 {
+            break;
+        }
+        stepped.step_events(1).unwrap();
+    }
+    let t = stepped.time();
+    assert!((0.95..1.1).contains(&t), "stepped to t = {t}");
+    let mut advanced = ballistic(DRIP);
+    advanced.advance_to(t).unwrap();
+    // Entries at 0.1, 0.35, 0.6 and 0.85 before t; the next at 1.1.
+    assert_eq!(stepped.pool().unwrap().flow.entered, 4);
+    assert_eq!(advanced.pool().unwrap().flow.entered, 4);
 }
 
 /// An inlet whose one place is taken waits: the next disk enters once the one below has
