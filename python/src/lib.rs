@@ -19,6 +19,7 @@ use running::{simulate, Ran, Start};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use vibrobed::cli::{output_paths, resumed, OutputArgs};
+use vibrobed::output::progress::check_every;
 use vibrobed::run::CheckpointPlan;
 
 /// The typed scenario as JSON (every default filled in) and its advisories (what the command
@@ -58,7 +59,8 @@ fn check(
 /// `trajectory`, `checkpoint`) to paths.
 #[pyfunction]
 #[pyo3(signature = (path=None, text=None, sets=Vec::new(), files=HashMap::new(),
-                    checkpoint_every=None, measure_fields=false, progress=false))]
+                    checkpoint_every=None, measure_fields=false, progress=false,
+                    progress_every=None))]
 #[allow(clippy::too_many_arguments)]
 fn run(
     py: Python<'_>,
@@ -69,7 +71,9 @@ fn run(
     checkpoint_every: Option<f64>,
     measure_fields: bool,
     progress: bool,
+    progress_every: Option<f64>,
 ) -> PyResult<Ran> {
+    check_every(progress_every).py()?;
     let scenario_file = path.clone();
     let given = Given::new(path, text, sets).py()?;
     let s = given.scenario().py()?;
@@ -91,6 +95,7 @@ fn run(
         resume: None,
         measure_fields,
         progress,
+        progress_every,
     };
     simulate(py, &s, &files, start)
 }
@@ -99,7 +104,7 @@ fn run(
 /// `run.max_events`).
 #[pyfunction]
 #[pyo3(signature = (checkpoint_file, sets=Vec::new(), files=HashMap::new(),
-                    checkpoint_every=None, progress=false))]
+                    checkpoint_every=None, progress=false, progress_every=None))]
 fn resume(
     py: Python<'_>,
     checkpoint_file: PathBuf,
@@ -107,7 +112,9 @@ fn resume(
     files: HashMap<String, PathBuf>,
     checkpoint_every: Option<f64>,
     progress: bool,
+    progress_every: Option<f64>,
 ) -> PyResult<Ran> {
+    check_every(progress_every).py()?;
     let files = Files::from_map(files).py()?;
     let (s, plan, ck) = resumed(
         &checkpoint_file,
@@ -124,21 +131,30 @@ fn resume(
         resume: Some(ck),
         measure_fields: false,
         progress,
+        progress_every,
     };
     simulate(py, &s, &files, start)
 }
 
-/// `vibrobed sweep run`: (ran now, done before, interrupted, failed).
+/// `vibrobed sweep run`: (ran now, done before, interrupted, failed, ended early).
 #[pyfunction]
-#[pyo3(signature = (sweep, out, jobs=None, progress=false))]
+#[pyo3(signature = (sweep, out, jobs=None, progress=false, progress_every=None,
+                    max_run_seconds=None))]
 fn sweep_run(
     py: Python<'_>,
     sweep: PathBuf,
     out: PathBuf,
     jobs: Option<usize>,
     progress: bool,
+    progress_every: Option<f64>,
+    max_run_seconds: Option<f64>,
 ) -> PyResult<sweep::Report> {
-    sweep::run(py, &sweep, &out, jobs, progress)
+    check_every(progress_every).py()?;
+    let limits = sweep::Limits {
+        progress_every,
+        max_run_seconds,
+    };
+    sweep::run(py, &sweep, &out, jobs, progress, limits)
 }
 
 /// `vibrobed sweep collect` without a plot: `runs.csv` and `points.csv` as text.

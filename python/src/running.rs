@@ -34,6 +34,8 @@ pub struct Start {
     pub measure_fields: bool,
     /// Progress on stderr.
     pub progress: bool,
+    /// Wall seconds between progress lines off a terminal (default: the command line's).
+    pub progress_every: Option<f64>,
 }
 
 /// Runs `s` (its outputs already checked), writes the files of `files`, and hands back the
@@ -45,6 +47,7 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
         resume,
         measure_fields,
         progress,
+        progress_every,
     } = start;
     let (rrd, trajectory) = (files.rrd.clone(), files.trajectory.clone());
     let written_after = files.written_after();
@@ -60,7 +63,7 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
                 checkpoint,
                 resume,
                 progress,
-                progress_every: None,
+                progress_every,
                 progress_label: None,
                 fields,
                 written_after,

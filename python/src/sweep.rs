@@ -9,7 +9,7 @@ use std::sync::atomic::Ordering;
 use vibrobed::output::progress::DEFAULT_EVERY;
 use vibrobed::output::summary::Ending;
 use vibrobed::platform::signals::stop_flag;
-use vibrobed::studies::sweep::command::writable_out;
+use vibrobed::studies::sweep::command::{check_max_run_seconds, writable_out};
 use vibrobed::studies::sweep::local::{run_pool, PoolOptions};
 use vibrobed::studies::sweep::plan::expand;
 use vibrobed::{Error, Result};
@@ -24,6 +24,14 @@ pub type Report = (
     Vec<(usize, &'static str)>,
 );
 
+/// `sweep run --progress-every` and `--max-run-seconds` (None: the command line's defaults).
+pub struct Limits {
+    /// Wall seconds between a run's progress lines off a terminal.
+    pub progress_every: Option<f64>,
+    /// Wall-clock limit of each run.
+    pub max_run_seconds: Option<f64>,
+}
+
 /// Runs every run of the sweep file `sweep` not yet done into `out` on `jobs` workers (default:
 /// every core), off the GIL; Ctrl-C stops the pool as SIGINT stops `sweep run`.
 pub fn run(
@@ -32,10 +40,12 @@ pub fn run(
     out: &Path,
     jobs: Option<usize>,
     progress: bool,
+    limits: Limits,
 ) -> PyResult<Report> {
     if jobs == Some(0) {
         return Err(Error::input("--jobs", "must be at least 1")).py();
     }
+    check_max_run_seconds(limits.max_run_seconds).py()?;
     let exp = expand(sweep).py()?;
     exp.check_scenes().py()?;
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -46,8 +56,8 @@ pub fn run(
     let options = PoolOptions {
         jobs,
         progress,
-        progress_every: DEFAULT_EVERY,
-        max_run_seconds: None,
+        progress_every: limits.progress_every.unwrap_or(DEFAULT_EVERY),
+        max_run_seconds: limits.max_run_seconds,
     };
     let report = detached::run(py, flag, || run_pool(&exp, out, options));
     flag.store(false, Ordering::Relaxed);

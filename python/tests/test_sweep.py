@@ -47,6 +47,17 @@ def test_runs_stopped_by_their_limit_are_named(tmp_path, bed):
         assert list(s.runs["ending"]) == ["event-limit", "completed"]
 
 
+def test_a_wall_clock_limit_per_run(tmp_path, bed):
+    """``max_run_seconds`` is ``--max-run-seconds``: each run ends at it (``wall-limit``), named
+    in the warning; a limit that is no number of seconds is refused by name."""
+    spec = {"scenario": str(bed), "set": ["run.duration=100000"], "seeds": 1}
+    with pytest.warns(UserWarning, match="run 0 stopped by the wall-clock limit"):
+        s = vibrobed.sweep(spec, tmp_path / "out", max_run_seconds=0.3, progress_every=0.1)
+    assert list(s.runs["ending"]) == ["wall-limit"]
+    with pytest.raises(vibrobed.ScenarioError, match="--max-run-seconds"):
+        vibrobed.sweep(spec, tmp_path / "o2", max_run_seconds=0)
+
+
 def test_a_shipped_sweep_file_is_checked_first(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({

@@ -279,12 +279,14 @@ def run(
     checkpoint: Optional[PathLike] = None,
     checkpoint_every: Optional[float] = None,
     progress: bool = False,
+    progress_every: Optional[float] = None,
     view: Any = False,
 ) -> Result:
     """``vibrobed run``: runs the scenario and returns its :class:`Result`. Each path writes the
     file the command line's option of that name writes (``fields`` a CSV, or VTK for
     ``*.vti``); ``fields=True`` measures the 2D fields without writing them. ``progress`` shows
-    the command line's progress on stderr. ``view=True`` shows the run's recording in a Rerun
+    the command line's progress on stderr (off a terminal, as in a notebook, a line every
+    ``progress_every`` seconds, 60 by default). ``view=True`` shows the run's recording in a Rerun
     viewer embedded in the notebook while it runs (see :func:`show`). The GIL is released while
     the engine runs."""
     given, sets = _given(scenario), _sets(set)
@@ -306,6 +308,7 @@ def run(
             checkpoint_every=checkpoint_every,
             measure_fields=measure,
             progress=progress,
+            progress_every=progress_every,
         )
 
     return _result(_viewed(go, rrd, view), "run")
@@ -361,6 +364,7 @@ def resume(
     checkpoint_to: Optional[PathLike] = None,
     checkpoint_every: Optional[float] = None,
     progress: bool = False,
+    progress_every: Optional[float] = None,
     view: Any = False,
 ) -> Result:
     """``vibrobed resume``: continues the run the checkpoint holds, bit for bit as if it had not
@@ -382,6 +386,7 @@ def resume(
             files=_files(rrd=rrd, **paths),
             checkpoint_every=checkpoint_every,
             progress=progress,
+            progress_every=progress_every,
         )
 
     return _result(_viewed(go, rrd, view), "resumed run")
@@ -457,12 +462,15 @@ def sweep(
     *,
     jobs: Optional[int] = None,
     progress: bool = False,
+    progress_every: Optional[float] = None,
+    max_run_seconds: Optional[float] = None,
 ) -> Sweep:
     """``vibrobed sweep run`` on this machine's cores (``jobs`` workers, default all), then its
     tables. ``sweep`` is a sweep file or a dict of one (written to ``out/sweep.json``, its
     scenario path taken from the working directory). Runs done before are skipped; a failed run
     raises ``RuntimeError`` once the others are done; runs stopped by their event or wall-clock
-    limit (now or before) are named in a warning."""
+    limit (now or before) are named in a warning. ``progress_every`` and ``max_run_seconds``
+    are ``sweep run``'s ``--progress-every`` and ``--max-run-seconds``."""
     out = os.fspath(out)
     if not isinstance(sweep, (str, bytes, os.PathLike)):
         import json
@@ -476,8 +484,9 @@ def sweep(
             json.dump(spec, f, indent=2)
     else:
         path = os.fspath(sweep)
-    ran, skipped, interrupted, failed, early = _native.sweep_run(path, out, jobs=jobs,
-                                                                progress=progress)
+    ran, skipped, interrupted, failed, early = _native.sweep_run(
+        path, out, jobs=jobs, progress=progress, progress_every=progress_every,
+        max_run_seconds=max_run_seconds)
     if failed:
         i, first = failed[0]
         total = ran + skipped + interrupted + len(failed)

@@ -167,12 +167,7 @@ impl SweepCommand {
                 max_run_seconds,
             } => {
                 crate::output::progress::check_every(progress_every)?;
-                if let Some(m) = max_run_seconds.filter(|m| !(m.is_finite() && *m > 0.0)) {
-                    return Err(Error::input(
-                        "--max-run-seconds",
-                        format!("must be a positive number of seconds (got {m})"),
-                    ));
-                }
+                check_max_run_seconds(max_run_seconds)?;
                 let options = PoolOptions {
                     jobs: jobs.unwrap_or(0),
                     progress: !quiet,
@@ -233,6 +228,17 @@ impl SweepCommand {
                 }
             }
         }
+    }
+}
+
+/// Refuses a `--max-run-seconds` that is not a positive number of seconds.
+pub fn check_max_run_seconds(seconds: Option<f64>) -> Result<()> {
+    match seconds {
+        Some(m) if !(m.is_finite() && m > 0.0) => Err(Error::input(
+            "--max-run-seconds",
+            format!("must be a positive number of seconds (got {m})"),
+        )),
+        _ => Ok(()),
     }
 }
 
