@@ -14,7 +14,7 @@ use crate::scenario::{Scenario, Scheme};
 use crate::schemes::{
     contact::Contact, handover::Handover, space_time::SpaceTime, time_step::TimeStep, Integrator,
 };
-use checkpoint::Checkpoint;
+use checkpoint::{Checkpoint, CheckpointFile};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -23,6 +23,7 @@ mod averages;
 pub mod checkpoint;
 mod driver;
 mod failures;
+mod frames;
 mod invariants;
 mod resume;
 pub mod state;
@@ -33,7 +34,7 @@ mod views;
 mod wall_limit;
 
 use driver::Driver;
-use streams::{Streams, Takes};
+use streams::{OnFailure, Streams, Takes};
 use wall_limit::WallLimit;
 
 /// Where frames go: the recording, or a test's collector.
@@ -206,10 +207,10 @@ struct Outputs {
     resume: Option<Box<Checkpoint>>,
 }
 
-/// The outputs streamed at stops, opened only now that the engine has accepted the initial
-/// state (a refused scene leaves no file behind): the frame sink — the caller's, else the
-/// recording — at the frames, and the trajectory of `--trajectory` or `output.trajectory` at its
-/// frames. A new streamed output is one more registration here.
+/// The outputs written at stops, opened only now that the engine has accepted the initial state
+/// (a refused scene leaves no file behind): the frame sink — the caller's, else the recording —
+/// at the frames, the trajectory of `--trajectory` or `output.trajectory` at its frames, the
+/// checkpoint of `--checkpoint` at the checkpoints. A new output is one more registration here.
 fn open_streams(
     out: &mut Outputs,
     s: &Scenario,
@@ -229,7 +230,8 @@ fn open_streams(
     };
     if let Some(sink) = recording {
         let path = out.rrd.clone().unwrap_or_default();
-        streams.add("recording", path, Takes::Frames, sink);
+        let (named, sink) = (("recording", path), Box::new(sink));
+        streams.add(named, Takes::Frames, OnFailure::Drop, sink);
     }
     let trajectory = opts
         .trajectory
@@ -238,7 +240,23 @@ fn open_streams(
     if let Some(path) = trajectory {
         let w = TrajectoryWriter::create(&path, layout).map_err(Error::Io)?;
         let path = w.partial().path.clone();
-        streams.add("trajectory", path, Takes::TrajectoryFrames, Box::new(w));
+        let sink: Box<dyn FrameSink> = Box::new(w);
+        streams.add(
+            ("trajectory", path),
+            Takes::TrajectoryFrames,
+            OnFailure::Drop,
+            Box::new(sink),
+        );
+    }
+    if let Some(plan) = &opts.checkpoint {
+        let file = CheckpointFile(plan.path.clone());
+        let named = ("checkpoint", plan.path.clone());
+        streams.add(
+            named,
+            Takes::Checkpoints,
+            OnFailure::TryAgain,
+            Box::new(file),
+        );
     }
     Ok(streams)
 }

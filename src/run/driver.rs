@@ -2,18 +2,17 @@
 //! samples, the phase bins, frames, trajectory frames, checkpoints. The summary is made in
 //! `summary`, the engine's states read through `views`.
 
-use super::averages::{field_grid, Averages, Window};
+use super::averages::{Averages, Window};
 use super::failures::Failures;
+use super::frames::{trajectory_frame, Frames};
 use super::stops::Stops;
-use super::streams::{Streams, Takes};
+use super::streams::{Given, Streams, Takes};
 use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
 use super::{CheckpointPlan, RunOptions};
 use crate::engine::{Progress, Scene, Snapshot};
 use crate::error::Result;
-use crate::measure::fields::Fields;
 use crate::measure::phase::{PhaseBins, PhaseClock};
 use crate::measure::Observables;
-use crate::output::frame::{frame_series, spread_by_id, FrameView};
 use crate::output::progress::ProgressReport;
 use crate::output::summary::{Ending, Summary};
 use crate::output::watch::Watch;
@@ -30,7 +29,7 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) sim: E,
     pub(super) s: &'a Scenario,
     pub(super) scene: &'a Scene,
-    /// The outputs streamed at stops (recording, trajectory).
+    /// The outputs written at stops (recording, trajectory, checkpoint).
     pub(super) streams: Streams,
     pub(super) g: f64,
     /// The time of the current stop.
@@ -41,14 +40,15 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) initial: Observables,
     pub(super) stops: Stops,
     pub(super) averages: Averages,
-    pub(super) last_frame_collisions: u64,
+    /// What the recording's frames carry from one frame to the next.
+    pub(super) frames: Frames,
     /// The first sample time from which every disk has been at rest at every sample (`None`
     /// while some disk moves).
     pub(super) at_rest_since: Option<f64>,
     /// The caller's stop flag, also looked at between stops (a run with dense samples or
     /// frames can spend its time there).
     pub(super) interrupt: Option<&'static AtomicBool>,
-    /// Checkpoints to write, if asked.
+    /// What a checkpoint holds of the run's start, if checkpoints are asked for.
     pub(super) checkpoint: Option<CheckpointPlan>,
     /// The recording's id (kept across resumed parts) and the recordings written so far.
     pub(super) recording_id: Option<String>,
@@ -60,9 +60,6 @@ pub(super) struct Driver<'a, E: Integrator> {
     pub(super) failures: Failures,
     /// The thread that notices output files removed during the run.
     pub(super) watch: Watch,
-    /// The recording's live fields (`output.record_fields`) and the factor by which they forget
-    /// their past at each frame.
-    pub(super) live_fields: Option<(Fields, f64)>,
     /// A sample taken at the last stop and not yet in the averages (engines with threads of
     /// their own add it while they run on to the next stop), and a spare copy of the states for
     /// the next one.
@@ -93,10 +90,8 @@ impl<'a, E: Integrator> Driver<'a, E> {
             _ => None,
         };
         let stops = Stops::new(s, opts.checkpoint.as_ref().and_then(|c| c.every), phase);
-        let live_fields = (s.output.record_fields && streams.take(Takes::Frames))
-            .then(|| field_grid(s, scene, &StatesAt(&sim, 0.0), sim.disks()))
-            .flatten()
-            .map(|grid| (Fields::new(grid), forget_factor(scene, stops.frame_dt)));
+        let live = streams.take(Takes::Frames);
+        let frames = Frames::new((s, scene), &sim, stops.frame_dt, live);
         Driver {
             sim,
             s,
@@ -108,7 +103,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             initial,
             stops,
             averages,
-            last_frame_collisions: 0,
+            frames,
             at_rest_since: None,
             interrupt: opts.interrupt,
             checkpoint: opts.checkpoint.clone(),
@@ -118,7 +113,6 @@ impl<'a, E: Integrator> Driver<'a, E> {
             clock: Instant::now(),
             failures: Failures::default(),
             watch: Watch::start(Vec::new()),
-            live_fields,
             taken: None,
             spare: Snapshot::default(),
             sizes: None,
@@ -291,59 +285,26 @@ impl<'a, E: Integrator> Driver<'a, E> {
         Ok(())
     }
 
-    /// A frame: the disks and the time series, to the sink (dropped if it fails).
+    /// A frame: the disks, the time series, the live profiles and fields, to the outputs that
+    /// take frames.
     pub(super) fn frame(&mut self) {
         self.stops.k_frame += 1;
         if !self.streams.take(Takes::Frames) {
             return;
         }
         fill_snapshot(&self.sim, self.now, &mut self.snap);
-        let sim = &self.sim;
-        let snap = &self.snap;
-        let o = Observables::of(snap, sim.disks(), self.g);
-        let collisions = sim.counts().collisions();
-        let rate = (collisions - self.last_frame_collisions) as f64 / self.stops.frame_dt;
-        self.last_frame_collisions = collisions;
-        let series = frame_series(
-            &o,
-            &sim.energy_flow_at(snap.time),
-            if self.stops.k_frame > 1 { rate } else { 0.0 },
-            sim.rotational_energy(snap.time),
-            sim.flow().map(|f| (snap.x.len() as f64, f.left as f64)),
-        );
-        let spins = sim.spins_at(self.now);
-        let d = sim.disks();
-        let profile = self
-            .averages
-            .profiles
-            .as_ref()
-            .map(|p| p.of_instant(snap, d));
-        let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        if let Some((f, forget)) = self.live_fields.as_mut() {
-            f.decay(*forget);
-            f.add(snap, d);
-        }
-        // Where disks leave, instance i of the recording stays disk i: every id has an entry,
-        // those not in the scene drawn nowhere (no position, radius 0).
-        let by_id = (!snap.ids.is_empty())
-            .then(|| spread_by_id(snap, &radius, &species, self.s.disk_count()));
-        let (snap, radius, species) = match &by_id {
-            Some((s, r, k)) => (s, r, k),
-            None => (snap, &radius, &species),
-        };
-        let mut view = FrameView::of(
-            self.stops.k_frame - 1,
-            snap,
-            (radius, species),
-            (&series, profile.as_ref()),
-            spins.as_deref(),
-        );
-        view.fields = self.live_fields.as_ref().map(|(f, _)| f);
         let time = self.sim.time();
-        (self.streams).frame(Takes::Frames, &view, time, &mut self.failures);
+        let (streams, failures) = (&mut self.streams, &mut self.failures);
+        self.frames.frame(
+            (&self.sim, &self.snap),
+            self.averages.profiles.as_ref(),
+            (self.stops.k_frame, self.stops.frame_dt),
+            self.s.disk_count(),
+            |view| streams.give(Takes::Frames, &Given::Frame(view), time, failures),
+        );
     }
 
-    /// A line of text to the streamed outputs.
+    /// A line of text to the outputs.
     fn log_text(&mut self, at: f64, level: &str, text: &str) {
         let time = self.sim.time();
         (self.streams).log_text(at, (level, text), time, &mut self.failures);
@@ -357,28 +318,22 @@ impl<'a, E: Integrator> Driver<'a, E> {
         }
     }
 
-    /// A trajectory frame: every disk, to the extended XYZ file (dropped if it fails).
+    /// A trajectory frame: every disk, to the outputs that take trajectory frames.
     pub(super) fn trajectory_frame(&mut self) {
         self.stops.k_trajectory += 1;
         if !self.streams.take(Takes::TrajectoryFrames) {
             return;
         }
         fill_snapshot(&self.sim, self.now, &mut self.snap);
-        let (snap, d) = (&self.snap, self.sim.disks());
-        let (radius, species) = (d.radius.to_vec(), d.species.to_vec());
-        let spins = self.sim.spins_at(self.now);
-        let view = FrameView::of(
-            self.stops.k_trajectory - 1,
-            snap,
-            (&radius, &species),
-            (&[], None),
-            spins.as_deref(),
-        );
         let time = self.sim.time();
-        (self.streams).frame(Takes::TrajectoryFrames, &view, time, &mut self.failures);
+        let (streams, failures) = (&mut self.streams, &mut self.failures);
+        let k = self.stops.k_trajectory;
+        trajectory_frame((&self.sim, &self.snap), k, |view| {
+            streams.give(Takes::TrajectoryFrames, &Given::Frame(view), time, failures)
+        });
     }
 
-    /// Closes the streamed outputs with a note on how the run ended.
+    /// Closes the outputs with a note on how the run ended.
     fn close_streams(&mut self, ending: Ending, end_time: f64) {
         let note = match ending {
             Ending::Completed => "run completed".to_string(),
@@ -415,15 +370,5 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.drop_outputs_gone();
         self.close_streams(ending, end_time);
         Ok(self.summarise(ending, end_time, wall))
-    }
-}
-
-/// The factor by which the recording's live fields forget their past at each frame, `frame_dt`
-/// apart: e^(−frame_dt / period), an exponential running average over one floor period; 0 (the
-/// frame alone) without a vibrating floor.
-fn forget_factor(scene: &Scene, frame_dt: f64) -> f64 {
-    match &scene.floor {
-        Some(f) if !f.is_static() => (-frame_dt / f.period_or_one()).exp(),
-        _ => 0.0,
     }
 }

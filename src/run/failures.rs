@@ -1,6 +1,7 @@
-//! The outputs a run could not write (a recording, a trajectory, a checkpoint): each said once
-//! on stderr with what the run does about it, counted when it fails again, and listed in the
-//! summary (`output_failures`), which makes the run exit 3.
+//! The outputs a run could not write (a recording, a trajectory, a checkpoint): each said on
+//! stderr with what the run does about it, counted when it fails again, and listed in the
+//! summary (`output_failures`), which makes the run exit 3. When to say it is the outputs'
+//! policy (`streams`).
 
 use crate::error::Error;
 use crate::output::summary::OutputFailure;
@@ -10,46 +11,31 @@ use std::path::Path;
 #[derive(Debug, Default)]
 pub(super) struct Failures {
     list: Vec<OutputFailure>,
-    /// The last checkpoint could not be written.
-    checkpoint_failing: bool,
 }
 
 impl Failures {
     /// `output`, written to `path`, failed with `e` at simulated time `time`; said on stderr
-    /// unless `said` already (by the watch). Another failure of the same output is counted, and
-    /// said only for a checkpoint that was written again in between.
+    /// with `goes_on`, what the run does about it, if given. Another failure of the same output
+    /// is counted.
     pub(super) fn record(
         &mut self,
         output: &'static str,
         path: &Path,
         e: Error,
         time: f64,
-        said: bool,
+        goes_on: Option<&str>,
     ) {
-        let again =
-            output == "checkpoint" && !std::mem::replace(&mut self.checkpoint_failing, true);
         let error = match e {
             Error::Io(m) | Error::Runtime(m) => m,
             other => other.to_string(),
         };
-        let path = path.display().to_string();
-        let same = |f: &&mut OutputFailure| f.output == output && f.path == path;
-        let earlier = self.list.iter_mut().find(same);
-        let first = earlier.is_none();
-        if let Some(f) = earlier {
-            f.failures += 1;
-        }
-        if !said && (first || again) {
-            let goes_on = match output {
-                "checkpoint" => {
-                    "the run goes on, and tries the checkpoint again at the next interval and at \
-                     the end (an earlier checkpoint stays whole)"
-                }
-                _ => "the run goes on without it",
-            };
+        if let Some(goes_on) = goes_on {
             eprintln!("vibrobed: warning: {error}; {goes_on}");
         }
-        if !first {
+        let path = path.display().to_string();
+        let same = |f: &&mut OutputFailure| f.output == output && f.path == path;
+        if let Some(f) = self.list.iter_mut().find(same) {
+            f.failures += 1;
             return;
         }
         self.list.push(OutputFailure {
@@ -59,16 +45,6 @@ impl Failures {
             error,
             failures: 1,
         });
-    }
-
-    /// The checkpoint `path` was written at simulated time `time`: said when it had failed.
-    pub(super) fn checkpoint_written(&mut self, path: &Path, time: f64) {
-        if std::mem::take(&mut self.checkpoint_failing) {
-            eprintln!(
-                "vibrobed: note: checkpoint {} written again at t = {time}",
-                path.display()
-            );
-        }
     }
 
     /// All of them, for the summary.

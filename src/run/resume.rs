@@ -1,11 +1,12 @@
-//! A run saved and resumed: the checkpoint the driver writes at its stops and at the end (the
-//! engine between events, the driver's state, the scene's text), and a resumed driver taking
-//! back the state one holds.
+//! A run saved and resumed: the checkpoint the driver gives its outputs at its stops and at the
+//! end (the engine between events, the driver's state, the scene's text), and a resumed driver
+//! taking back the state one holds.
 
 use super::checkpoint::Checkpoint;
 use super::driver::Driver;
 use super::state::DriverState;
 use super::stops::Stops;
+use super::streams::{Given, Takes};
 use crate::error::{Error, Result};
 use crate::schemes::Integrator;
 
@@ -54,16 +55,23 @@ impl<E: Integrator> Driver<'_, E> {
         );
         self.averages = d.averages;
         self.initial = d.initial;
-        self.last_frame_collisions = d.last_frame_collisions;
+        self.frames.last_collisions = d.last_frame_collisions;
         self.at_rest_since = d.at_rest_since;
         self.wall_before = d.wall_seconds;
         self.recordings = ck.recordings;
         Ok(())
     }
 
-    /// Writes a checkpoint, if asked: the engine between events, this driver, the scene's text.
-    pub(super) fn save_checkpoint(&self) -> Result<()> {
-        let Some(plan) = &self.checkpoint else {
+    /// The checkpoint to the outputs that take it, if any: the engine between events, this
+    /// driver, the scene's text. A checkpoint that cannot be written is an output failure (the
+    /// run goes on); an engine that cannot be saved ends the run.
+    pub(super) fn checkpoint(&mut self) -> Result<()> {
+        self.settle(); // the averages saved hold every sample taken
+        let Some(plan) = self
+            .checkpoint
+            .as_ref()
+            .filter(|_| self.streams.take(Takes::Checkpoints))
+        else {
             return Ok(());
         };
         let engine = self.sim.saved_state().ok_or_else(|| {
@@ -72,7 +80,7 @@ impl<E: Integrator> Driver<'_, E> {
                 "only the event-driven and hybrid schemes can be checkpointed",
             )
         })?;
-        Checkpoint {
+        let ck = Checkpoint {
             scenario: plan.scenario.clone(),
             source: plan.source.clone(),
             sets: plan.sets.clone(),
@@ -83,29 +91,16 @@ impl<E: Integrator> Driver<'_, E> {
                 stops: self.stops,
                 averages: self.averages.clone(),
                 initial: self.initial,
-                last_frame_collisions: self.last_frame_collisions,
+                last_frame_collisions: self.frames.last_collisions,
                 at_rest_since: self.at_rest_since,
                 wall_seconds: self.wall_before + self.clock.elapsed().as_secs_f64(),
                 time: self.sim.time(),
             },
             engine,
-        }
-        .write(&plan.path)
-    }
-
-    /// Writes a checkpoint if asked; a failure to write it is an output failure (the run goes
-    /// on), any other error ends the run.
-    pub(super) fn checkpoint(&mut self) -> Result<()> {
-        self.settle(); // the averages saved hold every sample taken
-        let path = self.checkpoint.as_ref().map(|c| c.path.clone());
+        };
         let time = self.sim.time();
-        match (self.save_checkpoint(), path) {
-            (Ok(()), Some(path)) => self.failures.checkpoint_written(&path, time),
-            (Err(e @ Error::Io(_)), Some(path)) => {
-                self.failures.record("checkpoint", &path, e, time, false)
-            }
-            (result, _) => result?,
-        }
+        let given = Given::Checkpoint(&ck);
+        (self.streams).give(Takes::Checkpoints, &given, time, &mut self.failures);
         Ok(())
     }
 }

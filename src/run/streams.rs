@@ -1,81 +1,152 @@
-//! The outputs a run streams at its stops — the recording and the trajectory, or a caller's
-//! frame sink — under one interface ([`FrameSink`]) and one failure policy: an output that
-//! fails, or whose file is removed during the run, is said once on stderr, listed in the
-//! summary, and dropped; the run goes on without it.
+//! The outputs a run writes at its stops — the recording (or a caller's frame sink), the
+//! trajectory, the checkpoint — as plugins: each one [`Output`], registered with the stops it
+//! takes and what it does when it fails, under one failure policy. A failure is said once on
+//! stderr and listed in the summary (`output_failures`); then an output that is dropped on
+//! failure (a stream: its file removed, or found removed during the run) is closed and the run
+//! goes on without it, and one that is tried again (the checkpoint: each write whole on its
+//! own) is given its next stop, and said again only if it was written in between.
 
+use super::checkpoint::Checkpoint;
 use super::failures::Failures;
-use crate::error::Error;
+use crate::error::{Error, Result};
 use crate::output::frame::{FrameSink, FrameView};
 use crate::output::partial::{partial_name, Partial};
 use std::path::PathBuf;
 
-/// Which stops an output takes frames at.
+/// What the run does when an output dropped on failure fails.
+const WITHOUT_IT: &str = "the run goes on without it";
+
+/// Which stops an output takes, and so what it is given at them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Takes {
     /// The frames (`output.frame_interval`), with the time series, live profiles and fields.
     Frames,
     /// The trajectory's frames (`output.trajectory_interval`): the disks alone.
     TrajectoryFrames,
+    /// The checkpoints (`--checkpoint-every`, and the end): the run's whole state.
+    Checkpoints,
 }
 
-/// One streamed output.
+/// What a stop gives the outputs that take it.
+pub(super) enum Given<'a> {
+    /// A frame or a trajectory frame.
+    Frame(&'a FrameView<'a>),
+    /// The run's whole state, to resume from.
+    Checkpoint(&'a Checkpoint),
+}
+
+/// What an output does when it fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum OnFailure {
+    /// It is dropped (its file removed): the run goes on without it.
+    Drop,
+    /// It stays, and is tried again at its next stop and at the end (what it wrote before stays
+    /// whole).
+    TryAgain,
+}
+
+/// An output written at stops: what it is given there, a line of text, its end.
+pub(super) trait Output {
+    /// Takes what a stop gives.
+    fn take(&mut self, given: &Given) -> Result<()>;
+    /// A line of text at simulated time `time` (`level`: "INFO", "WARN", …).
+    fn log_text(&mut self, _time: f64, _level: &str, _text: &str) -> Result<()> {
+        Ok(())
+    }
+    /// Closes the output (footers, the file renamed into place).
+    fn finish(self: Box<Self>) -> Result<()> {
+        Ok(())
+    }
+    /// The file being streamed, for the watch that notices it removed during the run.
+    fn file(&self) -> Option<Partial> {
+        None
+    }
+}
+
+/// A frame sink (the recording, the trajectory, a caller's) is an output given frames.
+impl Output for Box<dyn FrameSink> {
+    fn take(&mut self, given: &Given) -> Result<()> {
+        match given {
+            Given::Frame(view) => self.frame(view),
+            Given::Checkpoint(_) => Ok(()),
+        }
+    }
+    fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()> {
+        (**self).log_text(time, level, text)
+    }
+    fn finish(self: Box<Self>) -> Result<()> {
+        (*self).finish()
+    }
+    fn file(&self) -> Option<Partial> {
+        (**self).file()
+    }
+}
+
+/// One registered output.
 struct Stream {
     /// Its name in messages and in the summary's `output_failures`.
     name: &'static str,
     /// The file it writes (empty for a caller's sink that writes none).
     path: PathBuf,
     takes: Takes,
-    sink: Box<dyn FrameSink>,
+    on_failure: OnFailure,
+    /// Its last write failed (an output tried again).
+    failing: bool,
+    output: Box<dyn Output>,
 }
 
-/// The outputs streamed at stops, in the order they were opened.
+/// The outputs written at stops, in the order they were registered.
 #[derive(Default)]
 pub(super) struct Streams {
     list: Vec<Stream>,
 }
 
 impl Streams {
-    /// Adds output `name`, writing `path`, which takes the frames of `takes`.
+    /// Registers output `name`, writing `path`, which takes the stops of `takes` and does
+    /// `on_failure` when it fails.
     pub(super) fn add(
         &mut self,
-        name: &'static str,
-        path: PathBuf,
+        (name, path): (&'static str, PathBuf),
         takes: Takes,
-        sink: Box<dyn FrameSink>,
+        on_failure: OnFailure,
+        output: Box<dyn Output>,
     ) {
         self.list.push(Stream {
             name,
             path,
             takes,
-            sink,
+            on_failure,
+            failing: false,
+            output,
         });
     }
 
-    /// Whether some output takes the frames of `takes` (else those stops are not made).
+    /// Whether some output takes the stops of `takes` (else those stops give nothing).
     pub(super) fn take(&self, takes: Takes) -> bool {
         self.list.iter().any(|s| s.takes == takes)
     }
 
-    /// The files being written, by output, for the watch that notices them removed.
+    /// The files being streamed, by output, for the watch that notices them removed.
     pub(super) fn files(&self) -> Vec<(&'static str, Partial)> {
-        let file = |s: &Stream| s.sink.file().map(|f| (s.name, f));
+        let file = |s: &Stream| s.output.file().map(|f| (s.name, f));
         self.list.iter().filter_map(file).collect()
     }
 
-    /// Frame `view` to the outputs that take `takes`; `time`: the engine's, for a failure.
-    pub(super) fn frame(
-        &mut self,
-        takes: Takes,
-        view: &FrameView,
-        time: f64,
-        failures: &mut Failures,
-    ) {
+    /// `given` to the outputs that take `takes`; `time`: the engine's, for a failure.
+    pub(super) fn give(&mut self, takes: Takes, given: &Given, time: f64, failures: &mut Failures) {
         self.each(time, failures, |s| {
-            if s.takes == takes {
-                s.sink.frame(view)
-            } else {
-                Ok(())
+            if s.takes != takes {
+                return Ok(());
             }
+            let written = s.output.take(given);
+            if written.is_ok() && std::mem::take(&mut s.failing) {
+                eprintln!(
+                    "vibrobed: note: {} {} written again at t = {time}",
+                    s.name,
+                    s.path.display()
+                );
+            }
+            written
         });
     }
 
@@ -87,12 +158,14 @@ impl Streams {
         time: f64,
         failures: &mut Failures,
     ) {
-        self.each(time, failures, |s| s.sink.log_text(at, level, text));
+        self.each(time, failures, |s| s.output.log_text(at, level, text));
     }
 
-    /// The watch found the file of output `name` removed (and has said so): it is dropped.
+    /// The watch found the file of output `name` removed, or the directory of one written
+    /// later (and has said so): a stream is dropped; one tried again stays, to be tried.
     pub(super) fn gone(&mut self, name: &str, time: f64, failures: &mut Failures) {
-        if let Some(i) = self.list.iter().position(|s| s.name == name) {
+        let dropped = |s: &Stream| s.name == name && s.on_failure == OnFailure::Drop;
+        if let Some(i) = self.list.iter().position(dropped) {
             let e = Error::Io(format!(
                 "{name} {}: removed during the run",
                 partial_name(&self.list[i].path).display()
@@ -101,7 +174,7 @@ impl Streams {
         }
     }
 
-    /// Closes every output, the last opened first, each with `note` (a line of text at
+    /// Closes every output, the last registered first, each with `note` (a line of text at
     /// simulated time `at`: how the run ended) before its end.
     pub(super) fn close(
         &mut self,
@@ -110,35 +183,55 @@ impl Streams {
         failures: &mut Failures,
     ) {
         while let Some(mut s) = self.list.pop() {
-            let noted = s.sink.log_text(at, level, note);
-            let closed = noted.and_then(|()| s.sink.finish());
+            let noted = s.output.log_text(at, level, note);
+            let closed = noted.and_then(|()| s.output.finish());
             if let Err(e) = closed {
-                failures.record(s.name, &s.path, e, time, false);
+                failures.record(s.name, &s.path, e, time, Some(WITHOUT_IT));
             }
         }
     }
 
-    /// Runs `write` on each output, dropping those it fails for.
+    /// Runs `write` on each output, applying the failure policy to those it fails for.
     fn each(
         &mut self,
         time: f64,
         failures: &mut Failures,
-        mut write: impl FnMut(&mut Stream) -> crate::error::Result<()>,
+        mut write: impl FnMut(&mut Stream) -> Result<()>,
     ) {
         let mut i = 0;
         while i < self.list.len() {
             match write(&mut self.list[i]) {
                 Ok(()) => i += 1,
-                Err(e) => self.fail(i, e, time, false, failures),
+                Err(e) => {
+                    if self.list[i].on_failure == OnFailure::Drop {
+                        self.fail(i, e, time, false, failures);
+                    } else {
+                        self.fail_again(i, e, time, failures);
+                        i += 1;
+                    }
+                }
             }
         }
     }
 
-    /// Output `i` failed with `e` (`said`: the watch has said so): dropped (its writer has
-    /// stopped; dropping it removes its temporary file), the failure recorded.
+    /// Output `i`, dropped on failure, failed with `e` (`said`: the watch has said so): dropped
+    /// (its writer has stopped; dropping it removes its temporary file), the failure recorded.
     fn fail(&mut self, i: usize, e: Error, time: f64, said: bool, failures: &mut Failures) {
         let s = self.list.remove(i);
-        drop(s.sink);
-        failures.record(s.name, &s.path, e, time, said);
+        drop(s.output);
+        failures.record(s.name, &s.path, e, time, (!said).then_some(WITHOUT_IT));
+    }
+
+    /// Output `i`, tried again on failure, failed with `e`: recorded, said if it had been
+    /// written since it last failed.
+    fn fail_again(&mut self, i: usize, e: Error, time: f64, failures: &mut Failures) {
+        let s = &mut self.list[i];
+        let goes_on = format!(
+            "the run goes on, and tries the {0} again at the next interval and at the end (an \
+             earlier {0} stays whole)",
+            s.name
+        );
+        let first = !std::mem::replace(&mut s.failing, true);
+        failures.record(s.name, &s.path, e, time, first.then_some(goes_on.as_str()));
     }
 }
