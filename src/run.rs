@@ -288,20 +288,13 @@ fn new_recording_id() -> String {
     format!("vibrobed-{nanos:x}")
 }
 
-/// What the watch looks at: the recording's and the trajectory's temporary files, and the
-/// directories of the checkpoint and of the files written at the end.
+/// What the watch looks at: what the outputs at stops ask it to (the recording's and the
+/// trajectory's temporary files, the checkpoint's directory), and the directories of the files
+/// written at the end.
 fn watch_targets<E: Integrator>(driver: &Driver<E>, opts: &RunOptions) -> Vec<Target> {
-    let streamed = driver.streams.files();
-    let later = opts
-        .checkpoint
-        .iter()
-        .map(|c| ("checkpoint", c.path.clone()))
-        .chain(opts.written_after.iter().cloned());
-    streamed
-        .into_iter()
-        .map(|(output, file)| Target::streamed(output, file))
-        .chain(later.map(|(output, path)| Target::later(output, &path)))
-        .collect()
+    let later = opts.written_after.iter();
+    let later = later.map(|(output, path)| Target::later(output, path));
+    driver.streams.watched().into_iter().chain(later).collect()
 }
 
 /// Drives engine `sim` through the scenario and summarises the run.

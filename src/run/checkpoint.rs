@@ -22,6 +22,7 @@
 use super::state::DriverState;
 use super::streams::{Given, Output};
 use crate::error::{Error, Result};
+use crate::output::watch::Target;
 use crate::scenario::Scenario;
 use crate::schemes::SavedState;
 use serde::{Deserialize, Serialize};
@@ -178,6 +179,9 @@ impl Output for CheckpointFile {
             Given::Checkpoint(ck) => ck.write(&self.0),
             Given::Frame(_) => Ok(()),
         }
+    }
+    fn watched(&self, name: &'static str) -> Option<Target> {
+        Some(Target::later(name, &self.0))
     }
 }
 

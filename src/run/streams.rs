@@ -10,7 +10,8 @@ use super::checkpoint::Checkpoint;
 use super::failures::Failures;
 use crate::error::{Error, Result};
 use crate::output::frame::{FrameSink, FrameView};
-use crate::output::partial::{partial_name, Partial};
+use crate::output::partial::partial_name;
+use crate::output::watch::Target;
 use std::path::PathBuf;
 
 /// What the run does when an output dropped on failure fails.
@@ -57,8 +58,9 @@ pub(super) trait Output {
     fn finish(self: Box<Self>) -> Result<()> {
         Ok(())
     }
-    /// The file being streamed, for the watch that notices it removed during the run.
-    fn file(&self) -> Option<Partial> {
+    /// What the watch looks after for output `name`, if anything: a file being streamed, or
+    /// the directory of one written whole at its stops.
+    fn watched(&self, _name: &'static str) -> Option<Target> {
         None
     }
 }
@@ -77,8 +79,8 @@ impl Output for Box<dyn FrameSink> {
     fn finish(self: Box<Self>) -> Result<()> {
         (*self).finish()
     }
-    fn file(&self) -> Option<Partial> {
-        (**self).file()
+    fn watched(&self, name: &'static str) -> Option<Target> {
+        (**self).file().map(|f| Target::streamed(name, f))
     }
 }
 
@@ -126,10 +128,13 @@ impl Streams {
         self.list.iter().any(|s| s.takes == takes)
     }
 
-    /// The files being streamed, by output, for the watch that notices them removed.
-    pub(super) fn files(&self) -> Vec<(&'static str, Partial)> {
-        let file = |s: &Stream| s.output.file().map(|f| (s.name, f));
-        self.list.iter().filter_map(file).collect()
+    /// What the watch looks after, by output: the files being streamed, the directories of
+    /// those written whole.
+    pub(super) fn watched(&self) -> Vec<Target> {
+        self.list
+            .iter()
+            .filter_map(|s| s.output.watched(s.name))
+            .collect()
     }
 
     /// `given` to the outputs that take `takes`; `time`: the engine's, for a failure.
