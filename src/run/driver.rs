@@ -310,7 +310,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         (self.streams).log_text(at, (level, text), time, &mut self.failures);
     }
 
-    /// Drops the outputs whose files the watch found gone (it has said so).
+    /// The outputs whose files the watch found gone (it has said so), to the failure policy.
     fn drop_outputs_gone(&mut self) {
         let time = self.sim.time();
         for output in self.watch.gone() {
