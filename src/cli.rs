@@ -42,7 +42,8 @@ pub enum Command {
         /// Record frames to this Rerun file (.rrd).
         #[arg(long)]
         rrd: Option<PathBuf>,
-        /// Write the summary JSON here instead of stdout.
+        /// Write the summary JSON here instead of stdout (`-`: stdout). No other output takes
+        /// `-`.
         #[arg(long)]
         summary: Option<PathBuf>,
         /// Write the height profiles as CSV here (gravity scenes).
@@ -85,7 +86,8 @@ pub enum Command {
         /// Record the resumed part to this Rerun file (.rrd); not a file an earlier part wrote.
         #[arg(long)]
         rrd: Option<PathBuf>,
-        /// Write the summary JSON here instead of stdout.
+        /// Write the summary JSON here instead of stdout (`-`: stdout). No other output takes
+        /// `-`.
         #[arg(long)]
         summary: Option<PathBuf>,
         /// Write the height profiles as CSV here (gravity scenes).
@@ -201,6 +203,7 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
     ];
     for (field, path) in files {
         let Some(path) = path else { continue };
+        crate::output::not_dash(field, path)?;
         if path.is_dir() {
             return Err(Error::input(
                 field,
@@ -244,6 +247,11 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// `--summary PATH`, where `-` is stdout (as without the option).
+fn summary_path(path: Option<PathBuf>) -> Option<PathBuf> {
+    path.filter(|p| p != Path::new("-"))
 }
 
 /// Refuses an output named twice, or over an input (`files`: each output's option and path;
@@ -378,7 +386,7 @@ fn execute(cli: Cli) -> Result<i32> {
         } => {
             let files = RunFiles {
                 rrd,
-                summary,
+                summary: summary_path(summary),
                 profiles,
                 fields,
                 trajectory,
@@ -402,7 +410,7 @@ fn execute(cli: Cli) -> Result<i32> {
         } => {
             let files = RunFiles {
                 rrd,
-                summary,
+                summary: summary_path(summary),
                 profiles,
                 fields,
                 trajectory,
@@ -439,6 +447,7 @@ fn accuracy(
 ) -> Result<i32> {
     let s = Scenario::load(scenario, sets)?;
     let out = &options.out;
+    crate::output::not_dash("--out", out)?;
     if out.exists() && !out.is_dir() {
         return Err(Error::input(
             "--out",

@@ -54,5 +54,33 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
+/// Most characters of a user's value a message echoes: a value of megabytes (a broken JSON
+/// `--set`, a long key) is quoted by its start.
+pub const ECHO_CHARS: usize = 80;
+
+/// `text` as a message quotes it: whole up to [`ECHO_CHARS`] characters, else its first
+/// [`ECHO_CHARS`] followed by `…` and how many characters it has.
+pub fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(ECHO_CHARS) {
+        None => text.to_string(),
+        Some((end, _)) => format!("{}… ({} characters)", &text[..end], text.chars().count()),
+    }
+}
+
 /// Shorthand for results in this crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_excerpt_keeps_short_text_and_cuts_long_text_at_a_character() {
+        assert_eq!(excerpt("[1,2"), "[1,2");
+        let long = "é".repeat(1000);
+        let cut = excerpt(&long);
+        assert!(cut.starts_with(&"é".repeat(ECHO_CHARS)), "{cut}");
+        assert!(cut.ends_with("… (1000 characters)"), "{cut}");
+        assert_eq!(excerpt(&"x".repeat(ECHO_CHARS)), "x".repeat(ECHO_CHARS));
+    }
+}

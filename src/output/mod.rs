@@ -108,3 +108,17 @@ pub fn writable_directory(path: &Path) -> std::result::Result<(), String> {
         )),
     }
 }
+
+/// Refuses `-` as an output's path: only `--summary -` means stdout (the summary's default,
+/// turned into it by the command line); any other output written to a file named `-` would be
+/// a mistake found later. `field` is the option or field that names it.
+pub fn not_dash(field: &str, path: &Path) -> crate::error::Result<()> {
+    if path == Path::new("-") {
+        return Err(crate::error::Error::input(
+            field,
+            "`-` names no file here: name a file (only the command line's --summary takes `-`, \
+             for stdout)",
+        ));
+    }
+    Ok(())
+}

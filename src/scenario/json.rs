@@ -3,7 +3,7 @@
 //! list is accepted only where the scenario holds a list (the typed reading would otherwise
 //! accept a list of values in field order for any group of fields, e.g. `"output": []`).
 
-use crate::error::{Error, Result};
+use crate::error::{excerpt, Error, Result};
 use serde::de::{DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;
 use std::cell::RefCell;
@@ -33,11 +33,40 @@ pub fn parse(text: &str) -> Result<Value> {
     let value: Value = serde_json::from_str(text).map_err(malformed)?;
     if let Some(key) = first_repeated_key(text).map_err(malformed)? {
         return Err(Error::input(
-            key,
+            excerpt(&key),
             "is given twice in one object: keep one (JSON readers disagree on which wins)",
         ));
     }
     Ok(value)
+}
+
+/// A reader's message with each "quoted" or `quoted` value in it cut to its [`excerpt`]: the
+/// typed reading quotes the value it refuses (a string of megabytes, a long key) whole.
+pub fn quotes_cut(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(1024));
+    let mut chars = message.chars();
+    while let Some(c) = chars.next() {
+        out.push(c);
+        if c != '"' && c != '`' {
+            continue;
+        }
+        let mut quoted = String::new();
+        let mut escaped = false;
+        let mut closed = false;
+        for q in chars.by_ref() {
+            if q == c && !escaped {
+                closed = true;
+                break;
+            }
+            escaped = c == '"' && q == '\\' && !escaped;
+            quoted.push(q);
+        }
+        out.push_str(&excerpt(&quoted));
+        if closed {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// `true` for an inlet's species list, `inlets.k.radius.species`.
@@ -195,5 +224,17 @@ mod tests {
             e.to_string().contains("particles.radius.species.0.radius"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn quoted_values_in_messages_are_cut() {
+        let long = "x".repeat(10_000);
+        let m = quotes_cut(&format!("invalid type: string \"{long}\", expected usize"));
+        assert!(m.starts_with("invalid type: string \"xxx"), "{m}");
+        assert!(m.ends_with("(10000 characters)\", expected usize"), "{m}");
+        let m = quotes_cut(&format!("unknown field `{long}`, expected one of `a`, `b`"));
+        assert!(m.ends_with("characters)`, expected one of `a`, `b`"), "{m}");
+        let short = r#"invalid type: string "a\"b", expected f64"#;
+        assert_eq!(quotes_cut(short), short);
     }
 }

@@ -11,9 +11,10 @@ pub mod overrides;
 pub mod phase_stops;
 pub mod speeds;
 
-use crate::error::{Error, Result};
+use crate::error::{excerpt, Error, Result};
 use crate::physics::drive::Drive;
 pub use crate::physics::drive::{FloorModel, Waveform};
+use crate::scenario::json::quotes_cut;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -805,8 +806,8 @@ impl Scenario {
             } else {
                 ""
             };
-            let field = if path == "." { String::new() } else { path };
-            Error::input(field, format!("{inner}{hint}"))
+            let field = if path == "." { String::new() } else { excerpt(&path) };
+            Error::input(field, format!("{}{hint}", quotes_cut(&inner)))
         })
     }
 

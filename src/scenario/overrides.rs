@@ -1,11 +1,12 @@
 //! `--set KEY=VALUE`: override any scenario field by its dotted path before the file is typed.
 //!
 //! The value is read as JSON when it parses (`3`, `0.5`, `true`, `"walls"`, `{"min":1,"max":2}`),
-//! else as a plain string (`--set domain.x_boundary=periodic`). Missing intermediate objects are
+//! else as a plain string (`--set domain.x_boundary=periodic`); a value that opens a list or
+//! an object (`[`, `{`) and does not parse is refused, not taken for a string. Missing intermediate objects are
 //! created, so a field the file left out can be switched on (`--set gravity=1`); whether the
 //! field exists is then checked when the scenario is typed, with an error naming the path.
 
-use crate::error::{Error, Result};
+use crate::error::{excerpt, Error, Result};
 use crate::scenario::checks::MAX_FIELD_DEPTH;
 use serde_json::Value;
 
@@ -14,14 +15,20 @@ pub fn apply(root: &mut Value, set: &str) -> Result<()> {
     let (key, raw) = set.split_once('=').ok_or_else(|| {
         Error::input(
             "--set",
-            format!("`{set}` is not KEY=VALUE (e.g. particles.count=1000)"),
+            format!(
+                "`{}` is not KEY=VALUE (e.g. particles.count=1000)",
+                excerpt(set)
+            ),
         )
     })?;
     let key = key.trim();
     if key.is_empty() || key.split('.').any(str::is_empty) {
         return Err(Error::input(
             "--set",
-            format!("`{key}` is not a dotted field path (e.g. domain.width)"),
+            format!(
+                "`{}` is not a dotted field path (e.g. domain.width)",
+                excerpt(key)
+            ),
         ));
     }
     let depth = key.split('.').count();
@@ -34,11 +41,11 @@ pub fn apply(root: &mut Value, set: &str) -> Result<()> {
             ),
         ));
     }
-    let value: Value = serde_json::from_str(raw).unwrap_or_else(|_| Value::String(raw.to_string()));
+    let value = value_of(key, raw)?;
     let segments: Vec<&str> = key.split('.').collect();
     let mut node = root;
     for (depth, segment) in segments.iter().enumerate() {
-        let here = || segments[..=depth].join(".");
+        let here = || excerpt(&segments[..=depth].join("."));
         let last = depth + 1 == segments.len();
         node = match node {
             Value::Object(map) => {
@@ -70,15 +77,29 @@ pub fn apply(root: &mut Value, set: &str) -> Result<()> {
                 slot
             }
             _ => {
-                let parent = segments[..depth].join(".");
+                let parent = excerpt(&segments[..depth].join("."));
                 return Err(Error::input(
-                    format!("--set {key}"),
+                    format!("--set {}", excerpt(key)),
                     format!("`{parent}` is a value, not an object with fields"),
                 ));
             }
         };
     }
     unreachable!("the loop returns at the last segment")
+}
+
+/// The value of `--set KEY=RAW`: RAW as JSON when it parses, else RAW as a string; a RAW that
+/// opens a list or an object but does not parse is a broken value, refused naming `KEY` and
+/// quoting RAW's start.
+fn value_of(key: &str, raw: &str) -> Result<Value> {
+    match serde_json::from_str(raw) {
+        Ok(value) => Ok(value),
+        Err(e) if raw.trim_start().starts_with(['[', '{']) => Err(Error::input(
+            format!("--set {}", excerpt(key)),
+            format!("`{}` is not valid JSON ({e})", excerpt(raw)),
+        )),
+        Err(_) => Ok(Value::String(raw.to_string())),
+    }
 }
 
 #[cfg(test)]
@@ -125,5 +146,24 @@ mod tests {
         apply(&mut v, "inlets.0.radius.species=[{}]").unwrap();
         apply(&mut v, "inlets.0.radius.species.0.mass=2").unwrap();
         assert_eq!(v["inlets"][0]["radius"]["species"][0]["mass"], json!(2));
+    }
+
+    #[test]
+    fn a_broken_json_value_is_refused_naming_the_key_and_quoting_its_start() {
+        let mut v = json!({"particles": {"count": 10}});
+        let raw = format!("[1,2,{}", "9".repeat(100_000));
+        let e = apply(&mut v, &format!("particles.count={raw}")).unwrap_err();
+        let message = e.to_string();
+        assert!(
+            message.starts_with("--set particles.count: `[1,2,9"),
+            "{message}"
+        );
+        assert!(message.contains("not valid JSON"), "{message}");
+        assert!(message.len() < 300, "{} characters", message.len());
+        assert_eq!(e.exit_code(), 2);
+        let e = apply(&mut v, &format!("{}.count", "p".repeat(100_000))).unwrap_err();
+        assert!(e.to_string().len() < 300, "{e}");
+        apply(&mut v, "output.rrd=run[1].rrd").unwrap();
+        assert_eq!(v["output"]["rrd"], json!("run[1].rrd"));
     }
 }

@@ -501,3 +501,140 @@ fn rrd_without_the_record_feature_is_bad_input() {
     assert!(!summary_path.exists(), "a summary was written");
     assert!(!rrd.exists(), "a recording was written");
 }
+
+/// Runs the binary with `args` in the working directory `dir`.
+fn vibrobed_in<S: AsRef<std::ffi::OsStr>>(dir: &Path, args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vibrobed"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the vibrobed binary starts")
+}
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn summary_dash_is_stdout() {
+    let dir = scratch("summary-dash");
+    write(&dir, "tiny.json", TINY);
+    let out = vibrobed_in(&dir, &["run", "-q", "tiny.json", "--summary", "-"]);
+    assert_ok(&out);
+    let summary: Value = serde_json::from_str(&stdout(&out))
+        .unwrap_or_else(|e| panic!("stdout is not a JSON summary ({e}): {}", describe(&out)));
+    assert_eq!(summary["particles"], 50);
+    assert_eq!(listing(&dir), ["tiny.json"], "a file was written");
+}
+
+#[test]
+fn every_other_output_given_dash_is_refused_by_name() {
+    let dir = scratch("output-dash");
+    write(&dir, "tiny.json", TINY);
+    let bed = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/vibrated_bed.json");
+    let cases: [(&str, &[&str], &str); 9] = [
+        ("tiny.json", &["--trajectory", "-"], "--trajectory"),
+        ("tiny.json", &["--checkpoint", "-"], "--checkpoint"),
+        ("tiny.json", &["--rrd", "-"], "--rrd"),
+        (bed, &["--profiles", "-"], "--profiles"),
+        (bed, &["--fields", "-"], "--fields"),
+        (
+            "tiny.json",
+            &["--set", "output.trajectory=-"],
+            "output.trajectory",
+        ),
+        (
+            "tiny.json",
+            &["--summary", "-", "--trajectory", "-"],
+            "--trajectory",
+        ),
+        (
+            "tiny.json",
+            &["--checkpoint", "c.ckpt", "--rrd", "-"],
+            "--rrd",
+        ),
+        (
+            bed,
+            &["--summary", "s.json", "--profiles", "-"],
+            "--profiles",
+        ),
+    ];
+    for (scenario, extra, name) in cases {
+        let mut args = vec!["run", "-q", scenario];
+        args.extend(extra);
+        let out = vibrobed_in(&dir, &args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {}", describe(&out));
+        assert!(
+            err.contains(name),
+            "{extra:?} is not named: {}",
+            describe(&out)
+        );
+        assert!(err.contains("`-`"), "{extra:?}: {}", describe(&out));
+        assert!(stdout(&out).is_empty(), "{extra:?}: {}", describe(&out));
+        assert_eq!(listing(&dir), ["tiny.json"], "{extra:?} wrote a file");
+    }
+    let sweep = r#"{"scenario": "tiny.json", "seeds": 1}"#;
+    write(&dir, "sweep.json", sweep);
+    let commands: [&[&str]; 4] = [
+        &["sweep", "run", "sweep.json", "--out", "-"],
+        &["sweep", "task", "sweep.json", "--index", "0", "--out", "-"],
+        &["sweep", "slurm", "sweep.json", "--out", "-"],
+        &["accuracy", "tiny.json", "--quick", "--out", "-"],
+    ];
+    for args in commands {
+        let out = vibrobed_in(&dir, args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", describe(&out));
+        assert!(
+            stderr(&out).contains("--out: `-`"),
+            "{args:?}: {}",
+            describe(&out)
+        );
+        assert_eq!(
+            listing(&dir),
+            ["sweep.json", "tiny.json"],
+            "{args:?} wrote a file"
+        );
+    }
+}
+
+#[test]
+fn a_broken_json_override_is_refused_quoting_only_its_start() {
+    let dir = scratch("broken-set");
+    let scenario = write(&dir, "tiny.json", TINY);
+    let broken = format!("particles.count=[1,2,{}", "3,".repeat(50_000));
+    assert_bad_input(
+        "broken-json",
+        &scenario,
+        &["--set", &broken],
+        &["--set particles.count", "not valid JSON", "characters)"],
+    );
+    let out = vibrobed(&[
+        "check".as_ref(),
+        scenario.as_os_str(),
+        "--set".as_ref(),
+        broken.as_ref(),
+    ]);
+    assert!(stderr(&out).len() < 400, "{}", describe(&out));
+    // A long value of the wrong type, in a file or a --set, is quoted by its start too.
+    let long = format!("particles.count={}", "x".repeat(50_000));
+    let out = vibrobed(&[
+        "check".as_ref(),
+        scenario.as_os_str(),
+        "--set".as_ref(),
+        long.as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", describe(&out));
+    assert!(
+        stderr(&out).contains("particles.count"),
+        "{}",
+        describe(&out)
+    );
+    assert!(stderr(&out).len() < 400, "{}", describe(&out));
+}

@@ -334,6 +334,7 @@ fn run(sweep: &Path, out: &Path, jobs: Option<usize>, options: PoolOptions) -> R
 
 /// Refuses (exit 2) an output directory that cannot be created or written in, before any run.
 pub fn writable_out(out: &Path) -> Result<()> {
+    crate::output::not_dash("--out", out)?;
     std::fs::create_dir_all(out)
         .map_err(|e| Error::input("--out", format!("cannot create {}: {e}", out.display())))?;
     crate::output::writable_directory(&out.join("plan.json"))
@@ -396,6 +397,7 @@ fn pool_tally(plan: &Plan, report: &PoolReport, jobs: usize, out: &Path) -> Stri
 /// `sweep task`: one run of the sweep, what each Slurm array task does; a run completed
 /// already is not run again.
 fn task(sweep: &Path, index: usize, out: &Path) -> Result<i32> {
+    crate::output::not_dash("--out", out)?;
     let exp = expand(sweep)?;
     let n = exp.plan.runs.len();
     if index >= n {
@@ -458,6 +460,7 @@ fn ended_stalled(out: &Path, index: usize) -> bool {
 /// `sweep slurm`: writes `DIR/sweep.sbatch`, a job array over the runs not completed yet (all
 /// of them the first time), and with `--submit` submits it and prints the job id.
 fn slurm(sweep: &Path, out: &Path, opts: &SlurmOptions, submit_it: bool) -> Result<i32> {
+    crate::output::not_dash("--out", out)?;
     let exp = expand(sweep)?;
     exp.check_scenes()?;
     let out = absolute(out)?;

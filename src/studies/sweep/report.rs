@@ -121,6 +121,7 @@ const SWEEP_FILES: [&str; 5] = [
 /// directory that does not exist) or that would overwrite a file of a sweep in `dirs`: its plan,
 /// its tables, or anything in a run's folder.
 fn writable_plot(path: &Path, dirs: &[PathBuf]) -> Result<()> {
+    crate::output::not_dash("--plot", path)?;
     if path.is_dir() {
         return Err(Error::input(
             "--plot",
