@@ -2,15 +2,18 @@
 //! `fuzz_fields` changes field by field), on the real binary: `resume` of a checkpointed run
 //! with every option it takes (its `--set`s, its outputs, its checkpoint interval) near and past
 //! their limits; `sweep plan` of the shipped sweep files changed field by field; `sweep task`,
-//! `sweep slurm` and `sweep collect` of a small sweep with their options; `accuracy` of a short
-//! scene with its options and the scene's fields. Every case must end with an exit code of the
+//! `sweep slurm` and `sweep collect` of a small sweep with their options; `sweep run` of a small
+//! sweep file changed leaf by leaf, with its options; `accuracy` of a short scene with its options
+//! and the scene's fields; then pairs of such changes (two options of a resume or an accuracy
+//! report, two leaves of a sweep file), drawn from a seeded generator. Every case must end with an exit code of the
 //! contract (0; 2 naming the field or option, nothing written and no input changed; for
 //! `resume`, 4, 5 or 6 for a run ended by a limit or a stall) in bounded memory — never a
 //! panic, an abort or a signal — or, still running after [`INTERRUPT_AFTER`], stop on SIGINT.
 //!
-//! The cases come in a fixed order, a command's first cases before any command's later ones,
-//! and run until a time budget is spent (`VIBROBED_FUZZ_SECONDS`, default
-//! [`DEFAULT_SECONDS`]). A failing case is reported with its command line and its directory.
+//! The cases come in a fixed order, a command's first cases (and first pairs) before any
+//! command's later ones, and run until a time budget is spent (`VIBROBED_FUZZ_SECONDS`, default
+//! [`DEFAULT_SECONDS`]); `VIBROBED_FUZZ_SEED` draws other pairs. A failing case is reported with
+//! its command line and its directory.
 
 use crate::guarded;
 
@@ -90,57 +93,65 @@ fn strings(items: &[&str]) -> Vec<String> {
     items.iter().map(|s| s.to_string()).collect()
 }
 
+/// `resume c.ckpt --quiet --summary s.json` with `extra`.
+fn resume_case(scene: &'static str, extra: &[String]) -> Case {
+    let mut args = strings(&["resume", "c.ckpt", "--quiet", "--summary", "s.json"]);
+    args.extend(extra.iter().cloned());
+    case("resume", Setup::Checkpoint(scene), &args)
+}
+
 /// `resume c.ckpt` with one option or override changed at a time.
 fn resume_cases() -> Vec<Case> {
     let mut out = Vec::new();
     for scene in CHECKPOINTED {
-        let setup = Setup::Checkpoint(scene);
-        let base = strings(&["resume", "c.ckpt", "--quiet", "--summary", "s.json"]);
-        let with = |extra: &[String]| {
-            let mut args = base.clone();
-            args.extend(extra.iter().cloned());
-            case("resume", setup, &args)
-        };
-        for v in near(2.0 * CUT) {
-            out.push(with(&strings(&["--set", &format!("run.duration={v}")])));
-            out.push(with(&strings(&["--checkpoint-every", &v])));
-            out.push(with(&strings(&[
-                "--set",
-                &format!("run.max_wall_seconds={v}"),
-            ])));
-        }
-        for v in ["0", "1", "100000", "18446744073709551615", "-1", "1e3"] {
-            out.push(with(&strings(&["--set", &format!("run.max_events={v}")])));
-        }
-        let every = 2.0 * CUT / MAX_CHECKPOINTS;
-        for v in [every, every * (1.0 + 1e-15), every * (1.0 - 1e-15)] {
-            let extra = [
-                "--set",
-                "run.duration=0.1",
-                "--checkpoint-every",
-                &format!("{v:e}"),
-            ];
-            out.push(with(&strings(&extra)));
-        }
-        for extra in [
-            &["--set", "particles.count=5"][..],
-            &["--set", "run.warmup=0"],
-            &["--set", "run.duration"],
-            &["--set", "=1"],
-            &["--summary", "c.ckpt"],
-            &["--profiles", "./c.ckpt"],
-            &["--trajectory", "c.ckpt.tmp"],
-            &["--trajectory", "s.json"],
-            &["--checkpoint", "s.json"],
-            &["--checkpoint", "d.ckpt", "--trajectory", "d.ckpt.tmp"],
-            &["--fields", "f.csv"],
-            &["--profiles", "missing/p.csv"],
-            &["--trajectory", "."],
-            &["--progress-every", "0"],
-            &["--progress-every", "NaN"],
-        ] {
-            out.push(with(&strings(extra)));
-        }
+        out.extend(resume_extras().iter().map(|e| resume_case(scene, e)));
+    }
+    out
+}
+
+/// What [`resume_cases`] adds to a resume, one option or override each.
+fn resume_extras() -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    let mut with = |extra: &[String]| out.push(extra.to_vec());
+    for v in near(2.0 * CUT) {
+        with(&strings(&["--set", &format!("run.duration={v}")]));
+        with(&strings(&["--checkpoint-every", &v]));
+        with(&strings(&["--set", &format!("run.max_wall_seconds={v}")]));
+    }
+    for v in ["0", "1", "100000", "18446744073709551615", "-1", "1e3"] {
+        with(&strings(&["--set", &format!("run.max_events={v}")]));
+    }
+    let every = 2.0 * CUT / MAX_CHECKPOINTS;
+    for v in [every, every * (1.0 + 1e-15), every * (1.0 - 1e-15)] {
+        let extra = [
+            "--set",
+            "run.duration=0.1",
+            "--checkpoint-every",
+            &format!("{v:e}"),
+        ];
+        with(&strings(&extra));
+    }
+    for extra in [
+        &["--set", "particles.count=5"][..],
+        &["--set", "run.warmup=0"],
+        &["--set", "run.duration"],
+        &["--set", "=1"],
+        &["--summary", "c.ckpt"],
+        &["--profiles", "./c.ckpt"],
+        &["--trajectory", "c.ckpt.tmp"],
+        &["--trajectory", "s.json"],
+        &["--checkpoint", "s.json"],
+        &["--checkpoint", "d.ckpt", "--trajectory", "d.ckpt.tmp"],
+        &["--fields", "f.csv"],
+        &["--profiles", "missing/p.csv"],
+        &["--trajectory", "."],
+        &["--progress-every", "0"],
+        &["--progress-every", "NaN"],
+        &["--summary", "-"],
+        &["--fields", "-"],
+        &["--checkpoint", "-"],
+    ] {
+        with(&strings(extra));
     }
     out
 }
@@ -236,14 +247,10 @@ fn sweep_values(v: &Value) -> Vec<Value> {
 fn plan_cases() -> Vec<Case> {
     let mut per_sweep: Vec<Vec<Case>> = Vec::new();
     for sweep in shipped_sweeps() {
-        let mut found = Vec::new();
-        leaves(&sweep, &[], &mut found);
-        let mut cases = Vec::new();
-        for (path, v) in found.iter().filter(|(p, _)| p[0] != "scenario") {
-            for value in sweep_values(v) {
-                cases.push(plan_case(&replaced(&sweep, path, value)));
-            }
-        }
+        let mut cases: Vec<Case> = leaf_changes(&sweep)
+            .into_iter()
+            .map(|(path, value)| plan_case(&replaced(&sweep, &path, value)))
+            .collect();
         for n in [99_999u64, 100_000, 100_001, u64::MAX] {
             cases.push(plan_case(&replaced(
                 &sweep,
@@ -256,6 +263,59 @@ fn plan_cases() -> Vec<Case> {
         per_sweep.push(cases);
     }
     interleave(&per_sweep)
+}
+
+/// A leaf changed: its path and its new value.
+type LeafChange = (Vec<String>, Value);
+
+/// Each leaf of the sweep file `sweep` but its scenario, with each of its [`sweep_values`].
+fn leaf_changes(sweep: &Value) -> Vec<LeafChange> {
+    let mut found = Vec::new();
+    leaves(sweep, &[], &mut found);
+    let mut out = Vec::new();
+    for (path, v) in found.iter().filter(|(p, _)| p[0] != "scenario") {
+        out.extend(
+            sweep_values(v)
+                .into_iter()
+                .map(|value| (path.clone(), value)),
+        );
+    }
+    out
+}
+
+/// `sweep` with `changes` made in turn (a later change into a leaf an earlier one replaced by
+/// a value without it is dropped).
+fn changed(sweep: &Value, changes: &[LeafChange]) -> Value {
+    changes.iter().fold(sweep.clone(), |v, (path, value)| {
+        if has_parent(&v, path) {
+            replaced(&v, path, value.clone())
+        } else {
+            v
+        }
+    })
+}
+
+/// Whether every step of `path` but the last leads into an object or a list long enough.
+fn has_parent(v: &Value, path: &[String]) -> bool {
+    let mut at = v;
+    for k in &path[..path.len().saturating_sub(1)] {
+        at = match at {
+            Value::Array(items) => match k.parse::<usize>().ok().and_then(|i| items.get(i)) {
+                Some(x) => x,
+                None => return false,
+            },
+            Value::Object(map) => match map.get(k) {
+                Some(x) => x,
+                None => return false,
+            },
+            _ => return false,
+        };
+    }
+    match (at, path.last()) {
+        (Value::Array(items), Some(k)) => k.parse::<usize>().is_ok_and(|i| i < items.len()),
+        (Value::Object(_), _) => true,
+        _ => false,
+    }
 }
 
 /// `sweep plan FILE`, the file given inline (written into the case's directory as `s.json`).
@@ -339,13 +399,134 @@ fn small_sweep_cases() -> Vec<Case> {
     out
 }
 
+/// The sweep `sweep run` is fuzzed on: two runs of the bouncing ball, a second each.
+fn small_sweep() -> Value {
+    serde_json::json!({
+        "name": "small",
+        "scenario": guarded::scenario("bouncing_ball.json"),
+        "set": ["run.duration=1", "run.warmup=0"],
+        "axes": [{ "key": "floor.restitution", "values": [0.5, 0.9] }],
+        "seeds": 1
+    })
+}
+
+/// `sweep run FILE --out out -q` of `sweep` (given inline), with `extra`.
+fn sweep_run_case(sweep: &Value, extra: &[String]) -> Case {
+    let mut args = strings(&["sweep", "run", &format!("@{sweep}"), "--out", "out", "-q"]);
+    args.extend(extra.iter().cloned());
+    case("sweep run", Setup::Empty, &args)
+}
+
+/// What `sweep run` of the small sweep is given beside it, one option each.
+fn sweep_run_extras() -> Vec<Vec<String>> {
+    let mut out: Vec<Vec<String>> = Vec::new();
+    for v in near(1.0) {
+        out.push(strings(&["--max-run-seconds", &v]));
+        out.push(strings(&["--progress-every", &v]));
+    }
+    for n in ["0", "1", "2", "1000000", "18446744073709551615", "-1"] {
+        out.push(strings(&["--jobs", n]));
+    }
+    for extra in [
+        &["--out", "-"][..],
+        &["--out", "s.json"],
+        &["--out", "missing/deeper/out"],
+        &["--out", "."],
+        &["--out", ""],
+    ] {
+        out.push(strings(extra));
+    }
+    out
+}
+
+/// `sweep run` of the small sweep with one leaf of its file, or one option, changed.
+fn sweep_run_cases() -> Vec<Case> {
+    let sweep = small_sweep();
+    let files = leaf_changes(&sweep)
+        .into_iter()
+        .map(|change| sweep_run_case(&changed(&sweep, &[change]), &[]));
+    let options = sweep_run_extras()
+        .into_iter()
+        .map(|extra| sweep_run_case(&sweep, &extra));
+    interleave(&[files.collect(), options.collect()])
+}
+
+/// A fixed sequence of draws (xorshift64*, as `fuzz_fields` draws its pairs).
+struct Draws(u64);
+
+impl Draws {
+    /// The draws of `VIBROBED_FUZZ_SEED` (default 0x62).
+    fn seeded() -> Draws {
+        let seed = std::env::var("VIBROBED_FUZZ_SEED")
+            .ok()
+            .map(|t| t.trim().parse().expect("VIBROBED_FUZZ_SEED is a number"));
+        Draws(seed.unwrap_or(0x62) | 1)
+    }
+
+    /// An index below `n`.
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % n.max(1)
+    }
+
+    /// Two items of `list`, drawn.
+    fn two<T: Clone>(&mut self, list: &[T]) -> (T, T) {
+        (
+            list[self.below(list.len())].clone(),
+            list[self.below(list.len())].clone(),
+        )
+    }
+}
+
+/// Pairs drawn per command: more than the time budget reaches, so that another seed or a
+/// longer budget tries others.
+const PAIRS: usize = 400;
+
+/// Pairs of changes, each command's in its own list: two options of a resume (of either
+/// checkpoint) or of an accuracy report; two leaves of a shipped sweep file (`sweep plan`) or
+/// of the small sweep (`sweep run`), or a leaf and an option of `sweep run`.
+fn pair_cases(draws: &mut Draws) -> Vec<Vec<Case>> {
+    let resume = resume_extras();
+    let accuracy = accuracy_extras();
+    let sweeps = shipped_sweeps();
+    let plan: Vec<Vec<LeafChange>> = sweeps.iter().map(leaf_changes).collect();
+    let small = small_sweep();
+    let run_files = leaf_changes(&small);
+    let run_options = sweep_run_extras();
+    let mut lists: Vec<Vec<Case>> = vec![Vec::new(); 4];
+    for _ in 0..PAIRS {
+        let scene = CHECKPOINTED[draws.below(CHECKPOINTED.len())];
+        let (a, b) = draws.two(&resume);
+        lists[0].push(resume_case(scene, &[a, b].concat()));
+        let (a, b) = draws.two(&accuracy);
+        lists[1].push(accuracy_case(&[a, b].concat()));
+        let k = draws.below(sweeps.len());
+        let (a, b) = draws.two(&plan[k]);
+        lists[2].push(plan_case(&changed(&sweeps[k], &[a, b])));
+        let (a, b) = draws.two(&run_files);
+        let option = &run_options[draws.below(run_options.len())];
+        lists[3].push(match draws.below(2) {
+            0 => sweep_run_case(&changed(&small, &[a, b]), &[]),
+            _ => sweep_run_case(&changed(&small, &[a]), option),
+        });
+    }
+    lists
+}
+
 /// `accuracy` of the bouncing ball cut short, with its options and, one at a time, the
 /// scene's numeric fields changed.
 fn accuracy_cases() -> Vec<Case> {
+    accuracy_extras().iter().map(|e| accuracy_case(e)).collect()
+}
+
+/// `accuracy` of the bouncing ball cut short, with `extra`.
+fn accuracy_case(extra: &[String]) -> Case {
     let ball = guarded::scenario("bouncing_ball.json")
         .display()
         .to_string();
-    let base = strings(&[
+    let mut args = strings(&[
         "accuracy",
         &ball,
         "--quick",
@@ -357,11 +538,13 @@ fn accuracy_cases() -> Vec<Case> {
         "--set",
         "run.warmup=0",
     ]);
-    let with = |extra: &[String]| {
-        let mut args = base.clone();
-        args.extend(extra.iter().cloned());
-        case("accuracy", Setup::Empty, &args)
-    };
+    args.extend(extra.iter().cloned());
+    case("accuracy", Setup::Empty, &args)
+}
+
+/// What [`accuracy_cases`] adds to the report, one option or field each.
+fn accuracy_extras() -> Vec<Vec<String>> {
+    let with = |extra: &[String]| extra.to_vec();
     let mut out = Vec::new();
     for n in [0, 1, 2, MAX_SEEDS + 1, u64::MAX] {
         out.push(with(&strings(&["--seeds", &n.to_string()])));
@@ -372,6 +555,7 @@ fn accuracy_cases() -> Vec<Case> {
     }
     out.push(with(&strings(&["--effects"])));
     out.push(with(&strings(&["--out", "missing/a"])));
+    out.push(with(&strings(&["--out", "-"])));
     for field in [
         "floor.amplitude",
         "floor.frequency",
@@ -469,14 +653,7 @@ fn prepare(root: &Path) {
     }
     let dir = root.join("sweep");
     std::fs::create_dir_all(&dir).expect("setup directory");
-    let sweep = serde_json::json!({
-        "name": "small",
-        "scenario": guarded::scenario("bouncing_ball.json"),
-        "set": ["run.duration=1", "run.warmup=0"],
-        "axes": [{ "key": "floor.restitution", "values": [0.5, 0.9] }],
-        "seeds": 1
-    });
-    std::fs::write(dir.join("small.json"), sweep.to_string()).expect("sweep file");
+    std::fs::write(dir.join("small.json"), small_sweep().to_string()).expect("sweep file");
     let out = vibrobed(
         &dir,
         &strings(&["sweep", "run", "small.json", "--out", "out", "-q"]),
@@ -524,6 +701,8 @@ fn judge(c: &Case, out: &Outcome, dir: &Path, before: &[(PathBuf, Vec<u8>)]) -> 
     match out.code() {
         Some(0) | None => {}
         Some(4..=6) if resume => {}
+        // A sweep whose runs were stopped by their event or wall-clock limit.
+        Some(4 | 5) if c.command == "sweep run" => {}
         Some(130) if out.interrupted_at.is_some() => {}
         // A comparison that cannot be made (a variant stopped by its event cap) fails as it
         // runs, writing nothing.
@@ -582,12 +761,15 @@ fn every_command_and_option_changed_ends_within_the_contract() {
     let root = guarded::fresh_dir("fuzz-commands");
     let start = Instant::now();
     prepare(&root.join("setup"));
-    let all = interleave(&[
+    let mut lists = vec![
         resume_cases(),
         plan_cases(),
         small_sweep_cases(),
+        sweep_run_cases(),
         accuracy_cases(),
-    ]);
+    ];
+    lists.extend(pair_cases(&mut Draws::seeded()));
+    let all = interleave(&lists);
     let budget = budget();
     let mut failures = String::new();
     let mut tally: std::collections::BTreeMap<String, usize> = Default::default();
