@@ -7,7 +7,8 @@
 //! trajectory, checkpoint) that could not be written while the run went on, 4 stopped by
 //! `run.max_events`, 5 stopped by `run.max_wall_seconds`, 6 a clock that stalled, 128 + n
 //! stopped by signal n (130 Ctrl-C). A run that ends early still writes its summary (marked with its
-//! `ending`) and closes its recording properly.
+//! `ending`) and closes its recording properly; one stopped before its first event, while its
+//! scene is built, ends at once and writes nothing.
 
 use crate::error::{Error, Result, EXIT_OUTPUT_FAILED};
 use crate::output::canonical;
@@ -638,6 +639,7 @@ fn simulate(
     shown: Shown,
 ) -> Result<i32> {
     signals::install();
+    signals::building();
     let written_after = [
         ("profiles", &files.profiles),
         ("fields", &files.fields),
@@ -661,7 +663,9 @@ fn simulate(
             written_after,
             fields: files.fields.is_some(),
         },
-    )?;
+    );
+    signals::built();
+    let result = result?;
     let written = Written {
         profiles: files.profiles.as_deref(),
         fields: files.fields.as_deref(),

@@ -274,6 +274,7 @@ struct Driving<'a> {
 impl WithEngine for Driving<'_> {
     type Output = Summary;
     fn with<E: Integrator>(mut self, sim: E) -> Result<Summary> {
+        crate::platform::signals::built();
         let streams = open_streams(&mut self.out, self.s, &self.layout, self.opts)?;
         drive(sim, self.s, self.scene, streams, self.out, self.opts)
     }

@@ -1408,3 +1408,49 @@ fn frames_and_samples_of_many_disks_are_bounded_by_their_visits() {
         "{past}"
     );
 }
+
+/// A run interrupted while its scene is built (10⁶ disks: seconds of placement and of the
+/// engine's grid, lists and first predictions before the first event, 20 times as long for the
+/// largest scenes) ends at once: exit 130, said on stderr, nothing written — not the summary,
+/// not the checkpoint.
+#[test]
+fn a_run_interrupted_while_its_scene_is_built_ends_at_once_writing_nothing() {
+    let dir = fresh_dir("interrupted-build");
+    let path = scenario("gas_periodic_phi03.json").display().to_string();
+    let words = [
+        "run",
+        &path,
+        "--quiet",
+        "--summary",
+        "summary.json",
+        "--checkpoint",
+        "c.ckpt",
+        "--set",
+        "particles.count=1000000",
+        "--set",
+        "domain.width=900",
+    ];
+    let logs = dir.with_extension("logs");
+    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
+    while !child.ended() && child.elapsed() < Duration::from_secs(1) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.interrupt();
+    let out = child.wait(Limits {
+        interrupt_after: Duration::ZERO,
+        kill_after: 2 * STOP_GRACE,
+    });
+    let _ = std::fs::remove_dir_all(&logs);
+    let what = out.describe();
+    assert_eq!(out.code(), Some(130), "{what}");
+    assert!(out.stderr.contains("before its first event"), "{what}");
+    assert!(out.stdout.is_empty(), "{what}");
+    assert!(
+        entries(&dir).is_empty(),
+        "files written: {:?}",
+        entries(&dir)
+    );
+    let at = out.interrupted_at.expect("interrupted");
+    assert!(out.elapsed - at <= STOP_GRACE, "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
