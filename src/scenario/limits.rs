@@ -29,6 +29,9 @@ pub const MAX_RECORDED_DISKS: f64 = 1e10;
 /// Most disk visits the frames and samples of a run may cost (disks × (frames + samples)):
 /// each visits every disk, some nanoseconds a disk (8 on a Zen 4 core): hours at the bound.
 pub const MAX_OUTPUT_VISITS: f64 = 1e12;
+/// Longest wall-clock limit of a run (`run.max_wall_seconds`, `sweep run --max-run-seconds`),
+/// about 32 years: a deadline the clock can hold (a limit past 1.8·10¹⁹ s overflowed it).
+pub const MAX_WALL_SECONDS: f64 = 1e9;
 /// Most checkpoints a run may ask for (`--checkpoint-every`); each writes the whole state.
 pub const MAX_CHECKPOINTS: f64 = 1e5;
 /// Farthest any disk may be sent over the run at its initial or entering speed, in smallest

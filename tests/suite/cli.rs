@@ -638,3 +638,61 @@ fn a_broken_json_override_is_refused_quoting_only_its_start() {
     );
     assert!(stderr(&out).len() < 400, "{}", describe(&out));
 }
+
+/// A wall-clock limit past what the clock holds (1.8·10¹⁹ s) aborted the run; one past 10⁹ s
+/// (32 years) is refused by name, in the scene and as `sweep run --max-run-seconds`.
+#[test]
+fn a_wall_clock_limit_past_32_years_is_refused_by_name() {
+    let dir = scratch("wall-limit");
+    let scenario = write(&dir, "tiny.json", TINY);
+    for v in ["1e19", "1e50", "1.000001e9"] {
+        assert_bad_input(
+            &format!("max-wall-{v}"),
+            &scenario,
+            &["--set", &format!("run.max_wall_seconds={v}")],
+            &["run.max_wall_seconds", "32 years"],
+        );
+    }
+    let out = vibrobed(&[
+        "check".as_ref(),
+        scenario.as_os_str(),
+        "--set".as_ref(),
+        "run.max_wall_seconds=1e9".as_ref(),
+    ]);
+    assert_ok(&out);
+    write(
+        &dir,
+        "sweep.json",
+        r#"{"scenario": "tiny.json", "seeds": 1}"#,
+    );
+    for v in ["1e101", "1.7e308", "1e19"] {
+        let out = vibrobed_in(
+            &dir,
+            &[
+                "sweep",
+                "run",
+                "sweep.json",
+                "--out",
+                "out",
+                "--max-run-seconds",
+                v,
+            ],
+        );
+        assert_eq!(out.status.code(), Some(2), "{v}: {}", describe(&out));
+        assert!(
+            stderr(&out).contains("--max-run-seconds: "),
+            "{v}: {}",
+            describe(&out)
+        );
+        assert!(
+            !stderr(&out).contains("panicked"),
+            "{v}: {}",
+            describe(&out)
+        );
+        assert_eq!(
+            listing(&dir),
+            ["sweep.json", "tiny.json"],
+            "{v}: wrote a file"
+        );
+    }
+}

@@ -26,7 +26,7 @@ use vibrobed::error::Error;
 use vibrobed::scenario::checks::{
     MAX_CHECKPOINTS, MAX_DISKS, MAX_FIELD_BINS, MAX_FIELD_CELLS, MAX_LENGTH_RATIO, MAX_MAGNITUDE,
     MAX_OUTPUT_TIMES, MAX_PHASE_BINS, MAX_PROFILE_BINS, MAX_STEPS, MAX_STRIPS, MAX_THREADS,
-    MAX_TRAVEL, MIN_INERTIA_FACTOR, MIN_MAGNITUDE,
+    MAX_TRAVEL, MAX_WALL_SECONDS, MIN_INERTIA_FACTOR, MIN_MAGNITUDE,
 };
 use vibrobed::scenario::Scenario;
 
@@ -60,6 +60,7 @@ const OPTIONAL: &[(&str, &str)] = &[
     ("collisions.friction", "0.5"),
     ("collisions.tangential_restitution", "0.4"),
     ("run.max_events", "1000"),
+    ("run.max_wall_seconds", "100"),
     ("output.sample_interval", "0.01"),
     ("output.trajectory_interval", "0.01"),
     ("output.field_bins", "[10, 10]"),
@@ -136,6 +137,7 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
         ("inlets.0.speed", just(MAX_MAGNITUDE)),
         ("output.frame_interval", just(1e-7)),
         ("--checkpoint-every", just(1.0 / MAX_CHECKPOINTS)),
+        ("run.max_wall_seconds", just(MAX_WALL_SECONDS)),
     ]
 }
 

@@ -231,15 +231,11 @@ impl SweepCommand {
     }
 }
 
-/// Refuses a `--max-run-seconds` that is not a positive number of seconds.
+/// Refuses a `--max-run-seconds` that `run.max_wall_seconds` would refuse.
 pub fn check_max_run_seconds(seconds: Option<f64>) -> Result<()> {
-    match seconds {
-        Some(m) if !(m.is_finite() && m > 0.0) => Err(Error::input(
-            "--max-run-seconds",
-            format!("must be a positive number of seconds (got {m})"),
-        )),
-        _ => Ok(()),
-    }
+    seconds.map_or(Ok(()), |m| {
+        crate::scenario::checks::wall_seconds("--max-run-seconds", m)
+    })
 }
 
 /// The fit's options from `--fit-range LO HI` and `--offset Y0|fit`, refused when they make no
