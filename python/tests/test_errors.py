@@ -123,3 +123,25 @@ def test_an_output_over_the_resumed_checkpoint_is_refused_and_it_kept(cli, bed, 
         vibrobed.resume(ck, profiles=both, fields=both)
     assert e.value.field in ("--profiles", "--fields")
     assert ck.read_bytes() == saved and not both.exists()
+
+
+def test_an_output_named_dash_is_refused_by_name(bed, tmp_path, monkeypatch):
+    """`-` is the command line's stdout for --summary only; from Python (which returns the
+    summary) no output may be named `-`: refused by name, no file `-` written (issue 62)."""
+    monkeypatch.chdir(tmp_path)
+    for output in ("summary", "profiles", "trajectory"):
+        with pytest.raises(vibrobed.ScenarioError) as e:
+            vibrobed.run(bed, **{output: "-"})
+        assert e.value.field == f"--{output}" and "`-`" in str(e.value)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_wall_clock_limit_past_32_years_is_refused_by_name(bed, tmp_path):
+    """A limit past what the clock holds aborted the process (issue 62)."""
+    spec = {"scenario": str(bed), "seeds": 1}
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.sweep(spec, tmp_path / "out", max_run_seconds=1e101)
+    assert e.value.field == "--max-run-seconds"
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.run(bed, set={"run.max_wall_seconds": 1e19})
+    assert e.value.field == "run.max_wall_seconds"
