@@ -240,3 +240,99 @@ impl Streams {
         failures.record(s.name, &s.path, e, time, first.then_some(goes_on.as_str()));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::frame::FrameView;
+    use std::cell::Cell;
+    use std::rc::Rc;
+
+    /// An output that fails at the takes `fails` lists (counted from 0), and counts its writes.
+    struct Flaky {
+        fails: &'static [usize],
+        takes: usize,
+        written: Rc<Cell<usize>>,
+    }
+
+    impl Output for Flaky {
+        fn take(&mut self, _: &Given) -> Result<()> {
+            let k = self.takes;
+            self.takes += 1;
+            if self.fails.contains(&k) {
+                return Err(Error::Io(format!("take {k} failed")));
+            }
+            self.written.set(self.written.get() + 1);
+            Ok(())
+        }
+    }
+
+    fn flaky(fails: &'static [usize]) -> (Box<dyn Output>, Rc<Cell<usize>>) {
+        let written = Rc::new(Cell::new(0));
+        let output = Flaky {
+            fails,
+            takes: 0,
+            written: Rc::clone(&written),
+        };
+        (Box::new(output), written)
+    }
+
+    /// Gives `n` frames to `streams`.
+    fn frames(streams: &mut Streams, n: usize, failures: &mut Failures) {
+        let snap = crate::engine::Snapshot::default();
+        let view = FrameView::of(0, &snap, (&[], &[]), (&[], None), None);
+        for k in 0..n {
+            streams.give(Takes::Frames, &Given::Frame(&view), k as f64, failures);
+        }
+    }
+
+    #[test]
+    fn an_output_dropped_on_failure_is_gone_and_the_others_go_on() {
+        let mut streams = Streams::default();
+        let (a, a_written) = flaky(&[1]);
+        let (b, b_written) = flaky(&[]);
+        streams.add(("a", "a.out".into()), Takes::Frames, OnFailure::Drop, a);
+        streams.add(("b", "b.out".into()), Takes::Frames, OnFailure::Drop, b);
+        let mut failures = Failures::default();
+        frames(&mut streams, 4, &mut failures);
+        assert_eq!((a_written.get(), b_written.get()), (1, 4));
+        let list = failures.list();
+        assert_eq!(list.len(), 1);
+        assert_eq!(
+            (list[0].output, list[0].time, list[0].failures),
+            ("a", 1.0, 1)
+        );
+        assert!(streams.take(Takes::Frames), "b still takes frames");
+    }
+
+    #[test]
+    fn an_output_tried_again_stays_and_each_failure_is_counted() {
+        let mut streams = Streams::default();
+        let (c, written) = flaky(&[0, 1, 3]);
+        streams.add(("c", "c.out".into()), Takes::Frames, OnFailure::TryAgain, c);
+        let mut failures = Failures::default();
+        frames(&mut streams, 5, &mut failures);
+        assert_eq!(written.get(), 2, "written at takes 2 and 4");
+        let list = failures.list();
+        assert_eq!(list.len(), 1, "one entry per output");
+        assert_eq!((list[0].time, list[0].failures), (0.0, 3));
+        streams.gone("c", 5.0, &mut failures);
+        assert!(streams.take(Takes::Frames), "the watch does not drop it");
+    }
+
+    #[test]
+    fn outputs_are_given_only_the_stops_they_take() {
+        let mut streams = Streams::default();
+        let (t, written) = flaky(&[]);
+        streams.add(
+            ("t", "t.out".into()),
+            Takes::TrajectoryFrames,
+            OnFailure::Drop,
+            t,
+        );
+        let mut failures = Failures::default();
+        frames(&mut streams, 3, &mut failures);
+        assert_eq!(written.get(), 0);
+        assert!(!streams.take(Takes::Frames) && streams.take(Takes::TrajectoryFrames));
+    }
+}
