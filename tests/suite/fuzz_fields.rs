@@ -112,7 +112,8 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
     };
     vec![
         // Only past the limit: 2·10⁷ disks are a legal scene whose placement and build take
-        // minutes by design (the Monte Carlo stops on SIGINT; the engine's build does not yet).
+        // minutes and more memory than the guard allows (a run interrupted while it builds
+        // ends at once: bad_input's `a_run_interrupted_while_its_scene_is_built…`).
         ("particles.count", vec![(MAX_DISKS + 1).to_string()]),
         ("output.profile_bins", around(MAX_PROFILE_BINS as f64)),
         ("output.phase_bins", around(MAX_PHASE_BINS as f64)),
