@@ -508,7 +508,7 @@ pub enum ColorChoice {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
-    /// `auto` (the default: `hybrid` for an inelastic bed of smooth disks on a vibrating floor,
+    /// `auto` (the default: `hybrid` for an inelastic bed on a vibrating floor,
     /// else `event-driven`), `event-driven` (exact), `time-step` or `space-time` (approximate, for
     /// comparison), `contact` (contact dynamics, for dense beds) or `hybrid` (the exact engine
     /// while the bed is a gas, contact dynamics while it is dense).
@@ -599,7 +599,7 @@ impl Default for Engine {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
-    /// The hybrid scheme for an inelastic bed of smooth disks on a vibrating floor whose disks
+    /// The hybrid scheme for an inelastic bed (smooth or rough) on a vibrating floor whose disks
     /// neither enter nor leave (see [`Scenario::scheme`]); the exact engine for every other scene.
     #[default]
     Auto,
@@ -834,12 +834,10 @@ impl Scenario {
     }
 
     /// The scheme the run uses: `engine.scheme`, with `auto` chosen from the scene. An inelastic
-    /// bed of smooth disks on a vibrating floor may turn dense (bouncing, riding, at rest below
+    /// bed on a vibrating floor, smooth or rough, may turn dense (bouncing, riding, at rest below
     /// Γ = 1), where the exact engine alone meets inelastic collapse at a cost without bound:
     /// `auto` runs it on the hybrid scheme, unless disks enter or leave or the floor is a cheaper
-    /// model, which only the exact engine has. Rough disks stay exact: contact dynamics' sticking
-    /// friction does not yet dissipate at impacts what the exact collision rule does. Every other
-    /// scene runs on the exact engine.
+    /// model, which only the exact engine has. Every other scene runs on the exact engine.
     pub fn scheme(&self) -> Scheme {
         let vibrated = self.floor.as_ref().is_some_and(|f| {
             f.orifice.is_none()
@@ -847,7 +845,6 @@ impl Scenario {
                 && !f.drive(self.gravity).is_static()
         });
         let dense_bed = vibrated
-            && !self.is_rough()
             && self.gravity.is_some()
             && self.collisions.restitution < 1.0
             && self.inlets.is_empty()

@@ -164,27 +164,36 @@ const VIBRATED_HARD_CASES: [&str; 16] = [
     "vibrated_inelastic_tc",
 ];
 
-/// No scene hangs: the shipped bed, with no setting but Γ, runs to its end on `auto` at every
-/// point of the Γ sweep (the exact engine alone, without a cure, did not pass t = 24 of 150 in
-/// ten minutes at Γ = 0.8), and below Γ = 1 it is a solid bed. An event limit far above what the
-/// runs need stops a run that would not end.
+/// No scene hangs: the shipped bed, with no setting but Γ (and friction, for the rough bed),
+/// runs to its end on `auto` at every point of the sweep, on the hybrid scheme, and reads solid
+/// below Γ = 1. The event limit is far above what a completed run needs: reaching it would be
+/// the exact engine's collapse back.
 #[test]
 fn the_shipped_bed_runs_to_its_end_at_every_gamma() {
     let path = format!("{}/scenarios/vibrated_bed.json", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(path).expect("the shipped bed");
-    for gamma in [0.5, 0.8, 1.0, 1.2, 1.5, 2.0, 3.0, 5.0] {
-        let sets = [
+    let smooth = [0.5, 0.8, 1.0, 1.2, 1.5, 2.0, 3.0, 5.0].map(|g| (g, false));
+    let rough = [0.5, 0.8, 1.2, 1.5].map(|g| (g, true));
+    for (gamma, is_rough) in smooth.into_iter().chain(rough) {
+        let mut sets = vec![
             format!("floor.gamma={gamma}"),
             "run.duration=60".into(),
             "run.warmup=20".into(),
             "run.max_events=50000000".into(),
         ];
+        if is_rough {
+            sets.extend([
+                "collisions.friction=0.5".into(),
+                "floor.friction=0.5".into(),
+            ]);
+        }
         let s = Scenario::from_json_with_overrides(&text, &sets).expect("valid scenario");
         assert_eq!(s.scheme(), vibrobed::scenario::Scheme::Hybrid);
         let (v, _) = same_run::summary(&s, &[]);
-        assert_eq!(v["ending"], "completed", "Γ = {gamma}");
+        let point = format!("Γ = {gamma}, rough: {is_rough}");
+        assert_eq!(v["ending"], "completed", "{point}");
         if gamma < 1.0 {
-            assert_eq!(v["state"]["name"], "solid", "Γ = {gamma}: {}", v["state"]);
+            assert_eq!(v["state"]["name"], "solid", "{point}: {}", v["state"]);
         }
     }
 }
