@@ -14,7 +14,7 @@ use crate::scenario::{Scenario, Scheme};
 use crate::schemes::{
     contact::Contact, handover::Handover, space_time::SpaceTime, time_step::TimeStep, Integrator,
 };
-use checkpoint::{Checkpoint, CheckpointFile};
+use checkpoint::Checkpoint;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -34,6 +34,7 @@ mod views;
 mod wall_limit;
 
 use driver::Driver;
+use resume::CheckpointFile;
 use streams::{OnFailure, Streams, Takes};
 use wall_limit::WallLimit;
 

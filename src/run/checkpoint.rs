@@ -20,9 +20,7 @@
 //! another order), cut short, or damaged is refused with a message, never half read.
 
 use super::state::DriverState;
-use super::streams::{Given, Output};
 use crate::error::{Error, Result};
-use crate::output::watch::Target;
 use crate::scenario::Scenario;
 use crate::schemes::SavedState;
 use serde::{Deserialize, Serialize};
@@ -167,21 +165,6 @@ impl Checkpoint {
             return Err(refuse(path, "damaged (checksum mismatch)"));
         }
         postcard::from_bytes(payload).map_err(|e| refuse(path, format!("damaged ({e})")))
-    }
-}
-
-/// The checkpoint file as an output at stops: each checkpoint written whole over the last.
-pub(super) struct CheckpointFile(pub(super) PathBuf);
-
-impl Output for CheckpointFile {
-    fn take(&mut self, given: &Given) -> Result<()> {
-        match given {
-            Given::Checkpoint(ck) => ck.write(&self.0),
-            Given::Frame(_) => Ok(()),
-        }
-    }
-    fn watched(&self, name: &'static str) -> Option<Target> {
-        Some(Target::later(name, &self.0))
     }
 }
 

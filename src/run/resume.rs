@@ -1,14 +1,16 @@
 //! A run saved and resumed: the checkpoint the driver gives its outputs at its stops and at the
-//! end (the engine between events, the driver's state, the scene's text), and a resumed driver
-//! taking back the state one holds.
+//! end (the engine between events, the driver's state, the scene's text), the output that writes
+//! it to its file, and a resumed driver taking back the state one holds.
 
 use super::checkpoint::Checkpoint;
 use super::driver::Driver;
 use super::state::DriverState;
 use super::stops::Stops;
-use super::streams::{Given, Takes};
+use super::streams::{Given, Output, Takes};
 use crate::error::{Error, Result};
+use crate::output::watch::Target;
 use crate::schemes::Integrator;
+use std::path::PathBuf;
 
 impl<E: Integrator> Driver<'_, E> {
     /// Continues the run a checkpoint holds: the engine's state, the stop schedule (to the new
@@ -102,5 +104,20 @@ impl<E: Integrator> Driver<'_, E> {
         let given = Given::Checkpoint(&ck);
         (self.streams).give(Takes::Checkpoints, &given, time, &mut self.failures);
         Ok(())
+    }
+}
+
+/// The checkpoint file as an output at stops: each checkpoint written whole over the last.
+pub(super) struct CheckpointFile(pub(super) PathBuf);
+
+impl Output for CheckpointFile {
+    fn take(&mut self, given: &Given) -> Result<()> {
+        match given {
+            Given::Checkpoint(ck) => ck.write(&self.0),
+            Given::Frame(_) => Ok(()),
+        }
+    }
+    fn watched(&self, name: &'static str) -> Option<Target> {
+        Some(Target::later(name, &self.0))
     }
 }
