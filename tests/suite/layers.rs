@@ -1,7 +1,8 @@
 //! The crate's layers against its imports: `src/lib.rs` lists the layers from the bottom up (one
 //! `- [`module`]` line each), the book's contributing page lists the same in its code-layout
-//! table, and no module of `src/` names (`crate::…`, outside comments) a module above its own.
-//! A new top-level module must be placed in both lists.
+//! table, no module of `src/` names (`crate::…`, outside comments) a module above its own, and
+//! no two files import each other (through `crate::` or `super::`; a module's root and its own
+//! files aside). A new top-level module must be placed in both lists.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -206,4 +207,150 @@ fn imports_are_read_from_code_not_comments() {
         root_reexports("pub use error::{Error, Result};\npub use scenario::Scenario;\n");
     assert_eq!(reexports["Result"], "error");
     assert_eq!(reexports["Scenario"], "scenario");
+}
+
+/// A file's module path under `src/` (`run/streams.rs` is `run::streams`, `run.rs` and
+/// `run/mod.rs` are `run`), `None` for the crate root and the binary.
+fn module_path(src: &Path, file: &Path) -> Option<Vec<String>> {
+    let relative = file.strip_prefix(src).unwrap().with_extension("");
+    let mut path: Vec<String> = relative
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    if path.last().is_some_and(|l| l == "mod") {
+        path.pop();
+    }
+    (!path.is_empty() && path != ["lib"] && path != ["main"]).then_some(path)
+}
+
+/// The paths a file's code names through `crate::` or `super::` (comments and its tests left
+/// out), each made absolute from the file's own module `own`.
+fn paths_named(text: &str, own: &[String]) -> Vec<Vec<String>> {
+    let code = text.split("#[cfg(test)]\nmod tests").next().unwrap_or("");
+    let mut paths = Vec::new();
+    for line in code.lines() {
+        let line = line.split("//").next().unwrap_or("");
+        for (at, _) in line
+            .match_indices("crate::")
+            .chain(line.match_indices("super::"))
+        {
+            let before = &line[..at];
+            if before.ends_with('$') || before.ends_with("::") {
+                continue;
+            }
+            let tail = &line[at..];
+            let (mut base, mut rest) = match tail.strip_prefix("crate::") {
+                Some(rest) => (Vec::new(), rest),
+                None => (own[..own.len() - 1].to_vec(), &tail["super::".len()..]),
+            };
+            while let Some(r) = rest.strip_prefix("super::") {
+                base.pop();
+                rest = r;
+            }
+            expand(rest, base, &mut paths);
+        }
+    }
+    paths
+}
+
+/// The paths of `rest` (after a `::`) below `base`, a group `{a, b::c}` giving one path each.
+fn expand(rest: &str, mut base: Vec<String>, out: &mut Vec<Vec<String>>) {
+    let mut rest = rest;
+    loop {
+        if let Some(group) = rest.strip_prefix('{') {
+            let (mut depth, mut start) = (0, 0);
+            for (k, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => {
+                        expand(group[start..k].trim(), base.clone(), out);
+                        return;
+                    }
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        expand(group[start..k].trim(), base.clone(), out);
+                        start = k + 1;
+                    }
+                    _ => {}
+                }
+            }
+            return;
+        }
+        let end = rest
+            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        if end == 0 {
+            break;
+        }
+        base.push(rest[..end].to_owned());
+        match rest[end..].strip_prefix("::") {
+            Some(r) => rest = r,
+            None => break,
+        }
+    }
+    out.push(base);
+}
+
+#[test]
+fn no_two_files_import_each_other() {
+    let src = root().join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let modules: BTreeMap<Vec<String>, PathBuf> = files
+        .iter()
+        .filter_map(|f| module_path(&src, f).map(|m| (m, f.clone())))
+        .collect();
+    // Each file's imports, as the files they reach (the longest module path that is a file),
+    // leaving out its own module and its ancestors: a module's root and its files are one
+    // module's parts, and the root names them to declare them.
+    let mut imports: BTreeMap<&Vec<String>, BTreeSet<&Vec<String>>> = BTreeMap::new();
+    for (module, file) in &modules {
+        for path in paths_named(&read(file), module) {
+            let reached = (1..=path.len())
+                .rev()
+                .find_map(|n| modules.get_key_value(&path[..n]).map(|(k, _)| k));
+            if let Some(other) =
+                reached.filter(|o| !module.starts_with(o) && !o.starts_with(module))
+            {
+                imports.entry(module).or_default().insert(other);
+            }
+        }
+    }
+    let mut circles = Vec::new();
+    for (a, theirs) in &imports {
+        for b in theirs {
+            if a < b && imports.get(b).is_some_and(|t| t.contains(a)) {
+                circles.push(format!("{} <-> {}", a.join("::"), b.join("::")));
+            }
+        }
+    }
+    assert!(
+        circles.is_empty(),
+        "files that import each other:\n{}",
+        circles.join("\n")
+    );
+}
+
+/// Paths are read absolute from the file's own module: `super`, `super::super`, groups, and not
+/// the file's tests.
+#[test]
+fn paths_are_read_from_the_files_own_module() {
+    let own = ["run".to_owned(), "resume".to_owned()];
+    let text = "use super::streams::{Given, Output};\n\
+                use crate::output::watch::Target;\n\
+                let r: super::super::error::Result<()> = Ok(()); // crate::cli\n\
+                #[cfg(test)]\nmod tests {\n    use super::frames::Frames;\n}\n";
+    let named: Vec<String> = paths_named(text, &own)
+        .iter()
+        .map(|p| p.join("::"))
+        .collect();
+    assert_eq!(
+        named,
+        [
+            "run::streams::Given",
+            "run::streams::Output",
+            "output::watch::Target",
+            "error::Result"
+        ]
+    );
 }
