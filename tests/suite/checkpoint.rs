@@ -289,6 +289,33 @@ fn a_resumed_hybrid_bed_is_the_uninterrupted_bed() {
     assert!(cut_dense > Some(1.0), "the cut fell before the hand-over");
 }
 
+/// Rough disks on the hybrid scheme (`auto` for a rough bed too): their spins go over with the
+/// contact dynamics' state, and the resumed run is the uninterrupted one.
+#[test]
+fn a_resumed_rough_hybrid_bed_is_the_uninterrupted_bed() {
+    let riding = [
+        "floor.gamma=0.5",
+        "particles.temperature=0.01",
+        "particles.count=200",
+        "domain.width=40.3",
+        "run.warmup=2",
+        "collisions.friction=0.5",
+        "floor.friction=0.5",
+        "particles.rotational_temperature=0.01",
+    ];
+    resumed_equals_uninterrupted("hybrid-rough", "vibrated_bed.json", &riding, 15.3, 20.0);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-rough");
+    let cut = physics(&dir.join("first.json"));
+    let cut_dense = cut["approximation"]["dense_time"].as_f64();
+    assert!(cut_dense > Some(1.0), "the cut fell before the hand-over");
+    let whole = physics(&dir.join("full.json"));
+    assert!(
+        whole["temperature"]["rotational"].as_f64() > Some(0.0),
+        "no spins: {}",
+        whole["temperature"]
+    );
+}
+
 /// The other event queue, Isobe's tree, goes into the checkpoint as well as the calendar.
 #[test]
 fn a_resumed_bed_on_the_tree_is_the_uninterrupted_bed() {
