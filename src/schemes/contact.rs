@@ -97,6 +97,8 @@ struct Row {
     wt: f64,
     /// Lower bound on the normal relative velocity after the step.
     target: f64,
+    /// Whether the bound is a rebound by Newton's law (not closing to touching).
+    bounce: bool,
     /// Coulomb's coefficient (0: smooth).
     mu: f64,
     /// Accumulated impulses along the normal and the tangent.
@@ -178,6 +180,7 @@ pub struct ContactState {
     virial: f64,
     max_overlap: f64,
     deep_overlaps: u64,
+    rebounds: u64,
     at_rest: usize,
     rest_since: Option<f64>,
 }
@@ -301,6 +304,7 @@ impl<F: Flight> Contact<F> {
             virial: self.virial,
             max_overlap: self.max_overlap,
             deep_overlaps: self.stats.deep_overlaps,
+            rebounds: self.stats.rebounds,
             at_rest: self.at_rest,
             rest_since: self.rest_since,
         }
@@ -347,6 +351,7 @@ impl<F: Flight> Contact<F> {
             step: self.dt,
             steps: self.step,
             deep_overlaps: state.deep_overlaps,
+            rebounds: state.rebounds,
             ..SchemeStats::default()
         };
         Ok(())
@@ -495,14 +500,15 @@ impl<F: Flight> Contact<F> {
     /// once by Newton's law on its approach before the step's gravity, `u_0 = u + g n_y dt`, and
     /// then flies the step: `u⁺ = −e u_0 − g n_y dt` (a disk that meets the floor within a step
     /// turns a gap's width early, at most its speed × dt). Any other contact closes at most to
-    /// touching.
-    fn target(&self, gap: f64, lift: f64, (u, gn): (f64, f64), e: f64, rest: f64) -> f64 {
+    /// touching. Returns the bound, and whether it is a rebound.
+    fn target(&self, gap: f64, lift: f64, (u, gn): (f64, f64), e: f64, rest: f64) -> (f64, bool) {
         let close = -(gap.max(RECOVERY * gap) + lift) / self.dt;
         let u0 = u + gn * self.dt;
         if u < close && -u0 > rest {
-            close.max(-e * u0 - gn * self.dt)
+            let b = -e * u0 - gn * self.dt;
+            (close.max(b), b > close)
         } else {
-            close
+            (close, false)
         }
     }
 
@@ -560,6 +566,13 @@ impl<F: Flight> Contact<F> {
                 }
                 deepest = deepest.max(-gap);
                 let u = (m.vx - vb.0) * n.0 + (m.vy - vb.1) * n.1;
+                let (target, bounce) = self.target(
+                    gap,
+                    lift,
+                    (u, g * n.1),
+                    e,
+                    self.rest_speed(kind == Kind::Floor),
+                );
                 let (pn, pt, slot) = match kind {
                     Kind::Floor => (self.warm_floor[i].0, self.warm_floor[i].1, i as u32),
                     _ => (0.0, 0.0, NONE),
@@ -574,13 +587,8 @@ impl<F: Flight> Contact<F> {
                     wj: 0.0,
                     wn: w,
                     wt: w * (1.0 + 1.0 / q),
-                    target: self.target(
-                        gap,
-                        lift,
-                        (u, g * n.1),
-                        e,
-                        self.rest_speed(kind == Kind::Floor),
-                    ),
+                    target,
+                    bounce,
                     mu,
                     pn,
                     pt,
@@ -644,6 +652,7 @@ impl<F: Flight> Contact<F> {
             let (wi, wj) = (1.0 / d.mass[iu], 1.0 / d.mass[ju]);
             let w = wi + wj;
             let (pn, pt) = self.warm[k];
+            let (target, bounce) = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
             rows.push(Row {
                 i,
                 j,
@@ -654,7 +663,8 @@ impl<F: Flight> Contact<F> {
                 wj,
                 wn: w,
                 wt: w * (1.0 + 1.0 / q),
-                target: self.target(gap, 0.0, (u, 0.0), self.e, rest_pair),
+                target,
+                bounce,
                 mu: mu_pair,
                 pn,
                 pt,
@@ -747,6 +757,7 @@ impl<F: Flight> Contact<F> {
             if r.pn <= 0.0 {
                 continue;
             }
+            self.stats.rebounds += r.bounce as u64;
             match r.kind {
                 Kind::Pair => {
                     self.warm[r.slot as usize] = (r.pn, r.pt);

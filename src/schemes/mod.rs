@@ -94,6 +94,10 @@ pub struct SchemeStats {
     /// `contact`: Gauss–Seidel sweeps over the contacts, all steps together.
     #[serde(skip_serializing_if = "is_zero")]
     pub sweeps: u64,
+    /// `contact`: contacts that rebounded by Newton's law (impacts faster than the rest speed),
+    /// all steps together.
+    #[serde(skip_serializing_if = "is_zero", default)]
+    pub rebounds: u64,
     /// `hybrid`: hand-overs between the exact engine and contact dynamics.
     #[serde(skip_serializing_if = "is_zero")]
     pub handovers: u64,
