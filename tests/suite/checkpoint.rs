@@ -264,19 +264,22 @@ fn a_resumed_vibrated_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("exact-bed", "vibrated_bed.json", &exact, 4.7, 9.0);
 }
 
+/// A small bed riding the floor (200 disks, Γ = 0.5), which the hybrid hands to contact dynamics
+/// near t = 12.
+const RIDING: [&str; 5] = [
+    "floor.gamma=0.5",
+    "particles.temperature=0.01",
+    "particles.count=200",
+    "domain.width=40.3",
+    "run.warmup=2",
+];
+
 /// The hybrid scheme (`auto` for this bed): riding the floor, the bed goes to contact dynamics
 /// near t = 12. Cut before the hand-over and after it, the resumed run is the uninterrupted one.
 #[test]
 fn a_resumed_hybrid_bed_is_the_uninterrupted_bed() {
-    let riding = [
-        "floor.gamma=0.5",
-        "particles.temperature=0.01",
-        "particles.count=200",
-        "domain.width=40.3",
-        "run.warmup=2",
-    ];
-    resumed_equals_uninterrupted("hybrid-exact", "vibrated_bed.json", &riding, 8.7, 20.0);
-    resumed_equals_uninterrupted("hybrid-dense", "vibrated_bed.json", &riding, 15.3, 20.0);
+    resumed_equals_uninterrupted("hybrid-exact", "vibrated_bed.json", &RIDING, 8.7, 20.0);
+    resumed_equals_uninterrupted("hybrid-dense", "vibrated_bed.json", &RIDING, 15.3, 20.0);
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-dense");
     let whole = physics(&dir.join("full.json"));
     let dense = &whole["approximation"];
@@ -293,16 +296,12 @@ fn a_resumed_hybrid_bed_is_the_uninterrupted_bed() {
 /// contact dynamics' state, and the resumed run is the uninterrupted one.
 #[test]
 fn a_resumed_rough_hybrid_bed_is_the_uninterrupted_bed() {
-    let riding = [
-        "floor.gamma=0.5",
-        "particles.temperature=0.01",
-        "particles.count=200",
-        "domain.width=40.3",
-        "run.warmup=2",
+    let rough = [
         "collisions.friction=0.5",
         "floor.friction=0.5",
         "particles.rotational_temperature=0.01",
     ];
+    let riding: Vec<&str> = RIDING.into_iter().chain(rough).collect();
     resumed_equals_uninterrupted("hybrid-rough", "vibrated_bed.json", &riding, 15.3, 20.0);
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-rough");
     let cut = physics(&dir.join("first.json"));
