@@ -850,16 +850,14 @@ impl<F: Flight> Contact<F> {
 }
 
 /// Steps of the floor's period, smooth disks: dense beds move at about the floor's speed, and no
-/// collision is missed at any step (a contact that can close within a step is in its solve); the
-/// shipped bed at Γ = 0.8 and 1.2 kept its centre of mass within 0.5 % of LAMMPS's at this step
-/// as at a seventh of it.
+/// collision is missed at any step (a contact that can close within a step is in its solve).
+/// The book's accuracy page gives what this step costs in accuracy against LAMMPS.
 pub const STEPS_PER_PERIOD: f64 = 50.0;
 
 /// Steps of the floor's period, rough disks. A rough bed rattles in its cages: each disk
 /// rebounds between neighbours many times a period, and a step rebounds a contact at most once,
-/// so a coarse step dissipates too little. On the hybrid scheme the rough shipped bed at Γ = 1.5
-/// (μ = 0.5) ran 6.1× as hot as LAMMPS (k_n = 10⁵) at 50 steps a period, 1.6× at 150, 1.23× at
-/// 200 and within 6 % at 400.
+/// so a coarse step dissipates too little and the bed runs hot (the accuracy page's hybrid
+/// section gives the temperature against the step).
 pub const ROUGH_STEPS_PER_PERIOD: f64 = 400.0;
 
 /// The default step: a part of the floor's period under a vibrating floor (the scheme is for

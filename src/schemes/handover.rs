@@ -42,11 +42,9 @@ const STEPS_PER_WINDOW: f64 = 50.0;
 pub const CONTACTS_OUT: f64 = 0.3;
 
 /// Rebounds per disk and step of contact dynamics (averaged over a window) above which it hands
-/// back: the bed is a dense gas, not a network of enduring contacts. Beds that ride the floor
-/// rebound 10⁻⁴–10⁻² per disk and step, beds that bounce (the shipped bed at Γ = 1.2, rough at
-/// 1.2 and 1.5) about 0.1; the Brazil-nut bed (Γ = 3, 25 layers) 0.36, whose centre of mass
-/// contact dynamics put 3 % above the exact engine's, and the deep bed (Γ = 4, 100 layers) 0.54
-/// (its overlaps do not separate for the exact engine: its scene sets the exact engine).
+/// back: the bed is a dense gas, not a network of enduring contacts. It lies between beds that
+/// ride or bounce on the floor and beds of many fluidized layers (the accuracy page's hybrid
+/// section gives the rates measured).
 pub const REBOUNDS_OUT: f64 = 0.2;
 
 /// The exact part's TC where the scene sets none. Inelastic collapse is a finite-time singularity
