@@ -485,9 +485,9 @@ struct Shown {
 }
 
 impl Shown {
-    /// Refuses a `--progress-every` that is not a positive number of seconds.
+    /// Refuses a `--progress-every` out of its bounds.
     fn new(quiet: bool, every: Option<f64>) -> Result<Shown> {
-        crate::output::progress::check_every(every)?;
+        crate::scenario::intervals::progress_every(every)?;
         Ok(Shown { quiet, every })
     }
 }

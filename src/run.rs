@@ -101,19 +101,7 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
         ));
     }
     if let Some(every) = opts.checkpoint.as_ref().and_then(|c| c.every) {
-        if !(every.is_finite() && every > 0.0) {
-            return Err(Error::input(
-                "--checkpoint-every",
-                format!("must be a positive finite simulated time (got {every})"),
-            ));
-        }
-        let checks = crate::scenario::checks::MAX_CHECKPOINTS;
-        crate::scenario::checks::at_most(
-            "--checkpoint-every",
-            "checkpoints",
-            s.run.duration / every,
-            checks,
-        )?;
+        crate::scenario::intervals::checkpoint_every(every, s.run.duration)?;
     }
     // The placement's Monte Carlo watches the stop flag: a run interrupted while its disks
     // are placed stops then.

@@ -19,8 +19,8 @@ use running::{simulate, Ran, Start};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use vibrobed::cli::{output_paths, resumed, OutputArgs};
-use vibrobed::output::progress::check_every;
 use vibrobed::run::CheckpointPlan;
+use vibrobed::scenario::intervals;
 
 /// The typed scenario as JSON (every default filled in) and its advisories (what the command
 /// line prints as notes).
@@ -73,7 +73,7 @@ fn run(
     progress: bool,
     progress_every: Option<f64>,
 ) -> PyResult<Ran> {
-    check_every(progress_every).py()?;
+    intervals::progress_every(progress_every).py()?;
     let scenario_file = path.clone();
     let given = Given::new(path, text, sets).py()?;
     let s = given.scenario().py()?;
@@ -114,7 +114,7 @@ fn resume(
     progress: bool,
     progress_every: Option<f64>,
 ) -> PyResult<Ran> {
-    check_every(progress_every).py()?;
+    intervals::progress_every(progress_every).py()?;
     let files = Files::from_map(files).py()?;
     let (s, plan, ck) = resumed(
         &checkpoint_file,
@@ -149,7 +149,7 @@ fn sweep_run(
     progress_every: Option<f64>,
     max_run_seconds: Option<f64>,
 ) -> PyResult<sweep::Report> {
-    check_every(progress_every).py()?;
+    intervals::progress_every(progress_every).py()?;
     let limits = sweep::Limits {
         progress_every,
         max_run_seconds,

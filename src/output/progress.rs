@@ -54,17 +54,6 @@ fn rate(per_second: f64) -> String {
 /// Default wall seconds between progress lines off a terminal.
 pub const DEFAULT_EVERY: f64 = 60.0;
 
-/// Refuses a `--progress-every` that is not a positive finite number of seconds.
-pub fn check_every(every: Option<f64>) -> crate::error::Result<()> {
-    match every {
-        Some(e) if !(e.is_finite() && e > 0.0) => Err(crate::error::Error::input(
-            "--progress-every",
-            format!("must be a positive number of seconds (got {e})"),
-        )),
-        _ => Ok(()),
-    }
-}
-
 /// How many times its start's wall time per unit of simulated time a run may come to cost before
 /// the note on a freezing bed.
 const COST_GROWTH: f64 = 10.0;

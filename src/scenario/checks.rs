@@ -5,7 +5,7 @@ use super::*;
 use crate::scenario::phase_stops::{stride, GROUP};
 
 /// A positive finite number, within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
-fn positive(field: &str, v: f64) -> Result<()> {
+pub(super) fn positive(field: &str, v: f64) -> Result<()> {
     if v.is_finite() && (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
         Ok(())
     } else if v.is_finite() && v > 0.0 {
@@ -592,24 +592,6 @@ fn validate_collisions(c: &Collisions) -> Result<()> {
 }
 
 /// The run's length: a positive duration, and a warm-up that leaves some of it to measure.
-/// Refuses a wall-clock limit (`field`) that is not a positive number of seconds up to
-/// [`MAX_WALL_SECONDS`].
-pub fn wall_seconds(field: &str, seconds: f64) -> Result<()> {
-    if !(seconds.is_finite() && seconds > 0.0) {
-        return Err(Error::input(
-            field,
-            format!("must be a positive number of seconds (got {seconds})"),
-        ));
-    }
-    if seconds > MAX_WALL_SECONDS {
-        return Err(Error::input(
-            field,
-            format!("{seconds:e} s is past the longest limit, {MAX_WALL_SECONDS:e} s (32 years)"),
-        ));
-    }
-    Ok(())
-}
-
 fn validate_run(r: &Run) -> Result<()> {
     positive("run.duration", r.duration)?;
     if !(r.warmup.is_finite() && r.warmup >= 0.0 && r.warmup < r.duration) {
@@ -622,7 +604,7 @@ fn validate_run(r: &Run) -> Result<()> {
         ));
     }
     if let Some(seconds) = r.max_wall_seconds {
-        wall_seconds("run.max_wall_seconds", seconds)?;
+        super::intervals::wall_seconds("run.max_wall_seconds", seconds)?;
     }
     Ok(())
 }

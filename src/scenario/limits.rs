@@ -32,6 +32,12 @@ pub const MAX_OUTPUT_VISITS: f64 = 1e12;
 /// Longest wall-clock limit of a run (`run.max_wall_seconds`, `sweep run --max-run-seconds`),
 /// about 32 years: a deadline the clock can hold (a limit past 1.8·10¹⁹ s overflowed it).
 pub const MAX_WALL_SECONDS: f64 = 1e9;
+/// Shortest wall-clock limit of a run (and of a sweep plan's trial runs): a millisecond, less
+/// than the start of any run, so a shorter limit only ends it before it begins.
+pub const MIN_WALL_SECONDS: f64 = 1e-3;
+/// Shortest wall time between progress lines (`--progress-every`): more than ten lines a second
+/// fill a log without telling more.
+pub const MIN_PROGRESS_SECONDS: f64 = 0.1;
 /// Most checkpoints a run may ask for (`--checkpoint-every`); each writes the whole state.
 pub const MAX_CHECKPOINTS: f64 = 1e5;
 /// Farthest any disk may be sent over the run at its initial or entering speed, in smallest

@@ -5,6 +5,7 @@
 //! [`Scenario`] (unknown fields rejected, errors name the dotted path) → [`Scenario::validate`]
 //! (physical sense: positive radii, reachable packing fraction, …).
 
+pub mod intervals;
 pub mod json;
 pub mod limits;
 pub mod overrides;

@@ -1010,6 +1010,86 @@ fn a_checkpoint_every_1e_9_is_refused() {
     );
 }
 
+/// Every interval or wall-clock limit given beside a scene (`--progress-every`,
+/// `--checkpoint-every`, `run.max_wall_seconds`, `sweep run --max-run-seconds`, `sweep plan
+/// --estimate`) refuses the ends of double precision and a step past its bounds, naming the
+/// option and the bound, writing nothing; its bounds themselves are accepted.
+#[test]
+fn intervals_past_their_bounds_are_refused_naming_the_option_and_bound() {
+    let sweep = serde_json::json!({
+        "name": "ball",
+        "scenario": scenario("bouncing_ball.json"),
+        "set": ["run.duration=1", "run.warmup=0"],
+        "axes": [{ "key": "floor.restitution", "values": [0.5] }],
+        "seeds": 1
+    });
+    let sweep = format!("@{sweep}");
+    let run = |extra: &[&str]| run_args("bouncing_ball.json", extra, SHORT);
+    let sweep_run = |extra: &[&str]| {
+        let mut args = guarded::args(&["sweep", "run", &sweep, "--out", "out", "--quiet"]);
+        args.extend(extra.iter().map(OsString::from));
+        args
+    };
+    let plan = |s: &str| guarded::args(&["sweep", "plan", &sweep, "--estimate", s]);
+    let progress = |s: &str| run(&["--summary", "s.json", "--progress-every", s]);
+    let checkpoint = |s: &str| run(&["--checkpoint", "c.ckpt", "--checkpoint-every", s]);
+    let wall = |s: &str| {
+        let set = format!("run.max_wall_seconds={s}");
+        run(&["--summary", "s.json", "--set", &set])
+    };
+    let cases: Vec<(Vec<OsString>, &str, &str)> = vec![
+        (progress("5e-324"), "--progress-every", "0.1 s"),
+        (progress("0.0999"), "--progress-every", "0.1 s"),
+        (progress("1e308"), "--progress-every", "1e9 s"),
+        (progress("1.0001e9"), "--progress-every", "1e9 s"),
+        (checkpoint("5e-324"), "--checkpoint-every", "1e-100"),
+        (checkpoint("1e308"), "--checkpoint-every", "1e100"),
+        (checkpoint("1e-9"), "--checkpoint-every", "1e5"),
+        (wall("5e-324"), "run.max_wall_seconds", "0.001 s"),
+        (wall("1e308"), "run.max_wall_seconds", "1e9 s"),
+        (
+            sweep_run(&["--max-run-seconds", "5e-324"]),
+            "--max-run-seconds",
+            "0.001 s",
+        ),
+        (
+            sweep_run(&["--progress-every", "5e-324"]),
+            "--progress-every",
+            "0.1 s",
+        ),
+        (
+            sweep_run(&["--progress-every", "1e308"]),
+            "--progress-every",
+            "1e9 s",
+        ),
+        (plan("5e-324"), "--estimate", "0.001 s"),
+        (plan("1e308"), "--estimate", "1e9 s"),
+    ];
+    for (i, (args, option, bound)) in cases.iter().enumerate() {
+        let dir = fresh_dir(&format!("bad-interval-{i}"));
+        let out = vibrobed(&dir, args);
+        assert_refused(&out, &[option], &dir, &[]);
+        let line = error_line(&out.stderr).unwrap_or_default();
+        assert!(
+            line.contains(bound),
+            "{line:?} does not name the bound {bound}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    for (args, written) in [
+        (progress("0.1"), "s.json"),
+        (progress("1e9"), "s.json"),
+        (checkpoint("1e100"), "c.ckpt"),
+        (wall("1e9"), "s.json"),
+    ] {
+        let dir = fresh_dir("interval-at-bound");
+        let out = vibrobed(&dir, &args);
+        assert_eq!(out.code(), Some(0), "{}", out.describe());
+        assert!(dir.join(written).exists(), "{}", out.describe());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
 #[test]
 fn a_set_path_of_60000_fields_is_refused_at_once() {
     let key = vec!["a"; 60_000].join(".");

@@ -166,7 +166,7 @@ impl SweepCommand {
                 progress_every,
                 max_run_seconds,
             } => {
-                crate::output::progress::check_every(progress_every)?;
+                crate::scenario::intervals::progress_every(progress_every)?;
                 check_max_run_seconds(max_run_seconds)?;
                 let options = PoolOptions {
                     jobs: jobs.unwrap_or(0),
@@ -234,7 +234,7 @@ impl SweepCommand {
 /// Refuses a `--max-run-seconds` that `run.max_wall_seconds` would refuse.
 pub fn check_max_run_seconds(seconds: Option<f64>) -> Result<()> {
     seconds.map_or(Ok(()), |m| {
-        crate::scenario::checks::wall_seconds("--max-run-seconds", m)
+        crate::scenario::intervals::wall_seconds("--max-run-seconds", m)
     })
 }
 
@@ -270,12 +270,7 @@ fn fit_options(range: Option<Vec<f64>>, offset: Option<String>) -> Result<FitOpt
 /// `sweep plan`: expands the sweep, builds every run's scene as `check` does, and lists the runs;
 /// with `--estimate`, runs each point's trial and prints the estimated CPU time.
 fn plan(sweep: &Path, out: Option<&Path>, estimate: Option<f64>) -> Result<i32> {
-    if let Some(s) = estimate.filter(|s| !(s.is_finite() && *s > 0.0)) {
-        return Err(Error::input(
-            "--estimate",
-            format!("must be a positive number of seconds (got {s})"),
-        ));
-    }
+    crate::scenario::intervals::estimate_seconds(estimate)?;
     let exp = expand(sweep)?;
     exp.check_scenes()?;
     print!("{}", exp.plan.listing(out));
