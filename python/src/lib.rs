@@ -136,10 +136,12 @@ fn resume(
     simulate(py, &s, &files, start)
 }
 
-/// `vibrobed sweep run`: (ran now, done before, interrupted, failed, ended early).
+/// `vibrobed sweep run`: (ran now, done before, interrupted, failed, ended early). With `text`
+/// (a sweep given as a dict), `sweep` is where the text is written once it is known good.
 #[pyfunction]
 #[pyo3(signature = (sweep, out, jobs=None, progress=false, progress_every=None,
-                    max_run_seconds=None))]
+                    max_run_seconds=None, text=None))]
+#[allow(clippy::too_many_arguments)]
 fn sweep_run(
     py: Python<'_>,
     sweep: PathBuf,
@@ -148,13 +150,14 @@ fn sweep_run(
     progress: bool,
     progress_every: Option<f64>,
     max_run_seconds: Option<f64>,
+    text: Option<String>,
 ) -> PyResult<sweep::Report> {
     intervals::progress_every(progress_every).py()?;
     let limits = sweep::Limits {
         progress_every,
         max_run_seconds,
     };
-    sweep::run(py, &sweep, &out, jobs, progress, limits)
+    sweep::run(py, &sweep, text.as_deref(), &out, jobs, progress, limits)
 }
 
 /// `vibrobed sweep collect` without a plot: `runs.csv` and `points.csv` as text.

@@ -8,10 +8,11 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 use vibrobed::output::progress::DEFAULT_EVERY;
 use vibrobed::output::summary::Ending;
+use vibrobed::output::write_atomic;
 use vibrobed::platform::signals::stop_flag;
 use vibrobed::studies::sweep::command::{check_max_run_seconds, writable_out};
-use vibrobed::studies::sweep::local::{run_pool, PoolOptions};
-use vibrobed::studies::sweep::plan::expand;
+use vibrobed::studies::sweep::local::{check_plan, run_pool, PoolOptions};
+use vibrobed::studies::sweep::plan::{expand, expand_text};
 use vibrobed::{Error, Result};
 
 /// How a sweep went: runs completed now, done before, interrupted, the failed ones (index and
@@ -33,10 +34,13 @@ pub struct Limits {
 }
 
 /// Runs every run of the sweep file `sweep` not yet done into `out` on `jobs` workers (default:
-/// every core), off the GIL; Ctrl-C stops the pool as SIGINT stops `sweep run`.
+/// every core), off the GIL; Ctrl-C stops the pool as SIGINT stops `sweep run`. With `text`
+/// (a sweep given as a dict), `sweep` is where that text is written, once every check has
+/// passed: a refused sweep writes nothing.
 pub fn run(
     py: Python<'_>,
     sweep: &Path,
+    text: Option<&str>,
     out: &Path,
     jobs: Option<usize>,
     progress: bool,
@@ -46,10 +50,20 @@ pub fn run(
         return Err(Error::input("--jobs", "must be at least 1")).py();
     }
     check_max_run_seconds(limits.max_run_seconds).py()?;
-    let exp = expand(sweep).py()?;
+    let mut exp = match text {
+        Some(text) => expand_text(text, sweep),
+        None => expand(sweep),
+    }
+    .py()?;
     exp.check_scenes().py()?;
+    // A folder of another sweep is refused before the sweep file is written into it.
+    check_plan(&exp.plan, out).py()?;
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     writable_out(out).py()?;
+    if let Some(text) = text {
+        write_atomic(sweep, text).py()?;
+        exp.plan.sweep = std::fs::canonicalize(sweep)?;
+    }
     // The pool and its runs watch the process's stop flag (the signal handlers' on the command
     // line): raised by Ctrl-C here, lowered again once the pool has stopped.
     let flag = stop_flag();

@@ -145,3 +145,34 @@ def test_a_wall_clock_limit_past_32_years_is_refused_by_name(bed, tmp_path):
     with pytest.raises(vibrobed.ScenarioError) as e:
         vibrobed.run(bed, set={"run.max_wall_seconds": 1e19})
     assert e.value.field == "run.max_wall_seconds"
+
+
+@pytest.mark.parametrize("bad, field", [
+    ({"axes": [{"key": "particles.radius", "values": [-1]}]}, "particles.radius"),
+    ({"seeds": -1}, "seeds"),
+    ({"set": ["run.duration=1e308"]}, "run.duration"),
+])
+def test_a_refused_sweep_dict_writes_nothing(bed, tmp_path, bad, field):
+    """A sweep given as a dict is written to ``out/sweep.json`` only once it is checked: a
+    refused one leaves no folder and no file (issue 62)."""
+    spec = {"scenario": str(bed), **bad}
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.sweep(spec, tmp_path / "out")
+    assert field in str(e.value)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(vibrobed.ScenarioError, match="--progress-every"):
+        vibrobed.sweep({"scenario": str(bed)}, tmp_path / "out", progress_every=5e-324)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_dict_into_another_sweep_s_folder_is_refused_and_its_file_kept(bed, tmp_path):
+    """A dict run into the folder of a different sweep is refused before its ``sweep.json`` is
+    written over the one there."""
+    first = {"scenario": str(bed), "set": ["run.duration=4", "run.warmup=1"], "seeds": 1}
+    vibrobed.sweep(first, tmp_path / "out", jobs=1)
+    kept = (tmp_path / "out" / "sweep.json").read_text()
+    other = {**first, "seeds": 2}
+    with pytest.raises(vibrobed.ScenarioError) as e:
+        vibrobed.sweep(other, tmp_path / "out", jobs=1)
+    assert e.value.field == "--out"
+    assert (tmp_path / "out" / "sweep.json").read_text() == kept

@@ -466,27 +466,28 @@ def sweep(
     max_run_seconds: Optional[float] = None,
 ) -> Sweep:
     """``vibrobed sweep run`` on this machine's cores (``jobs`` workers, default all), then its
-    tables. ``sweep`` is a sweep file or a dict of one (written to ``out/sweep.json``, its
-    scenario path taken from the working directory). Runs done before are skipped; a failed run
+    tables. ``sweep`` is a sweep file or a dict of one (written to ``out/sweep.json`` once
+    it is checked, its scenario path taken from the working directory; a refused sweep writes
+    nothing). Runs done before are skipped; a failed run
     raises ``RuntimeError`` once the others are done; runs stopped by their event or wall-clock
     limit (now or before) are named in a warning. ``progress_every`` and ``max_run_seconds``
     are ``sweep run``'s ``--progress-every`` and ``--max-run-seconds``."""
     out = os.fspath(out)
+    text = None
     if not isinstance(sweep, (str, bytes, os.PathLike)):
         import json
 
         spec = dict(sweep)
         if "scenario" in spec:
             spec["scenario"] = os.path.abspath(spec["scenario"])
-        os.makedirs(out, exist_ok=True)
+        # Written by the extension once every check has passed: a refused sweep writes nothing.
+        text = json.dumps(spec, indent=2)
         path = os.path.join(out, "sweep.json")
-        with open(path, "w") as f:
-            json.dump(spec, f, indent=2)
     else:
         path = os.fspath(sweep)
     ran, skipped, interrupted, failed, early = _native.sweep_run(
         path, out, jobs=jobs, progress=progress, progress_every=progress_every,
-        max_run_seconds=max_run_seconds)
+        max_run_seconds=max_run_seconds, text=text)
     if failed:
         i, first = failed[0]
         total = ran + skipped + interrupted + len(failed)

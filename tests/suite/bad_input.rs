@@ -1023,7 +1023,10 @@ fn intervals_past_their_bounds_are_refused_naming_the_option_and_bound() {
         "axes": [{ "key": "floor.restitution", "values": [0.5] }],
         "seeds": 1
     });
-    let sweep = format!("@{sweep}");
+    let home = fresh_dir("bad-interval-sweep");
+    let file = home.join("ball.json");
+    std::fs::write(&file, sweep.to_string()).expect("sweep file");
+    let sweep = file.display().to_string();
     let run = |extra: &[&str]| run_args("bouncing_ball.json", extra, SHORT);
     let sweep_run = |extra: &[&str]| {
         let mut args = guarded::args(&["sweep", "run", &sweep, "--out", "out", "--quiet"]);
@@ -1081,6 +1084,7 @@ fn intervals_past_their_bounds_are_refused_naming_the_option_and_bound() {
         (progress("1e9"), "s.json"),
         (checkpoint("1e100"), "c.ckpt"),
         (wall("1e9"), "s.json"),
+        (sweep_run(&["--max-run-seconds", "1e9"]), "out/plan.json"),
     ] {
         let dir = fresh_dir("interval-at-bound");
         let out = vibrobed(&dir, &args);
@@ -1088,6 +1092,7 @@ fn intervals_past_their_bounds_are_refused_naming_the_option_and_bound() {
         assert!(dir.join(written).exists(), "{}", out.describe());
         let _ = std::fs::remove_dir_all(&dir);
     }
+    let _ = std::fs::remove_dir_all(&home);
 }
 
 #[test]

@@ -186,7 +186,12 @@ pub struct Expanded {
 pub fn read_sweep(path: &Path) -> Result<SweepFile> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input("SWEEP", format!("cannot read {}: {e}", path.display())))?;
-    let value: Value = serde_json::from_str(&text).map_err(|e| {
+    parse_sweep(&text, path)
+}
+
+/// Types the text of a sweep file read from (or to be written to) `path`.
+fn parse_sweep(text: &str, path: &Path) -> Result<SweepFile> {
+    let value: Value = serde_json::from_str(text).map_err(|e| {
         Error::input(
             "",
             format!(
@@ -379,9 +384,24 @@ pub fn expand(path: &Path) -> Result<Expanded> {
     let sweep = read_sweep(path)?;
     let sweep_path = std::fs::canonicalize(path)
         .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))?;
+    expand_sweep(&sweep, sweep_path)
+}
+
+/// Expands the text of a sweep file as [`expand`] expands the file, as if it were at `path`
+/// (which need not exist yet): a sweep handed over as text (the Python package's dict) is
+/// written only once it is known good.
+pub fn expand_text(text: &str, path: &Path) -> Result<Expanded> {
+    let sweep = parse_sweep(text, path)?;
+    let sweep_path = std::path::absolute(path)
+        .map_err(|e| Error::Io(format!("cannot resolve {}: {e}", path.display())))?;
+    expand_sweep(&sweep, sweep_path)
+}
+
+/// Expands a typed sweep whose file is (or is to be) at `sweep_path`, an absolute path.
+fn expand_sweep(sweep: &SweepFile, sweep_path: PathBuf) -> Result<Expanded> {
     let base_dir = sweep_path.parent().unwrap_or(Path::new("."));
     let scenario_path = base_dir.join(&sweep.scenario);
-    let base = base_scenario(&sweep, &scenario_path)?;
+    let base = base_scenario(sweep, &scenario_path)?;
     let seeds = seed_list(sweep.seeds.as_ref())?;
     #[cfg(not(feature = "record"))]
     if sweep.record {
@@ -390,7 +410,7 @@ pub fn expand(path: &Path) -> Result<Expanded> {
             "this build of vibrobed has no recording (build with the `record` feature)",
         ));
     }
-    let points = points(&sweep)?;
+    let points = points(sweep)?;
     if points.len().saturating_mul(seeds.len()) > MAX_RUNS {
         return Err(Error::input(
             "seeds",
@@ -411,7 +431,7 @@ pub fn expand(path: &Path) -> Result<Expanded> {
     Ok(Expanded {
         plan: Plan {
             name,
-            sweep: sweep_path.clone(),
+            sweep: sweep_path,
             scenario: std::fs::canonicalize(&scenario_path).unwrap_or(scenario_path),
             axes: keys,
             combine: sweep.combine,
