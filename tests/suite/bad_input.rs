@@ -1539,3 +1539,66 @@ fn a_run_interrupted_while_its_scene_is_built_ends_at_once_writing_nothing() {
     assert!(out.elapsed - at <= STOP_GRACE, "{what}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A sweep interrupted while its first run builds its scene (2·10⁵ disks: about a second of
+/// placement and of the engine's build) stops once that build ends, as the book's Sweeps page
+/// says: exit 130; its sweep file and scenario untouched; its folder holds the plan and run 0's
+/// summary, marked `interrupted` at t = 0 (a rerun runs it again), and no other run started.
+#[test]
+fn a_sweep_interrupted_while_its_first_run_builds_exits_130_keeping_its_inputs() {
+    let dir = fresh_dir("interrupted-sweep-build");
+    let scene = dir.join("gas.json");
+    std::fs::copy(scenario("gas_periodic_phi03.json"), &scene).expect("a scenario");
+    let sweep = serde_json::json!({
+        "name": "big",
+        "scenario": "gas.json",
+        "set": ["particles.count=200000", "domain.width=400"],
+        "axes": [{ "key": "collisions.restitution", "values": [0.9, 0.95] }],
+        "seeds": 1
+    })
+    .to_string();
+    std::fs::write(dir.join("big.json"), &sweep).expect("sweep file");
+    let inputs = || {
+        (
+            std::fs::read(&scene).ok(),
+            std::fs::read(dir.join("big.json")).ok(),
+        )
+    };
+    let before = inputs();
+    let logs = dir.with_extension("logs");
+    let words = ["sweep", "run", "big.json", "--out", "out", "--jobs", "1"];
+    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
+    // The plan is written as the pool starts, just before run 0 builds its scene.
+    let out = dir.join("out");
+    while !child.ended()
+        && !out.join("plan.json").exists()
+        && child.elapsed() < Duration::from_secs(60)
+    {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.interrupt();
+    let got = child.wait(Limits {
+        interrupt_after: Duration::ZERO,
+        kill_after: 6 * STOP_GRACE,
+    });
+    let _ = std::fs::remove_dir_all(&logs);
+    let what = got.describe();
+    assert_eq!(got.code(), Some(130), "{what}");
+    assert!(
+        inputs() == before,
+        "the sweep file or its scenario changed: {what}"
+    );
+    assert_eq!(entries(&dir), ["big.json", "gas.json", "out"], "{what}");
+    assert_eq!(entries(&out), ["0", "plan.json"], "{what}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("0").join("summary.json")).expect("run 0's summary"),
+    )
+    .expect("a summary");
+    assert_eq!(summary["ending"], "interrupted", "{what}");
+    assert_eq!(
+        summary["sim_time"], 0.0,
+        "interrupted before its first event: {what}"
+    );
+    assert!(!vibrobed::studies::sweep::local::is_done(&out, 0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
