@@ -18,6 +18,8 @@
 //!   re-mapping ([`remap::shells`]: each disk rebuilds its own list when it leaves its shell)
 //!   and the renumbering of disks along a space-filling curve ([`remap::numbering`]);
 //! - `motion`: where a disk is at a time (lazy flight, riding the floor);
+//! - [`images`]: the periodic images, and which candidate neighbours lie within reach of a disk
+//!   across them (shared by the pair search's kernel and the shells);
 //! - [`rest`]: disks at rest on the floor or on disks at rest, and the rules that end bursts
 //!   of events at one instant;
 //! - `clock`, `counts`, `log`, `observe`: the clock, what is counted, the collision log, and
@@ -28,6 +30,7 @@ mod counts;
 mod event;
 mod fire;
 mod floor;
+mod images;
 mod log;
 mod motion;
 mod observe;

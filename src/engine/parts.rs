@@ -1,8 +1,8 @@
 //! The parts of the engine's state, each named for what it holds.
 
 use super::event::code;
+use super::images::Images;
 use super::log::Collision;
-use super::motion::Images;
 use super::remap::dutc::Dutc;
 use super::remap::numbering::Numbering;
 use super::remap::shells::Shells;

@@ -212,7 +212,7 @@ impl<F: Flight> Simulation<F> {
             bounds: Bounds {
                 sides: scene.sides,
                 top: scene.top,
-                images: super::motion::Images::of(scene.sides, scene.top),
+                images: super::images::Images::of(scene.sides, scene.top),
                 floor,
                 orifice: scene.orifice,
                 exit_height: scene.exit_height,

@@ -1,19 +1,19 @@
-//! The engine's short hot loops four at a time (AVX2): the prediction's pair loop (every
-//! listed neighbour's contact time with packed square roots and divisions, the earliest taken
-//! by selection in list order) and a shell exit's candidate filter.
+//! The prediction's pair loop four at a time (AVX2): every listed neighbour's contact time with
+//! packed square roots and divisions, the earliest taken by selection in list order, across the
+//! periodic images as [`images::lanes`](crate::engine::images) wraps them.
 //!
 //! Each lane does exactly the scalar operations, in the same order, of
 //! [`paths_meet`](crate::physics::pair::paths_meet),
 //! [`paths_meet_within`](crate::physics::pair::paths_meet_within) and
 //! [`meeting_time`](crate::physics::pair::meeting_time) on the state the disk's
-//! [`Flight`](crate::physics::flight::Flight) gives, or of the shells' filter (IEEE arithmetic is
-//! exact per lane, and Rust never contracts a product and a sum): the same results bit for bit
-//! as the scalar loops, which stay for other processors (tests compare the two). Built where
+//! [`Flight`](crate::physics::flight::Flight) gives (IEEE arithmetic is exact per lane, and Rust
+//! never contracts a product and a sum): the same results bit for bit as the scalar loop, which
+//! stays for other processors (tests compare the two). Built where
 //! AVX2 is (the engine's x86-64-v3 target: `.cargo/config.toml`).
 
 use crate::engine::event::code;
-use crate::engine::motion::Images;
-use crate::physics::disks::{Motion, PerDisk};
+use crate::engine::images::lanes::nearest_image;
+use crate::physics::disks::Motion;
 use std::arch::x86_64::*;
 
 /// What the four-lane search needs to know of the disk that predicts and of the domain.
@@ -42,16 +42,6 @@ pub(in crate::engine) struct Probe {
     pub half: [f64; 2],
     /// See `half`.
     pub period: [f64; 2],
-}
-
-/// Minimum image of separations `d` along one direction, lane by lane, as `Images::wrap`: one
-/// period off where beyond half of it (`half` = ∞ where the direction is not periodic).
-#[inline(always)]
-unsafe fn nearest_image(d: __m256d, half: __m256d, neg_half: __m256d, period: __m256d) -> __m256d {
-    let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, half);
-    let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, neg_half);
-    let d_up = _mm256_blendv_pd(d, _mm256_add_pd(d, period), below);
-    _mm256_blendv_pd(d_up, _mm256_sub_pd(d, period), above)
 }
 
 /// Earliest contact of `probe`'s disk with a neighbour of `list` from now: (time from now,
@@ -247,71 +237,6 @@ pub(in crate::engine) unsafe fn earliest_contact<const WITHIN: bool>(
     (t_best, who)
 }
 
-/// [`within_reach`](crate::engine::remap::shells::within_reach) four candidates at a time: the same
-/// candidates kept in the same order, each lane doing the scalar filter's operations in its
-/// order (the two share their parameters: one interface, two ways).
-///
-/// # Safety
-///
-/// Sound wherever this module is built (AVX2 is enabled at compile time); every candidate and
-/// `i` index `anchor` (indexing is checked).
-#[inline(always)]
-pub(in crate::engine) unsafe fn within_reach(
-    found: &mut [u32],
-    n: usize,
-    i: usize,
-    reach: f64,
-    anchor: &[[f64; 2]],
-    radius: &PerDisk<f64>,
-    images: &Images,
-) -> usize {
-    let set1 = |v: f64| _mm256_set1_pd(v);
-    let [x, y] = anchor[i];
-    let (half, period) = (images.half(), images.period());
-    let (xi, yi) = (set1(x), set1(y));
-    let (half_x, half_y) = (set1(half[0]), set1(half[1]));
-    let (neg_half_x, neg_half_y) = (set1(-half[0]), set1(-half[1]));
-    let (period_x, period_y) = (set1(period[0]), set1(period[1]));
-    let reach_v = set1(reach);
-    let common = radius.common().map(|r| {
-        let s = reach + r;
-        set1(s * s)
-    });
-    let each = radius.each();
-    let me = i as u32;
-    let mut kept = 0;
-    let mut k = 0;
-    while k < n {
-        let js = [0, 1, 2, 3].map(|l| if k + l < n { found[k + l] } else { me });
-        let a = js.map(|j| _mm_loadu_pd(anchor[j as usize].as_ptr()));
-        // Lanes in the order 0, 2, 1, 3 (what the unpacking gives).
-        let a01 = _mm256_set_m128d(a[1], a[0]);
-        let a23 = _mm256_set_m128d(a[3], a[2]);
-        let xs = _mm256_unpacklo_pd(a01, a23);
-        let ys = _mm256_unpackhi_pd(a01, a23);
-        let dx = nearest_image(_mm256_sub_pd(xi, xs), half_x, neg_half_x, period_x);
-        let dy = nearest_image(_mm256_sub_pd(yi, ys), half_y, neg_half_y, period_y);
-        let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
-        let limit = match common {
-            Some(s2) => s2,
-            None => {
-                let r = |l: usize| each[js[l] as usize];
-                let s = _mm256_add_pd(reach_v, _mm256_set_pd(r(3), r(1), r(2), r(0)));
-                _mm256_mul_pd(s, s)
-            }
-        };
-        let bits = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, limit)) as u32;
-        // Kept entries never overtake the candidates read (kept ≤ k + l); the padding lanes
-        // (beyond n) are never kept and write nothing.
-        for (l, lane) in [0, 2, 1, 3].into_iter().enumerate().take(n - k) {
-            found[kept] = js[l];
-            kept += ((bits >> lane) & 1 & (js[l] != me) as u32) as usize;
-        }
-        k += 4;
-    }
-    kept
-}
-
 #[cfg(test)]
 mod tests {
     use crate::engine::{Scene, Simulation};
@@ -441,73 +366,5 @@ mod tests {
                 compare(&sim, &format!("subset {subset}, fill {fill}"));
             }
         }
-    }
-
-    /// The shell filter, four lanes against one by one: the same candidates kept in the same
-    /// order, with equal and with mixed radii, periodic and closed boxes, candidate counts
-    /// that fill whole groups and that do not, the disk itself among its candidates, and
-    /// anchors at the reach's edge.
-    #[test]
-    fn four_lanes_keep_what_the_scalar_filter_keeps() {
-        use crate::engine::motion::Images;
-        use crate::physics::disks::PerDisk;
-        use crate::physics::walls::{SideBounds, Top};
-        use rand::{Rng, SeedableRng};
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
-        let n_disks = 200;
-        let width = 12.0;
-        let boxes = [
-            Images::of(
-                SideBounds::Periodic { width },
-                Top::Periodic { height: width },
-            ),
-            Images::of(SideBounds::Walls { width, e: 1.0 }, Top::Open),
-        ];
-        let mut kept_total = 0;
-        for images in boxes {
-            for mixed in [false, true] {
-                let radius = PerDisk::new(
-                    (0..n_disks)
-                        .map(|_| {
-                            if mixed {
-                                rng.random_range(0.3..0.7)
-                            } else {
-                                0.5
-                            }
-                        })
-                        .collect(),
-                );
-                for _ in 0..300 {
-                    let mut anchor: Vec<[f64; 2]> = (0..n_disks)
-                        .map(|_| [rng.random_range(0.0..width), rng.random_range(0.0..width)])
-                        .collect();
-                    let i = rng.random_range(0..n_disks);
-                    let reach = radius[i] + 1.5;
-                    // One candidate exactly at its reach along x (both filters keep it).
-                    let edge = (i + 1) % n_disks;
-                    anchor[edge] = [anchor[i][0] + (reach + radius[edge]), anchor[i][1]];
-                    let n = rng.random_range(0..40);
-                    let mut candidates: Vec<u32> = (0..n)
-                        .map(|_| rng.random_range(0..n_disks) as u32)
-                        .collect();
-                    if n > 0 && rng.random::<bool>() {
-                        candidates[rng.random_range(0..n)] = i as u32;
-                    }
-                    candidates.push(edge as u32);
-                    let n = candidates.len();
-                    let (mut a, mut b) = (candidates.clone(), candidates);
-                    // SAFETY: this module is built only with AVX2; the candidates are disks.
-                    let ka = unsafe {
-                        super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
-                    };
-                    let kb = crate::engine::remap::shells::within_reach(
-                        &mut b, n, i, reach, &anchor, &radius, &images,
-                    );
-                    assert_eq!(a[..ka], b[..kb], "disk {i}, mixed {mixed}");
-                    kept_total += kb;
-                }
-            }
-        }
-        assert!(kept_total > 1000, "too few kept to compare: {kept_total}");
     }
 }

@@ -1,7 +1,6 @@
 //! Pair collisions, the engine's main event source: when a disk next meets a listed neighbour
 //! ([`search`](search.rs)), and what their collision does ([`collide`](collide.rs)). Where AVX2
-//! is, the search's loop over the list and the shells' filter of candidate neighbours run four
-//! at a time ([`lanes`](lanes.rs)).
+//! is, the search's loop over the list runs four at a time ([`lanes`](lanes.rs)).
 
 mod collide;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]

@@ -5,7 +5,7 @@ pub mod dutc;
 pub mod numbering;
 pub mod shells;
 
-use crate::engine::motion::Images;
+use crate::engine::images::Images;
 use crate::engine::Simulation;
 use crate::error::Result;
 use crate::physics::disks::Disks;

@@ -22,11 +22,9 @@
 //! is bounded by its straight part plus `½ g τ²`, and a disk riding the floor by its sliding plus
 //! the floor's travel, so the event comes a little early, never late.
 
-use crate::engine::motion::Images;
 use crate::engine::Simulation;
 use crate::error::Result;
 use crate::neighbours::Mask;
-use crate::physics::disks::PerDisk;
 use crate::physics::flight::Flight;
 use crate::physics::theory::mean_free_path;
 use crate::physics::walls::into_period;
@@ -191,34 +189,6 @@ fn leave_circle(dx: f64, dy: f64, vx: f64, vy: f64, rho: f64) -> f64 {
     room / (b + (b * b + v2 * room).sqrt())
 }
 
-/// Keeps at the front of `found[..n]`, in order, the candidates whose anchors lie within reach
-/// of disk `i`'s: `j ≠ i` and `|Δ|² ≤ (reach + a_j)²` for the minimum image `Δ` of the two
-/// anchors (`reach` = `a_i` + the list's margin); returns how many. Without a branch per
-/// candidate (about a third are kept, at random). Where AVX2 is, `pair::lanes::within_reach` does
-/// the same four at a time (a test compares the two).
-#[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
-pub(in crate::engine) fn within_reach(
-    found: &mut [u32],
-    n: usize,
-    i: usize,
-    reach: f64,
-    anchor: &[[f64; 2]],
-    radius: &PerDisk<f64>,
-    images: &Images,
-) -> usize {
-    let [xi, yi] = anchor[i];
-    let mut kept = 0;
-    for k in 0..n {
-        let j = found[k] as usize;
-        let [xj, yj] = anchor[j];
-        let (dx, dy) = images.wrap(xi - xj, yi - yj);
-        let r = reach + radius[j];
-        found[kept] = j as u32;
-        kept += (dx * dx + dy * dy <= r * r && j != i) as usize;
-    }
-    kept
-}
-
 impl<F: Flight> Simulation<F> {
     /// Local time by which disk `i`, now at `(x, y)` moving at `(vx, vy)`, could leave its
     /// shell; `now` if it is at the edge already.
@@ -379,7 +349,7 @@ impl<F: Flight> Simulation<F> {
         // every candidate is a disk (indexing is checked).
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
         let kept = unsafe {
-            crate::engine::pair::lanes::within_reach(
+            crate::engine::images::lanes::within_reach(
                 found,
                 n,
                 i,
@@ -390,7 +360,15 @@ impl<F: Flight> Simulation<F> {
             )
         };
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        let kept = within_reach(found, n, i, reach, anchor, radius, &self.bounds.images);
+        let kept = crate::engine::images::within_reach(
+            found,
+            n,
+            i,
+            reach,
+            anchor,
+            radius,
+            &self.bounds.images,
+        );
         let new = &self.map.shells.as_ref()?.found[..kept];
         let contact =
             (!self.rest.riders.any()).then(|| self.pair_event_over(i, new, self.pair_horizon()));
