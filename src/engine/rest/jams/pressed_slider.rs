@@ -1,7 +1,7 @@
 //! **A pressed slider**: a disk sliding on a rough floor, pressed by the friction under it into
 //! a disk it meets slower than its sleep speed, would collide with it at one instant for ever,
-//! exchanging next to nothing. It rolls at once instead (its test is the hard case
-//! `pile_rough_pressed_slider` in the suite's hard cases).
+//! exchanging next to nothing. It rolls at once instead (its hard case is
+//! `pile_rough_pressed_slider`).
 
 use crate::engine::Simulation;
 use crate::physics::flight::Flight;
@@ -34,5 +34,54 @@ impl<F: Flight> Simulation<F> {
         self.moved(k);
         self.predict(if k == i { j } else { i });
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{jams_in, run_hard_case};
+
+    /// The pile of rough disks lands with disks sliding into neighbours: pressed sliders roll.
+    #[test]
+    fn a_landing_pile_of_rough_disks_has_pressed_sliders() {
+        assert!(jams_in("pile_rough_pressed_slider.json", &[]).pressed_slider > 0);
+    }
+
+    /// The rule itself, at the pile's first slide: met slower than its sleep speed, the slider
+    /// rolls (its slide ends) and is counted; met faster, the rule leaves both alone.
+    #[test]
+    fn a_slider_rolls_only_when_pressed_slower_than_its_sleep_speed() {
+        let mut sim = run_hard_case("pile_rough_pressed_slider.json", &["run.duration=1e-3"]);
+        let n = sim.disks.len();
+        let k = loop {
+            if let Some(k) = (0..n).find(|&k| sim.rest.riders.slide(k).is_some()) {
+                break k;
+            }
+            let t = sim.time();
+            assert!(t < 5.5, "no disk slid on the floor");
+            sim.advance_to(t + 1e-3).expect("runs");
+        };
+        let j = (k + 1) % n;
+        let now = sim.now;
+        sim.bring(k, now);
+        sim.bring(j, now);
+        // Disk j placed beside the slider and moving towards it at `approach`.
+        let press = |sim: &mut super::Simulation<_>, approach: f64| {
+            let m = sim.disks.motion[k];
+            let (dx, dy) = (1.0, 0.0);
+            let other = &mut sim.disks.motion[j];
+            (other.x, other.y) = (m.x - dx, m.y - dy);
+            (other.vx, other.vy) = (m.vx + approach * dx, m.vy + approach * dy);
+            sim.roll_pressed_slider(k, j, (dx, dy))
+        };
+        let slow = sim.sleep_speed(k);
+        assert!(slow > 0.0, "the floor presses the slider");
+        let before = sim.jam_counts().pressed_slider;
+        assert!(!press(&mut sim, 2.0 * slow), "met faster: a collision");
+        assert!(sim.rest.riders.slide(k).is_some(), "still sliding");
+        assert_eq!(sim.jam_counts().pressed_slider, before);
+        assert!(press(&mut sim, 0.5 * slow), "met slower: the slider rolls");
+        assert!(sim.rest.riders.slide(k).is_none(), "its slide ended");
+        assert_eq!(sim.jam_counts().pressed_slider, before + 1);
     }
 }
