@@ -297,6 +297,17 @@ impl Floor {
         }
     }
 
+    /// Whether the floor can throw a disk resting on it: somewhere it accelerates downwards
+    /// faster than `g` (a sine above Γ = 1, past round-off; a triangle's or sawtooth's corners
+    /// always).
+    pub fn throws(&self, g: f64) -> bool {
+        !self.is_static()
+            && match self.waveform {
+                Waveform::Sine => self.max_acceleration() > g * (1.0 + 1e-12),
+                Waveform::Triangle | Waveform::Sawtooth => true,
+            }
+    }
+
     /// End of the phase interval in which the sine floor accelerates downwards faster than g
     /// (`sin θ > g/(Aω²)`), for a time `t` inside it.
     fn leaves_throw_zone(&self, t: f64, g: f64) -> f64 {

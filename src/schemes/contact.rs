@@ -849,28 +849,29 @@ impl<F: Flight> Contact<F> {
     }
 }
 
-/// Steps of the floor's period, smooth disks: dense beds move at about the floor's speed, and no
-/// collision is missed at any step (a contact that can close within a step is in its solve).
-/// The book's accuracy page gives what this step costs in accuracy against LAMMPS.
+/// Steps of the floor's period: dense beds move at about the floor's speed, and no collision is
+/// missed at any step (a contact that can close within a step is in its solve). The book's
+/// accuracy page gives what this step costs in accuracy against LAMMPS.
 pub const STEPS_PER_PERIOD: f64 = 50.0;
 
-/// Steps of the floor's period, rough disks. A rough bed rattles in its cages: each disk
-/// rebounds between neighbours many times a period, and a step rebounds a contact at most once,
-/// so a coarse step dissipates too little and the bed runs hot (the accuracy page's hybrid
-/// section gives the temperature against the step).
+/// Steps of the floor's period, rough disks on a floor that throws them (Γ > 1). A bed that
+/// bounces rattles in its cages: each disk rebounds between neighbours many times a period,
+/// and a step rebounds a contact at most once, so a coarse step dissipates too little and the
+/// bed runs hot (the accuracy page's hybrid section gives the temperature against the step).
+/// A bed the floor cannot throw moves with it and has no such rattling.
 pub const ROUGH_STEPS_PER_PERIOD: f64 = 400.0;
 
 /// The default step: a part of the floor's period under a vibrating floor (the scheme is for
-/// dense beds, which move with the floor), [`STEPS_PER_PERIOD`] for smooth disks and
-/// [`ROUGH_STEPS_PER_PERIOD`] for rough ones; otherwise the time-step scheme's (a tenth of the
-/// smallest radius at the largest speed).
+/// dense beds, which move with the floor), [`ROUGH_STEPS_PER_PERIOD`] for rough disks the
+/// floor can throw and [`STEPS_PER_PERIOD`] otherwise; without one, the time-step scheme's (a
+/// tenth of the smallest radius at the largest speed).
 pub fn default_step(scene: &Scene, disks: &Disks) -> Option<f64> {
-    let steps = match scene.rough {
-        Some(_) => ROUGH_STEPS_PER_PERIOD,
-        None => STEPS_PER_PERIOD,
-    };
+    let g = scene.gravity.unwrap_or(0.0);
     match scene.floor.as_ref().filter(|f| !f.is_static()) {
-        Some(f) => Some(f.period_or_one() / steps),
+        Some(f) if scene.rough.is_some() && f.throws(g) => {
+            Some(f.period_or_one() / ROUGH_STEPS_PER_PERIOD)
+        }
+        Some(f) => Some(f.period_or_one() / STEPS_PER_PERIOD),
         None => default_dt(scene, disks),
     }
 }

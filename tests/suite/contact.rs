@@ -196,3 +196,26 @@ fn knobs_of_other_schemes_are_refused_on_the_contact_scheme() {
         assert_eq!(err.exit_code(), 2);
     }
 }
+
+/// The default step is a fiftieth of the floor's period, and a four-hundredth for rough disks on
+/// a floor that throws them (a sine above Γ = 1, a triangle wave at any Γ): a rough bed the floor
+/// cannot throw rides it without rattling.
+#[test]
+fn rough_disks_take_the_finer_step_only_where_the_floor_throws_them() {
+    let rough = ["collisions.friction=0.5", "floor.friction=0.5"];
+    let step = |sets: &[&str]| engine(&scenario(BED, sets)).step();
+    let period = 2.0;
+    for (sets, steps) in [
+        (vec!["floor.gamma=0.8"], 50.0),
+        (vec!["floor.gamma=1.5"], 50.0),
+        ([&rough[..], &["floor.gamma=0.8"]].concat(), 50.0),
+        ([&rough[..], &["floor.gamma=1"]].concat(), 50.0),
+        ([&rough[..], &["floor.gamma=1.2"]].concat(), 400.0),
+        (
+            [&rough[..], &["floor.gamma=0.8", "floor.waveform=triangle"]].concat(),
+            400.0,
+        ),
+    ] {
+        assert_eq!(step(&sets), period / steps, "{sets:?}");
+    }
+}
