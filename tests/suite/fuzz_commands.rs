@@ -11,10 +11,11 @@
 //! panic, an abort or a signal — or, still running after [`INTERRUPT_AFTER`], stop on SIGINT.
 //!
 //! The cases come in a fixed order, a command's first cases (and first pairs) before any
-//! command's later ones, and run until a time budget is spent (`VIBROBED_FUZZ_SECONDS`, default
-//! [`DEFAULT_SECONDS`]); `VIBROBED_FUZZ_SEED` draws other pairs. A failing case is reported with
+//! command's later ones, and run until a time budget is spent ([`DEFAULT_SECONDS`]; see
+//! [`crate::fuzz_budget`]); `VIBROBED_FUZZ_SEED` draws other pairs. A failing case is reported with
 //! its command line and its directory.
 
+use crate::fuzz_budget::Budget;
 use crate::guarded;
 
 use guarded::{error_field, error_line, Limits, Outcome};
@@ -22,12 +23,13 @@ use serde_json::Value;
 use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use vibrobed::scenario::checks::{MAX_CHECKPOINTS, MAX_THREADS};
 
-/// Seconds of cases when `VIBROBED_FUZZ_SECONDS` is not set. A case takes 10–200 ms; the setup
-/// (two checkpointed runs and a sweep of two runs) well under a second.
-const DEFAULT_SECONDS: u64 = 12;
+/// Seconds of cases when `VIBROBED_FUZZ_SECONDS` is not set (as in CI): a case takes 10–200
+/// ms (the setup, two checkpointed runs and a sweep of two runs, well under a second), so some
+/// 500 of the 2366 cases, every command's first ones.
+const DEFAULT_SECONDS: u64 = 90;
 
 /// A case still running after this long is sent SIGINT (then SIGKILL 5 s later).
 const INTERRUPT_AFTER: Duration = Duration::from_secs(8);
@@ -749,17 +751,10 @@ fn names_a_field(stderr: &str) -> bool {
     error_field(stderr).is_some() || located || parser || of_a_point || with_context
 }
 
-fn budget() -> Duration {
-    let secs = std::env::var("VIBROBED_FUZZ_SECONDS")
-        .ok()
-        .map(|t| t.trim().parse().expect("VIBROBED_FUZZ_SECONDS is a number"));
-    Duration::from_secs(secs.unwrap_or(DEFAULT_SECONDS))
-}
-
 #[test]
 fn every_command_and_option_changed_ends_within_the_contract() {
     let root = guarded::fresh_dir("fuzz-commands");
-    let start = Instant::now();
+    let budget = Budget::from_env(DEFAULT_SECONDS);
     prepare(&root.join("setup"));
     let mut lists = vec![
         resume_cases(),
@@ -770,12 +765,11 @@ fn every_command_and_option_changed_ends_within_the_contract() {
     ];
     lists.extend(pair_cases(&mut Draws::seeded()));
     let all = interleave(&lists);
-    let budget = budget();
     let mut failures = String::new();
     let mut tally: std::collections::BTreeMap<String, usize> = Default::default();
     let mut ran = 0;
     for (i, c) in all.iter().enumerate() {
-        if start.elapsed() > budget {
+        if budget.spent() {
             break;
         }
         let dir = root.join(format!("case-{i:05}"));
@@ -801,11 +795,7 @@ fn every_command_and_option_changed_ends_within_the_contract() {
             }
         }
     }
-    eprintln!(
-        "fuzz commands: {ran} of {} cases in {:.0} s: {tally:?}",
-        all.len(),
-        start.elapsed().as_secs_f64()
-    );
+    budget.report("fuzz commands", ran, all.len(), &format!("{tally:?}"));
     assert!(failures.is_empty(), "fuzz commands:{failures}");
     let _ = std::fs::remove_dir_all(&root);
 }

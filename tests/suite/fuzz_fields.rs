@@ -8,12 +8,13 @@
 //! [`INTERRUPT_AFTER`], stop on SIGINT.
 //!
 //! The cases come in a fixed order (every field of every scene before any field's second
-//! value; pairs drawn from a seeded generator) and run until a time budget is spent:
-//! `VIBROBED_FUZZ_SECONDS` (default 20 per command) sets it, `VIBROBED_FUZZ_SEED` draws other
-//! pairs. A failing case is reported with the command line that reproduces it. Every case, and
+//! value; pairs drawn from a seeded generator) and run until a time budget is spent
+//! ([`DEFAULT_SECONDS`] per command; see [`crate::fuzz_budget`]); `VIBROBED_FUZZ_SEED` draws
+//! other pairs. A failing case is reported with the command line that reproduces it. Every case, and
 //! many more pairs, also go through the checks in this process (no engine built), which takes
 //! seconds: the checks' whole reach is covered on every run of the suite.
 
+use crate::fuzz_budget::Budget;
 use crate::guarded;
 
 use guarded::{entries, error_field, error_line, Limits, Outcome};
@@ -30,11 +31,10 @@ use vibrobed::scenario::checks::{
 };
 use vibrobed::scenario::Scenario;
 
-/// Seconds of cases per command when `VIBROBED_FUZZ_SECONDS` is not set: the two commands
-/// together add about 40 s of one core to the suite (measured with the other fuzz tests beside
-/// them: the first 605 `check` and 569 `run` cases of 8306); a longer budget goes further, and
-/// the checks see every case in process anyway.
-const DEFAULT_SECONDS: u64 = 20;
+/// Seconds of cases per command when `VIBROBED_FUZZ_SECONDS` is not set (as in CI): some 1500
+/// `check` and 1500 `run` cases of 8366, every field of every scene changed at least once; the
+/// checks see every case in process anyway.
+const DEFAULT_SECONDS: u64 = 45;
 
 /// A case still running after this long is sent SIGINT (then SIGKILL 5 s later). A refusal or a
 /// short run takes well under a second; a legal scene that takes longer must stop on SIGINT.
@@ -394,19 +394,17 @@ fn env_number(name: &str) -> Option<u64> {
 
 /// Runs the cases of `cmd` until the budget is spent; panics listing the failures.
 fn fuzz(cmd: Command) {
-    let budget =
-        Duration::from_secs(env_number("VIBROBED_FUZZ_SECONDS").unwrap_or(DEFAULT_SECONDS));
+    let budget = Budget::from_env(DEFAULT_SECONDS);
     let seed = env_number("VIBROBED_FUZZ_SEED").unwrap_or(0x62);
     let scenes = shipped();
     let all = cases(&scenes, seed, PAIRS);
     let name = format!("{cmd:?}").to_lowercase();
     let root = guarded::fresh_dir(&format!("fuzz-fields-{name}"));
-    let start = Instant::now();
     let mut failures = String::new();
     let mut tally: std::collections::BTreeMap<String, usize> = Default::default();
     let mut ran = 0;
     for (i, (s, changes)) in all.iter().enumerate() {
-        if start.elapsed() > budget {
+        if budget.spent() {
             break;
         }
         let dir = root.join(format!("case-{i:05}"));
@@ -439,10 +437,11 @@ fn fuzz(cmd: Command) {
         }
         let _ = std::fs::remove_dir_all(&logs);
     }
-    eprintln!(
-        "fuzz fields {name}: {ran} of {} cases in {:.0} s (seed {seed:#x}): {tally:?}",
+    budget.report(
+        &format!("fuzz fields {name} (seed {seed:#x})"),
+        ran,
         all.len(),
-        start.elapsed().as_secs_f64()
+        &format!("{tally:?}"),
     );
     assert!(failures.is_empty(), "fuzz fields {name}:{failures}");
     let _ = std::fs::remove_dir_all(&root);

@@ -18,6 +18,7 @@ mod equation_of_state;
 mod faults;
 mod fields;
 mod figures;
+mod fuzz_budget;
 mod fuzz_commands;
 mod fuzz_fields;
 mod fuzz_inputs;
