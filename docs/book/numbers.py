@@ -6,7 +6,8 @@ page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This s
 makes them and compares:
 
 - Getting started, the worked example: the shipped bed's full run (its counts, energies,
-  temperatures, centre of mass, floor pressure and profile table);
+  temperatures, centre of mass, floor pressure and profile table); the same run's collisions
+  (Python page, Overhead) and first rows of its fields (Fields page, CSV);
 - the quick-try settings the README and the book give (`run.duration`, `run.warmup`): they must
   resolve the bed's state (the summary has `state`), and the floor periods they leave are quoted;
 - the packing-fraction sentence (summary page, Getting started): a pile at rest
@@ -87,8 +88,17 @@ def power_of_ten(x: float) -> str:
 
 
 def worked_example(binary: str, tmp: Path) -> dict[str, str]:
-    """Getting started: the shipped bed's full run."""
-    s = summary_of(binary, "scenarios/vibrated_bed.json", [], tmp, "bed")
+    """Getting started: the shipped bed's full run; also its collisions (Python page) and the
+    first row of its fields (Fields page): measuring the fields changes nothing else."""
+    fields = tmp / "fields.csv"
+    path = tmp / "bed.json"
+    run(binary, "run", "scenarios/vibrated_bed.json", "--quiet", "--summary", str(path),
+        "--fields", str(fields))
+    s = json.loads(path.read_text())
+    with open(fields) as f:
+        rows_of = csv.reader(f)
+        header, first = next(rows_of), next(rows_of)
+    row = ",".join(v if k in ("i", "j") else f"{float(v):.3f}" for k, v in zip(header, first))
     p = s["profiles"]
     rows = ["| height | number density | packing fraction | T_x | T_y | mean v_y |",
             "|---:|---:|---:|---:|---:|---:|"]
@@ -114,6 +124,8 @@ def worked_example(binary: str, tmp: Path) -> dict[str, str]:
         "gs-bin": f"{p['height'][1] - p['height'][0]:.2f}",
         "gs-table": "\n".join(rows),
         "gs-pressure": f"{pressure:.4f}",
+        "py-collisions": thousands(sum(s["events"][k] for k in ("pair", "wall", "lid", "floor"))),
+        "fields-csv": "\n".join(["```text", ",".join(header), row, "...", "```"]),
     }
 
 

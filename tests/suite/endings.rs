@@ -250,6 +250,55 @@ fn a_long_run_off_a_terminal_says_how_far_it_is() {
     );
 }
 
+/// A real run freezing into an inelastic collapse gives the note on its growing cost, once,
+/// naming the cures: the hard case's 1000 disks at φ = 0.7 without its TC model, at e = 0.4,
+/// collapse near t = 7.3; frames every 0.002 are the stops at which the cost is read, so its
+/// growth on the way there is seen (some 10–100 times the start's).
+#[test]
+fn a_run_freezing_into_a_collapse_says_so_naming_the_cures() {
+    let dir = scratch("collapse-note");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios/hard/collapse_tc.json")
+        .display()
+        .to_string();
+    let mut args = vec!["run", scene.as_str(), "--progress-every", "0.1"];
+    for set in [
+        "collisions.tc=null",
+        "collisions.restitution=0.4",
+        "output.frame_interval=0.002",
+        "engine.check_invariants=false",
+        "run.max_events=1000000000",
+        "run.max_wall_seconds=3",
+    ] {
+        args.extend(["--set", set]);
+    }
+    args.extend(["--summary", "s.json"]);
+    let out = vibrobed(&dir, &args);
+    assert_eq!(out.status.code(), Some(5), "{}", describe(&out));
+    let err = stderr(&out);
+    let notes: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("freezing into an inelastic collapse"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{err}");
+    assert!(
+        notes[0].starts_with("vibrobed: note: at t = "),
+        "{}",
+        notes[0]
+    );
+    for cure in [
+        "collisions.tc",
+        "collisions.speed_cutoff",
+        "run.max_wall_seconds",
+    ] {
+        assert!(notes[0].contains(cure), "{}", notes[0]);
+    }
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).expect("summary"))
+            .expect("JSON");
+    assert!(summary["sim_time"].as_f64().unwrap() < 8.0, "{summary}");
+}
+
 /// Bad values of the new limits exit 2 naming the field, and write nothing.
 #[test]
 fn bad_limits_are_refused_by_name() {
