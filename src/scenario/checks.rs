@@ -4,25 +4,6 @@ pub use super::limits::*;
 use super::*;
 use crate::scenario::phase_stops::{stride, GROUP};
 
-/// A positive finite number, within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
-pub(super) fn positive(field: &str, v: f64) -> Result<()> {
-    if v.is_finite() && (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
-        Ok(())
-    } else if v.is_finite() && v > 0.0 {
-        Err(Error::input(
-            field,
-            format!(
-                "{v:e} is outside the range [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}] that double precision computes with (choose units closer to the scene)"
-            ),
-        ))
-    } else {
-        Err(Error::input(
-            field,
-            format!("must be a positive finite number (got {v})"),
-        ))
-    }
-}
-
 /// A refused relation between two fields, blamed on the one the user set (`sets`: the `--set`
 /// overrides, a sweep's axes): a warm-up past the run's end is the duration's fault when only
 /// `run.duration` was set (a shorter run of a scene, or a resume), the warm-up's otherwise.
@@ -50,18 +31,6 @@ pub fn blame_what_was_set(e: Error, s: &Scenario, sets: &[String]) -> Error {
             )
         }
         _ => e,
-    }
-}
-
-/// At most `limit` of something asked for by `count = span / interval`.
-pub fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
-    if count <= limit {
-        Ok(())
-    } else {
-        Err(Error::input(
-            field,
-            format!("asks for {count:.3e} {what} in the run; at most {limit:e} are supported"),
-        ))
     }
 }
 

@@ -4,8 +4,9 @@
 //! the run can keep; anything else is refused naming the option and the bound, before anything
 //! is built or written.
 
-use super::checks::{at_most, positive};
-use super::limits::{MAX_CHECKPOINTS, MAX_WALL_SECONDS, MIN_PROGRESS_SECONDS, MIN_WALL_SECONDS};
+use super::limits::{
+    at_most, positive, MAX_CHECKPOINTS, MAX_WALL_SECONDS, MIN_PROGRESS_SECONDS, MIN_WALL_SECONDS,
+};
 use crate::error::{Error, Result};
 
 /// Wall seconds in [`shortest`, [`MAX_WALL_SECONDS`]] for the option `field`.

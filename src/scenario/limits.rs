@@ -1,6 +1,9 @@
 //! The limits a scene may ask for: magnitudes double precision computes with, and how much of
-//! anything (disks, bins, frames, travel) a run can be given. The checks and the speeds' checks
-//! read them alike.
+//! anything (disks, bins, frames, travel) a run can be given, and the two checks of a number
+//! against them that the scene's checks and the intervals beside it share. The checks and the
+//! speeds' checks read them alike.
+
+use crate::error::{Error, Result};
 
 /// Densest packing of equal disks in the plane (triangular lattice), π/(2√3).
 pub const MAX_PACKING: f64 = 0.906_899_682_117_108_9;
@@ -54,3 +57,34 @@ pub const MAX_OUTPUT_TIMES: f64 = 1e7;
 pub const MAX_RADIUS_RATIO: f64 = 6.0;
 /// Most global steps the time-step scheme may be asked for (`run.duration / engine.dt`).
 pub const MAX_STEPS: f64 = 1e12;
+
+/// A positive finite number, within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
+pub(crate) fn positive(field: &str, v: f64) -> Result<()> {
+    if v.is_finite() && (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&v) {
+        Ok(())
+    } else if v.is_finite() && v > 0.0 {
+        Err(Error::input(
+            field,
+            format!(
+                "{v:e} is outside the range [{MIN_MAGNITUDE:e}, {MAX_MAGNITUDE:e}] that double precision computes with (choose units closer to the scene)"
+            ),
+        ))
+    } else {
+        Err(Error::input(
+            field,
+            format!("must be a positive finite number (got {v})"),
+        ))
+    }
+}
+
+/// At most `limit` of something asked for by `count = span / interval`.
+pub(crate) fn at_most(field: &str, what: &str, count: f64, limit: f64) -> Result<()> {
+    if count <= limit {
+        Ok(())
+    } else {
+        Err(Error::input(
+            field,
+            format!("asks for {count:.3e} {what} in the run; at most {limit:e} are supported"),
+        ))
+    }
+}
