@@ -7,8 +7,33 @@
 /// `len` of a list in the overflow area.
 const SPILLED: u8 = u8::MAX;
 
-/// Slots read past a row's end by [`Rows::copy_into`] (kept at the end of the slots).
+/// Slots read past a row's end by [`Rows::copy_into`].
 pub const GROUP: usize = 4;
+
+/// Slots compared at once by [`Rows::remove`], which may read up to `LANES − 1` past a row's
+/// end: one AVX2 comparison of 32-bit numbers.
+const LANES: usize = 8;
+
+/// Slots kept past the last row, for the reads past a row's end.
+const PADDING: usize = if GROUP > LANES { GROUP } else { LANES };
+
+/// The slots of `group` that hold `j`, as bits (bit k for slot k).
+#[inline(always)]
+fn matches(group: &[u32; LANES], j: u32) -> u32 {
+    // SAFETY: built only where AVX2 is enabled at compile time; the load is unaligned.
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    unsafe {
+        use std::arch::x86_64::*;
+        let slots = _mm256_loadu_si256(group.as_ptr().cast());
+        let equal = _mm256_cmpeq_epi32(slots, _mm256_set1_epi32(j as i32));
+        _mm256_movemask_ps(_mm256_castsi256_ps(equal)) as u32
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    group
+        .iter()
+        .enumerate()
+        .fold(0, |bits, (k, &x)| bits | (((x == j) as u32) << k))
+}
 
 /// Lists in rows with room and an overflow area: list `i` is `slots[i·room .. i·room +
 /// len[i]]` while it fits; a longer list (`len[i] = SPILLED`) lives whole in chunk
@@ -46,7 +71,7 @@ impl Rows {
         let room = room.clamp(1, SPILLED as usize - 1);
         Rows {
             room,
-            slots: vec![0; n * room + GROUP],
+            slots: vec![0; n * room + PADDING],
             len: vec![0; n],
             wide: (most + 1).max(room + 2),
             spill: Vec::new(),
@@ -194,14 +219,15 @@ impl Rows {
         }
         // Every slot of the row looked at, without a branch: a search that stops where it
         // finds `j` mispredicts that stop (rows are short, their lengths vary). The slots that
-        // hold `j` as bits of a mask (a form the compiler turns into vector comparisons, where
-        // a running "last found" chains every slot on the one before).
+        // hold `j` as bits of a mask, [`LANES`] slots at a time (where a running "last found"
+        // would chain every slot on the one before); the groups may read past the row, into
+        // the next or the padding.
         let s = i * self.room;
-        let row = &mut self.slots[s..s + self.room];
-        let e = if row.len() <= 64 {
+        let width = self.room.next_multiple_of(LANES);
+        let e = if width <= 64 && s + width <= self.slots.len() {
             let mut bits = 0u64;
-            for (k, &x) in row.iter().enumerate() {
-                bits |= ((x == j) as u64) << k;
+            for (g, group) in self.slots[s..s + width].chunks_exact(LANES).enumerate() {
+                bits |= (matches(group.try_into().unwrap(), j) as u64) << (g * LANES);
             }
             // The list's slots (none when it is empty); of several, the last (as the loop
             // below finds: a list holds a disk once).
@@ -212,13 +238,13 @@ impl Rows {
             }
         } else {
             let mut e = usize::MAX;
-            for (k, &x) in row.iter().enumerate() {
+            for (k, &x) in self.slots[s..s + self.room].iter().enumerate() {
                 e = if x == j && k < l as usize { k } else { e };
             }
             e
         };
         if e != usize::MAX {
-            row[e] = row[l as usize - 1];
+            self.slots[s + e] = self.slots[s + l as usize - 1];
             self.len[i] = l - 1;
         }
     }
