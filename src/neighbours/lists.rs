@@ -201,10 +201,7 @@ impl NeighbourLists {
     /// lists of all its old neighbours and joins those of all its new ones (cheaper than
     /// sorting out which stay, for lists of a dozen).
     pub fn replace(&mut self, i: usize, new: &[u32]) {
-        for k in 0..self.rows.length(i) {
-            let j = self.rows.of(i)[k];
-            self.rows.remove(j as usize, i as u32);
-        }
+        self.rows.leave_all(i);
         self.rows.clear(i);
         for &j in new {
             self.rows.push(j as usize, i as u32);

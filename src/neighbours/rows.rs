@@ -225,9 +225,12 @@ impl Rows {
         let s = i * self.room;
         let width = self.room.next_multiple_of(LANES);
         let e = if width <= 64 && s + width <= self.slots.len() {
+            let row = &self.slots[s..s + width];
             let mut bits = 0u64;
-            for (g, group) in self.slots[s..s + width].chunks_exact(LANES).enumerate() {
-                bits |= (matches(group.try_into().unwrap(), j) as u64) << (g * LANES);
+            let mut g = 0;
+            while g < width {
+                bits |= (matches(row[g..g + LANES].try_into().unwrap(), j) as u64) << g;
+                g += LANES;
             }
             // The list's slots (none when it is empty); of several, the last (as the loop
             // below finds: a list holds a disk once).
@@ -246,6 +249,25 @@ impl Rows {
         if e != usize::MAX {
             self.slots[s + e] = self.slots[s + l as usize - 1];
             self.len[i] = l - 1;
+        }
+    }
+
+    /// Removes `i` from the list of each disk in list `i` (which stays as it is).
+    #[inline]
+    pub fn leave_all(&mut self, i: usize) {
+        let l = self.len[i];
+        if l == SPILLED {
+            for k in 0..self.length(i) {
+                let j = self.of(i)[k];
+                self.remove(j as usize, i as u32);
+            }
+            return;
+        }
+        // A list never holds its own disk: removing `i` elsewhere leaves row `i` as it is.
+        let s = i * self.room;
+        for k in s..s + l as usize {
+            let j = self.slots[k];
+            self.remove(j as usize, i as u32);
         }
     }
 
