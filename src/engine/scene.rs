@@ -129,11 +129,7 @@ impl Scene {
             top,
             floor,
             gravity: s.gravity,
-            restitution: Restitution {
-                e: s.collisions.restitution,
-                tc: s.collisions.tc,
-                speed_cutoff: s.collisions.speed_cutoff,
-            },
+            restitution: s.collisions.law(),
             resting_contacts: s.collisions.resting_contacts,
             rough: rough_laws(s),
             mask: s.engine.mask,

@@ -35,6 +35,17 @@ impl Restitution {
         }
         self.e
     }
+
+    /// Whether collisions lose energy (`e < 1`).
+    pub fn inelastic(&self) -> bool {
+        self.e < 1.0
+    }
+
+    /// Whether a cure of inelastic collapse is on (the TC model or the speed cutoff): each needs
+    /// the disks' memory of their last collisions.
+    pub fn cured(&self) -> bool {
+        self.tc.is_some() || self.speed_cutoff.is_some()
+    }
 }
 
 /// The restitution law together with the memory it needs: each disk's last collision time
@@ -53,11 +64,10 @@ pub struct CollisionLaw {
 impl CollisionLaw {
     /// The law for `n` disks.
     pub fn new(law: Restitution, n: usize) -> CollisionLaw {
-        let cured = law.tc.is_some() || law.speed_cutoff.is_some();
         CollisionLaw {
             law,
             last: vec![f64::NEG_INFINITY; if law.tc.is_some() { n } else { 0 }],
-            paired: vec![false; if cured { n } else { 0 }],
+            paired: vec![false; if law.cured() { n } else { 0 }],
         }
     }
 
@@ -66,7 +76,7 @@ impl CollisionLaw {
         if self.law.tc.is_some() {
             self.last.push(f64::NEG_INFINITY);
         }
-        if self.law.tc.is_some() || self.law.speed_cutoff.is_some() {
+        if self.law.cured() {
             self.paired.push(false);
         }
     }

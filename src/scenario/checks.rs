@@ -1194,10 +1194,10 @@ const BED: usize = 10;
 /// as it settles, dense regions may collide infinitely often in finite time (100-disk piles
 /// poured with e ≤ 0.5 and no cure all collapsed in flight, during the pour).
 fn collapse_without_cure(s: &Scenario) -> Option<String> {
-    let c = &s.collisions;
+    let law = s.collisions.law();
     let bed = s.disk_count() >= BED;
-    let cured = c.tc.is_some() || c.speed_cutoff.is_some() || s.scheme() != Scheme::EventDriven;
-    if !bed || !can_rest(s) || c.restitution >= 1.0 || cured {
+    let cured = law.cured() || s.scheme() != Scheme::EventDriven;
+    if !bed || !can_rest(s) || !law.inelastic() || cured {
         return None;
     }
     Some(format!(
@@ -1206,7 +1206,7 @@ fn collapse_without_cure(s: &Scenario) -> Option<String> {
          rest, and the run then ends at run.max_events; collisions.tc (10⁻³ √(d/g) is a good \
          start) lets it settle, and engine.scheme = \"hybrid\" also runs a dense bed (riding \
          or resting on the floor) at a fixed cost",
-        c.restitution
+        law.e
     ))
 }
 
@@ -1218,11 +1218,11 @@ const DEEP: f64 = 15.0;
 /// disks come to rest) and v_min is never dissipated: piles about 20 layers deep may rattle
 /// until the event limit, where TC settles them (the book's speed-cutoff page).
 fn cutoff_in_a_deep_pile(s: &Scenario) -> Option<String> {
-    let c = &s.collisions;
-    let v_min = c.speed_cutoff?;
+    let law = s.collisions.law();
+    let v_min = law.speed_cutoff?;
     let (a_min, a_max) = s.radius_range();
     let layers = s.disk_count() as f64 * (a_min + a_max) / s.domain.width;
-    if !can_rest(s) || c.restitution >= 1.0 || c.tc.is_some() || layers < DEEP {
+    if !can_rest(s) || !law.inelastic() || law.tc.is_some() || layers < DEEP {
         return None;
     }
     Some(format!(

@@ -15,6 +15,7 @@ pub mod speeds;
 use crate::error::{excerpt, Error, Result};
 use crate::physics::drive::Drive;
 pub use crate::physics::drive::{FloorModel, Waveform};
+use crate::physics::restitution::Restitution;
 use crate::scenario::json::quotes_cut;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -371,6 +372,18 @@ pub struct Collisions {
     /// smooth). Absent with `friction` given: 0, contacts that stick stop slipping.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential_restitution: Option<f64>,
+}
+
+impl Collisions {
+    /// The restitution law the file's `restitution`, `tc` and `speed_cutoff` give: the one value
+    /// the engine and every scheme take, and that the checks ask.
+    pub fn law(&self) -> Restitution {
+        Restitution {
+            e: self.restitution,
+            tc: self.tc,
+            speed_cutoff: self.speed_cutoff,
+        }
+    }
 }
 
 fn yes() -> bool {
@@ -847,7 +860,7 @@ impl Scenario {
         });
         let dense_bed = vibrated
             && self.gravity.is_some()
-            && self.collisions.restitution < 1.0
+            && self.collisions.law().inelastic()
             && self.inlets.is_empty()
             && self.domain.exit_height.is_none();
         match self.engine.scheme {

@@ -188,8 +188,7 @@ impl<F: Flight> Handover<F> {
         let event_limit = scene.max_events.unwrap_or(u64::MAX);
         let mut scene = scene.clone();
         scene.max_events = None;
-        let law = &scene.restitution;
-        if law.e < 1.0 && law.tc.is_none() && law.speed_cutoff.is_none() {
+        if scene.restitution.inelastic() && !scene.restitution.cured() {
             scene.restitution.tc = Some(DEFAULT_TC);
         }
         let template = disks.clone();
