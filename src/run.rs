@@ -1,6 +1,7 @@
 //! Running a scenario: set up the scene, drive the engine from one exact sample or frame time to
 //! the next, measure, record, and summarise.
 
+use crate::engine::published_clock::PublishedClock;
 use crate::engine::{Scene, Simulation};
 use crate::error::{Error, Result};
 use crate::output::frame::SceneLayout;
@@ -17,6 +18,7 @@ use crate::schemes::{
 use checkpoint::Checkpoint;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Instant;
 
 mod averages;
@@ -310,12 +312,20 @@ fn drive<E: Integrator>(
         driver.sim.set_interrupt(l.flag());
         driver.interrupt = Some(l.flag());
     }
+    let clock = Arc::new(PublishedClock::new(
+        driver.sim.time(),
+        driver.sim.counts().collisions(),
+    ));
+    let _published = PublishedClock::install(Arc::clone(&clock));
     let progress = ProgressReport::start(
         progress_mode(opts),
-        opts.progress_label.as_deref().unwrap_or(&s.name),
-        driver.sim.disks().len(),
+        (
+            opts.progress_label.as_deref().unwrap_or(&s.name),
+            driver.sim.disks().len(),
+        ),
         s.run.duration,
         opts.progress_every.unwrap_or(DEFAULT_EVERY),
+        clock,
     );
     driver.clock = Instant::now();
     let ending = driver.run(&progress)?;

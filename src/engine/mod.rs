@@ -40,6 +40,7 @@ mod parts;
 pub mod placement;
 pub mod pool;
 mod predict;
+pub mod published_clock;
 pub mod remap;
 pub mod rest;
 mod rough;
@@ -142,7 +143,8 @@ impl<F: Flight> Simulation<F> {
     /// the interrupt and the stall (see [`stall`](stall.rs)).
     fn event_loop<const POOL: bool>(&mut self, target: f64) -> Result<Progress> {
         // Loop turns (events and re-mappings alike): the interrupt is looked at every 1024 and
-        // at the start, so that a run stops within a bounded wall time whatever it is doing.
+        // at the start, so that a run stops within a bounded wall time whatever it is doing;
+        // the clock is published as often (see `published_clock`).
         let mut turns = 0u32;
         loop {
             let local_target = self.base.local(target);
@@ -157,6 +159,8 @@ impl<F: Flight> Simulation<F> {
                     self.control.stall_report = Some(report);
                     return Ok(Progress::Stalled);
                 }
+                let collisions = self.tally.counts.collisions();
+                published_clock::publish_installed(|| self.time(), collisions);
             }
             turns = turns.wrapping_add(1);
             if !self.turn::<POOL>(local_target)? {

@@ -3,13 +3,18 @@
 //! batch jobs) one start line, a line every `--progress-every` seconds (simulated time,
 //! collisions per second, the wall time to go) and one end line; nothing with `--quiet`. Both
 //! forms end with the run's ending, at which simulated time; both say once when the run's wall
-//! time per unit of simulated time has grown far above its start (a bed freezing into a
-//! collapse), naming the cures.
+//! time per unit of simulated time has grown far above its start, or simulated time has stopped
+//! advancing (a bed freezing into a collapse), naming the cures. A thread of the report's own
+//! reads the run's [published clock](crate::engine::published_clock) on the wall clock's
+//! schedule, so that a run crawling or frozen between two stops is seen and heard.
 
-use std::cell::Cell;
 use std::io::IsTerminal;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
+use crate::engine::published_clock::{ClockReading, PublishedClock};
 use crate::output::summary::Ending;
 
 /// How progress is shown.
@@ -58,26 +63,13 @@ pub const DEFAULT_EVERY: f64 = 60.0;
 /// the note on a freezing bed.
 const COST_GROWTH: f64 = 10.0;
 
-/// Progress of one run (see the [module documentation](self)).
-#[derive(Debug)]
-pub struct ProgressReport {
-    mode: ProgressMode,
-    bar: Option<indicatif::ProgressBar>,
-    duration: f64,
-    clock: Instant,
-    /// Wall seconds between lines (and between the cost's readings).
-    every: f64,
-    /// What the lines are named (`Periodic`: the sweep's run).
-    label: String,
-    /// The last reading: wall seconds, simulated time, collisions.
-    last: Cell<(f64, f64, u64)>,
-    /// The cost per unit of simulated time, against its start's.
-    cost: Cell<CostWatch>,
-}
+/// How often the reader looks at the clock (and redraws the bar).
+const TICK: Duration = Duration::from_millis(50);
 
 /// Watches a run's wall time per unit of simulated time, reading by reading: the first
-/// reading's is the start's; the first later one above [`COST_GROWTH`] times it gives the note
-/// (once) on a bed freezing into a collapse, naming the cures.
+/// reading that saw simulated time advance gives the start's; the first later one above
+/// [`COST_GROWTH`] times it, or one over which simulated time did not advance at all, gives the
+/// note (once) on a bed freezing into a collapse, naming the cures.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CostWatch {
     /// Wall time per unit of simulated time over the first reading, once taken.
@@ -87,27 +79,42 @@ pub struct CostWatch {
 }
 
 impl CostWatch {
-    /// Takes a reading (`cost` wall seconds per unit of simulated time over the last interval,
-    /// which ended at simulated time `t`); returns the note when it is due, once per run.
-    pub fn read(&mut self, t: f64, cost: f64) -> Option<String> {
-        if !(cost.is_finite() && cost > 0.0) {
+    /// Takes a reading: `simulated` units of simulated time in `wall` seconds, ending at
+    /// simulated time `t`; returns the note when it is due, once per run.
+    pub fn read(&mut self, t: f64, wall: f64, simulated: f64) -> Option<String> {
+        if !(wall.is_finite() && wall > 0.0 && simulated >= 0.0) {
             return None;
         }
         let Some(start) = self.start else {
-            self.start = Some(cost);
+            if simulated > 0.0 {
+                self.start = Some(wall / simulated);
+            }
             return None;
         };
-        if cost <= COST_GROWTH * start || self.noted {
+        if self.noted {
             return None;
         }
+        let cost = wall / simulated;
+        let what = if simulated == 0.0 {
+            format!(
+                "at t = {t:.6} simulated time has not advanced in {} of wall time",
+                clock_time(wall)
+            )
+        } else if cost > COST_GROWTH * start {
+            format!(
+                "at t = {t:.6} a unit of simulated time costs {:.0} times the wall time it cost \
+                 at the start",
+                cost / start
+            )
+        } else {
+            return None;
+        };
         self.noted = true;
         Some(format!(
-            "at t = {t:.6} a unit of simulated time costs {:.0} times the wall time it cost at \
-             the start: the bed may be freezing into an inelastic collapse (or a pile rattling \
+            "{what}: the bed may be freezing into an inelastic collapse (or a pile rattling \
              without coming to rest); cures: collisions.tc (the TC model, 10⁻³ √(d/g) is a good \
              start) or collisions.speed_cutoff, and run.max_wall_seconds to bound the run (see \
-             the book's page Stability models and hard cases)",
-            cost / start
+             the book's page Stability models and hard cases)"
         ))
     }
 }
@@ -115,16 +122,30 @@ impl CostWatch {
 /// Bar resolution: positions per run.
 const STEPS: u64 = 10_000;
 
+/// Progress of one run (see the [module documentation](self)).
+#[derive(Debug)]
+pub struct ProgressReport {
+    mode: ProgressMode,
+    bar: Option<indicatif::ProgressBar>,
+    duration: f64,
+    started: Instant,
+    /// The run's clock: published here at stops, read by the reader.
+    clock: Arc<PublishedClock>,
+    /// The thread reading the clock (not when quiet), and the flag that ends it.
+    reader: Option<(JoinHandle<()>, Arc<AtomicBool>)>,
+}
+
 impl ProgressReport {
-    /// Starts reporting a run of `duration` simulated time units of scene `name` with `disks`
-    /// disks, a line (or a reading of the cost) every `every` wall seconds (prints the start
-    /// line in `Lines` mode; `Periodic` lines are named `name`).
+    /// Starts reporting a run of scene `name` with `disks` disks to simulated time `duration`,
+    /// whose engine publishes to `clock` (which holds where the run starts): a line (and a
+    /// reading of the cost) every `every` wall seconds. Prints the start line in `Lines` mode;
+    /// `Periodic` lines are named `name`.
     pub fn start(
         mode: ProgressMode,
-        name: &str,
-        disks: usize,
+        (name, disks): (&str, usize),
         duration: f64,
         every: f64,
+        clock: Arc<PublishedClock>,
     ) -> ProgressReport {
         let bar = (mode == ProgressMode::Bar).then(|| {
             let bar = indicatif::ProgressBar::new(STEPS);
@@ -141,50 +162,168 @@ impl ProgressReport {
         if mode == ProgressMode::Lines {
             eprintln!("vibrobed: running {name}: {disks} disks, {duration} time units");
         }
+        let started = Instant::now();
+        let reader = (mode != ProgressMode::Quiet).then(|| {
+            let over = Arc::new(AtomicBool::new(false));
+            let reader = Reader {
+                mode,
+                bar: bar.clone(),
+                duration,
+                every,
+                label: name.to_string(),
+                started,
+                last: clock.read(),
+                cost: CostWatch::default(),
+                clock: Arc::clone(&clock),
+            };
+            let over_r = Arc::clone(&over);
+            (std::thread::spawn(move || reader.run(&over_r)), over)
+        });
         ProgressReport {
             mode,
             bar,
             duration,
-            clock: Instant::now(),
-            every,
-            label: name.to_string(),
-            last: Cell::new((0.0, 0.0, 0)),
-            cost: Cell::new(CostWatch::default()),
+            started,
+            clock,
+            reader,
         }
     }
 
-    /// The run has reached simulated time `t` after `collisions` collisions.
+    /// The run has reached simulated time `t` after `collisions` collisions (a stop).
     pub fn update(&self, t: f64, collisions: u64) {
-        if self.mode == ProgressMode::Quiet {
+        self.clock.publish(t, collisions);
+    }
+
+    /// Ends the reader.
+    fn stop_reading(&mut self) {
+        if let Some((reader, over)) = self.reader.take() {
+            over.store(true, Ordering::Relaxed);
+            let _ = reader.join();
+        }
+    }
+
+    /// The run ended (`ending` at simulated time `t`, after `collisions` collisions): clears the
+    /// bar and prints the end line (in `Bar` and `Lines` modes).
+    pub fn finish(mut self, ending: Ending, t: f64, collisions: u64) {
+        self.stop_reading();
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+        if matches!(self.mode, ProgressMode::Quiet | ProgressMode::Periodic) {
             return;
         }
-        let elapsed = self.clock.elapsed().as_secs_f64().max(1e-9);
+        let wall = self.started.elapsed().as_secs_f64();
+        let how = ending.words();
+        eprintln!(
+            "vibrobed: {how} at t = {t} of {} in {wall:.1} s: {collisions} collisions ({}/s)",
+            self.duration,
+            rate(collisions as f64 / wall.max(1e-9))
+        );
+    }
+}
+
+impl Drop for ProgressReport {
+    fn drop(&mut self) {
+        self.stop_reading();
+    }
+}
+
+/// The thread of a [`ProgressReport`] that reads the run's clock: the bar redrawn at every
+/// look, a line and a reading of the cost every `every` seconds.
+struct Reader {
+    mode: ProgressMode,
+    bar: Option<indicatif::ProgressBar>,
+    duration: f64,
+    every: f64,
+    /// What the lines are named (`Periodic`: the sweep's run).
+    label: String,
+    started: Instant,
+    /// The clock as read at the last line.
+    last: ClockReading,
+    cost: CostWatch,
+    clock: Arc<PublishedClock>,
+}
+
+impl Reader {
+    /// Looks at the clock every [`TICK`] until `over`.
+    fn run(mut self, over: &AtomicBool) {
+        let mut due = self.every;
+        while !over.load(Ordering::Relaxed) {
+            std::thread::sleep(TICK.min(Duration::from_secs_f64(self.every)));
+            let now = self.clock.read();
+            let elapsed = self.started.elapsed().as_secs_f64();
+            self.draw(now, elapsed);
+            if elapsed >= due {
+                due = elapsed + self.every;
+                self.line(now);
+            }
+        }
+    }
+
+    /// The bar at `now`, `elapsed` wall seconds into the run.
+    fn draw(&self, now: ClockReading, elapsed: f64) {
         if let Some(bar) = &self.bar {
+            let t = now.time;
             bar.set_position((STEPS as f64 * t / self.duration).clamp(0.0, STEPS as f64) as u64);
             bar.set_message(format!(
                 "t {t:.2}/{} · {} coll/s",
                 self.duration,
-                rate(collisions as f64 / elapsed)
+                rate(now.collisions as f64 / elapsed.max(1e-9))
             ));
         }
-        let (wall0, t0, collisions0) = self.last.get();
-        if elapsed - wall0 < self.every || t <= t0 {
+    }
+
+    /// The line (off a terminal) and the cost's reading for the clock as published `now`,
+    /// against its last reading: the wall time between the two publications, not between the
+    /// two looks, so that an engine publishing only at stops is read at the stops.
+    fn line(&mut self, now: ClockReading) {
+        let last = self.last;
+        let t = now.time;
+        let head = format!(
+            "vibrobed: {}t = {t:.6} of {} ({:.1}%)",
+            self.name_part(),
+            self.duration,
+            100.0 * t / self.duration
+        );
+        if now.wall <= last.wall {
+            // Nothing published since the last line: an engine that publishes at stops only,
+            // between two of them.
+            if self.bar.is_none() {
+                let since = now.wall.elapsed().as_secs_f64();
+                self.print(format!("{head}, as of {} ago", clock_time(since)));
+            }
             return;
         }
-        self.last.set((elapsed, t, collisions));
-        let (wall, simulated) = (elapsed - wall0, t - t0);
-        let cost = wall / simulated;
+        self.last = now;
+        let wall = (now.wall - last.wall).as_secs_f64();
+        let simulated = t - last.time;
+        let news = if simulated > 0.0 {
+            let collisions = now.collisions.saturating_sub(last.collisions);
+            format!(
+                "{head}, {} collisions/s, {} to go",
+                rate(collisions as f64 / wall),
+                clock_time(wall / simulated * (self.duration - t).max(0.0)),
+            )
+        } else {
+            format!(
+                "{head}: simulated time has not advanced in {}",
+                clock_time(wall)
+            )
+        };
         if self.bar.is_none() {
-            eprintln!(
-                "vibrobed: {}t = {t:.6} of {} ({:.1}%), {} collisions/s, {} to go",
-                self.name_part(),
-                self.duration,
-                100.0 * t / self.duration,
-                rate((collisions - collisions0) as f64 / wall),
-                clock_time(cost * (self.duration - t).max(0.0)),
-            );
+            self.print(news);
         }
-        self.watch_cost(t, cost);
+        if let Some(note) = self.cost.read(t, wall, simulated) {
+            self.print(format!("vibrobed: note: {}{note}", self.name_part()));
+        }
+    }
+
+    /// A line on stderr, above the bar if there is one.
+    fn print(&self, line: String) {
+        match &self.bar {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
     }
 
     /// `name: ` on a sweep's lines, nothing on a run's own.
@@ -193,38 +332,6 @@ impl ProgressReport {
             ProgressMode::Periodic => format!("{}: ", self.label),
             _ => String::new(),
         }
-    }
-
-    /// Keeps the first reading's cost, and says once when a later one is far above it.
-    fn watch_cost(&self, t: f64, cost: f64) {
-        let mut watch = self.cost.get();
-        let due = watch.read(t, cost);
-        self.cost.set(watch);
-        if let Some(note) = due {
-            let note = format!("vibrobed: note: {}{note}", self.name_part());
-            match &self.bar {
-                Some(bar) => bar.println(note),
-                None => eprintln!("{note}"),
-            }
-        }
-    }
-
-    /// The run ended (`ending` at simulated time `t`, after `collisions` collisions): clears the
-    /// bar and prints the end line (in `Bar` and `Lines` modes).
-    pub fn finish(self, ending: Ending, t: f64, collisions: u64) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-        if matches!(self.mode, ProgressMode::Quiet | ProgressMode::Periodic) {
-            return;
-        }
-        let wall = self.clock.elapsed().as_secs_f64();
-        let how = ending.words();
-        eprintln!(
-            "vibrobed: {how} at t = {t} of {} in {wall:.1} s: {collisions} collisions ({}/s)",
-            self.duration,
-            rate(collisions as f64 / wall.max(1e-9))
-        );
     }
 }
 
@@ -259,20 +366,21 @@ mod tests {
     }
 
     /// The note comes at the first reading above ten times the start's cost, not at nine
-    /// times, names the cures, and comes once; readings that measured nothing do not count.
+    /// times, names the cures, and comes once; a reading before simulated time first advanced
+    /// is not the start's.
     #[test]
     fn the_note_on_a_growing_cost_comes_once_past_ten_times_the_start() {
         let mut watch = CostWatch::default();
-        assert_eq!(
-            watch.read(1.0, f64::INFINITY),
-            None,
-            "no simulated time: no reading"
-        );
-        assert_eq!(watch.read(2.0, 0.5), None, "the start's reading");
-        for (t, cost) in [(3.0, 1.0), (4.0, 4.5), (5.0, 0.1), (6.0, 5.0)] {
-            assert_eq!(watch.read(t, cost), None, "{cost} is at most ten times 0.5");
+        assert_eq!(watch.read(0.0, 1.0, 0.0), None, "not started: no reading");
+        assert_eq!(watch.read(2.0, 1.0, 2.0), None, "the start's reading, 0.5");
+        for (t, wall) in [(3.0, 1.0), (4.0, 4.5), (5.0, 0.1), (6.0, 5.0)] {
+            assert_eq!(
+                watch.read(t, wall, 1.0),
+                None,
+                "{wall} is at most ten times 0.5"
+            );
         }
-        let note = watch.read(7.25, 6.0).expect("twelve times the start");
+        let note = watch.read(7.25, 6.0, 1.0).expect("twelve times the start");
         assert!(note.starts_with("at t = 7.250000 a unit of simulated time costs 12 times"));
         for cure in [
             "collisions.tc",
@@ -281,7 +389,22 @@ mod tests {
         ] {
             assert!(note.contains(cure), "{cure} not named: {note}");
         }
-        assert_eq!(watch.read(8.0, 60.0), None, "said once");
+        assert_eq!(watch.read(8.0, 60.0, 1.0), None, "said once");
+        assert_eq!(watch.read(8.0, 60.0, 0.0), None, "said once, frozen or not");
+    }
+
+    /// Simulated time that does not advance over a reading after the start gives the note
+    /// at once, whatever the start's cost.
+    #[test]
+    fn the_note_comes_when_simulated_time_stops() {
+        let mut watch = CostWatch::default();
+        assert_eq!(watch.read(1.0, 1.0, 1.0), None, "the start's reading");
+        let note = watch.read(1.0, 2.0, 0.0).expect("frozen");
+        assert!(
+            note.starts_with("at t = 1.000000 simulated time has not advanced in 2 s"),
+            "{note}"
+        );
+        assert!(note.contains("collisions.tc"), "{note}");
     }
 
     #[test]
