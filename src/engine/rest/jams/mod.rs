@@ -1,7 +1,8 @@
 //! What ends the sequences a bed coming to rest would otherwise ring in for ever, each a
 //! rule of the resting contacts (`collisions.resting_contacts`, see
-//! [`resting`](crate::engine::rest::resting)), each in a file of its own with its test (the hard
-//! case where it engages: [`JamCounts`](crate::engine::JamCounts) counts each rule):
+//! [`resting`](crate::engine::rest::resting)) but the pressed slider, a rule of the slide on
+//! the floor, each in a file of its own with its test (the hard case where it engages:
+//! [`JamCounts`](crate::engine::JamCounts) counts each rule):
 //!
 //! - [`slot`](slot.rs): a slot between supports at rest that do not give;
 //! - [`cluster`](cluster.rs): a jammed cluster of slow flying disks that only hold as a whole;
@@ -129,8 +130,9 @@ pub(super) mod tests {
         sim
     }
 
-    /// Every jam rule is one of the resting contacts: without them none engages, in the cases
-    /// where they all do.
+    /// Every jam rule but the pressed slider is one of the resting contacts: without them none
+    /// engages, in the cases where they engage (the pressed slider, for rough disks, has its
+    /// own test).
     #[test]
     fn no_rule_engages_without_resting_contacts() {
         let off = "collisions.resting_contacts=false";

@@ -1,7 +1,8 @@
 //! **A pressed slider**: a disk sliding on a rough floor, pressed by the friction under it into
 //! a disk it meets slower than its sleep speed, would collide with it at one instant for ever,
 //! exchanging next to nothing. It rolls at once instead (its hard case is
-//! `pile_rough_pressed_slider`).
+//! `pile_rough_pressed_slider`). A rule of the slide, which riding the floor always follows: it
+//! acts with or without the resting contacts.
 
 use crate::engine::Simulation;
 use crate::physics::flight::Flight;
@@ -45,6 +46,15 @@ mod tests {
     #[test]
     fn a_landing_pile_of_rough_disks_has_pressed_sliders() {
         assert!(jams_in("pile_rough_pressed_slider.json", &[]).pressed_slider > 0);
+    }
+
+    /// The one rule that acts without the resting contacts: a slide is part of riding the
+    /// floor, always on, and a slider pressed gently rings at one instant with them off too.
+    #[test]
+    fn pressed_sliders_roll_without_resting_contacts_too() {
+        let off = "collisions.resting_contacts=false";
+        let jams = jams_in("pile_rough_pressed_slider.json", &[off]);
+        assert!(jams.pressed_slider > 0, "{jams:?}");
     }
 
     /// The rule itself, at the pile's first slide: met slower than its sleep speed, the slider
