@@ -136,9 +136,10 @@ pub fn run(s: &Scenario, mut opts: RunOptions) -> Result<Summary> {
 }
 
 /// Builds the scene and the engine of `engine.scheme` (grid, neighbour lists, first
-/// predictions) without simulating: `vibrobed check` accepts exactly what a run accepts.
+/// predictions) without simulating: `vibrobed check` accepts exactly what a run accepts. A
+/// `random` placement is left unmelted ([`placement::unmelted`](crate::engine::placement::unmelted)).
 pub fn check(s: &Scenario) -> Result<()> {
-    let (scene, disks) = Scene::build(s)?;
+    let (scene, disks) = crate::engine::placement::unmelted(|| Scene::build(s))?;
     struct Built;
     impl WithEngine for Built {
         type Output = ();
