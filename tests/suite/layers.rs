@@ -1,8 +1,9 @@
 //! The crate's layers against its imports: `src/lib.rs` lists the layers from the bottom up (one
 //! `- [`module`]` line each), the book's contributing page lists the same in its code-layout
 //! table, no module of `src/` names (`crate::…`, outside comments) a module above its own, and
-//! no two files import each other (through `crate::` or `super::`; a module's root and its own
-//! files aside). A new top-level module must be placed in both lists.
+//! no files import each other in a circle, of two files or more (through `crate::` or
+//! `super::`; a module's root and its own files aside). A new top-level module must be placed
+//! in both lists.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -292,7 +293,7 @@ fn expand(rest: &str, mut base: Vec<String>, out: &mut Vec<Vec<String>>) {
 }
 
 #[test]
-fn no_two_files_import_each_other() {
+fn no_files_import_each_other_in_a_circle() {
     let src = root().join("src");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
@@ -303,7 +304,7 @@ fn no_two_files_import_each_other() {
     // Each file's imports, as the files they reach (the longest module path that is a file),
     // leaving out its own module and its ancestors: a module's root and its files are one
     // module's parts, and the root names them to declare them.
-    let mut imports: BTreeMap<&Vec<String>, BTreeSet<&Vec<String>>> = BTreeMap::new();
+    let mut imports: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
     for (module, file) in &modules {
         for path in paths_named(&read(file), module) {
             let reached = (1..=path.len())
@@ -312,23 +313,86 @@ fn no_two_files_import_each_other() {
             if let Some(other) =
                 reached.filter(|o| !module.starts_with(o) && !o.starts_with(module))
             {
-                imports.entry(module).or_default().insert(other);
+                imports
+                    .entry(module.clone())
+                    .or_default()
+                    .insert(other.clone());
             }
         }
     }
-    let mut circles = Vec::new();
-    for (a, theirs) in &imports {
-        for b in theirs {
-            if a < b && imports.get(b).is_some_and(|t| t.contains(a)) {
-                circles.push(format!("{} <-> {}", a.join("::"), b.join("::")));
-            }
-        }
-    }
+    let circles: Vec<String> = circles(&imports)
+        .iter()
+        .map(|c| {
+            let names: Vec<String> = c.iter().map(|m| m.join("::")).collect();
+            names.join(" -> ")
+        })
+        .collect();
     assert!(
         circles.is_empty(),
-        "files that import each other:\n{}",
+        "files that import each other in a circle:\n{}",
         circles.join("\n")
     );
+}
+
+/// The circles of a graph (`edges`: each node's successors), each once, as a path from its
+/// least node back to it: the shortest way round from each node, found breadth first.
+fn circles<N: Ord + Clone>(edges: &BTreeMap<N, BTreeSet<N>>) -> Vec<Vec<N>> {
+    let mut found: BTreeSet<Vec<N>> = BTreeSet::new();
+    for start in edges.keys() {
+        let mut came_from: BTreeMap<&N, &N> = BTreeMap::new();
+        let mut frontier = vec![start];
+        let mut back = None;
+        while back.is_none() && !frontier.is_empty() {
+            let mut next = Vec::new();
+            for node in frontier {
+                for to in edges.get(node).into_iter().flatten() {
+                    if to == start {
+                        back = Some(node);
+                        break;
+                    }
+                    if !came_from.contains_key(to) {
+                        came_from.insert(to, node);
+                        next.push(to);
+                    }
+                }
+                if back.is_some() {
+                    break;
+                }
+            }
+            frontier = next;
+        }
+        let Some(mut node) = back else { continue };
+        let mut circle = vec![node.clone()];
+        while node != start {
+            node = came_from[node];
+            circle.push(node.clone());
+        }
+        circle.reverse();
+        // Started from its least node, so that each circle is found once.
+        let least = (0..circle.len()).min_by_key(|&k| &circle[k]).unwrap();
+        circle.rotate_left(least);
+        circle.push(circle[0].clone());
+        found.insert(circle);
+    }
+    found.into_iter().collect()
+}
+
+/// Circles are found whatever their length, each once; a graph without one has none.
+#[test]
+fn circles_of_any_length_are_found() {
+    let graph = |pairs: &[(u8, u8)]| {
+        let mut g: BTreeMap<u8, BTreeSet<u8>> = BTreeMap::new();
+        for &(a, b) in pairs {
+            g.entry(a).or_default().insert(b);
+        }
+        g
+    };
+    assert_eq!(circles(&graph(&[(1, 2), (2, 1)])), [vec![1, 2, 1]]);
+    assert_eq!(
+        circles(&graph(&[(1, 2), (2, 3), (3, 1), (3, 4)])),
+        [vec![1, 2, 3, 1]]
+    );
+    assert!(circles(&graph(&[(1, 2), (2, 3), (1, 3), (3, 4)])).is_empty());
 }
 
 /// Paths are read absolute from the file's own module: `super`, `super::super`, groups, and not
