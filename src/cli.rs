@@ -349,6 +349,9 @@ pub fn main_with(cli: Cli) -> i32 {
 
 /// Dispatches to the subcommand; errors carry their exit code.
 fn execute(cli: Cli) -> Result<i32> {
+    // A path the processor cannot run, or a misspelt one, stops every command before it starts.
+    use crate::platform::cpu::{Lanes, OVERRIDE};
+    Lanes::from_environment().map_err(|message| Error::input(OVERRIDE, message))?;
     match cli.command {
         Command::Sweep { command } => command.execute(),
         Command::Check { scenario, sets } => check(&scenario, &sets),

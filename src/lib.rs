@@ -4,7 +4,7 @@
 //! The crate is a few layers, listed from the bottom up; each uses only the layers below it
 //! (`tests/suite/layers.rs` fails when a module imports one above it). The book's contributing
 //! page lists the same layers and says where a new rule, event source or output goes.
-//! - [`platform`]: allocator settings, prefetch hints, signals;
+//! - [`platform`]: the vector path of the hot loops, allocator settings, prefetch hints, signals;
 //! - [`error`]: bad input (exit 2, naming the field) and failures while running (exit 1);
 //! - [`physics`]: the disks' state, free flight, pair collisions, restitution and its cures,
 //!   rough disks, the side walls and the lid, the floor and its drive, known results;

@@ -13,6 +13,7 @@ use super::{EnergyFlow, EventCounts, JamCounts};
 use crate::neighbours::{Cells, GridGeometry, Mask, NeighbourLists};
 use crate::physics::floor::Floor;
 use crate::physics::walls::{SideBounds, Top};
+use crate::platform::cpu::Lanes;
 use crate::scenario::QueueChoice;
 use crate::scheduler::{CalendarQueue, CompleteBinaryTree, EventQueue};
 use std::sync::atomic::AtomicBool;
@@ -150,6 +151,8 @@ pub(super) struct Control {
     /// alone under the global one from
     /// [`KEEP_AHEAD_FROM`](crate::platform::prefetch::KEEP_AHEAD_FROM)).
     pub pipelining: bool,
+    /// The vector path of the hot loops (the scene's).
+    pub lanes: Lanes,
     /// Where the clock stood when last seen to move (see [`stall`](super::stall)), and the
     /// report once it has stalled.
     pub clock_mark: ClockMark,
@@ -168,6 +171,7 @@ impl Control {
             log: None,
             prefetching: n >= crate::platform::prefetch::PREFETCH_FROM,
             pipelining,
+            lanes: scene.lanes,
             clock_mark: ClockMark::default(),
             stall_report: None,
             entry: f64::INFINITY,

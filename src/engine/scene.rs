@@ -9,6 +9,7 @@ use crate::physics::floor::Floor;
 use crate::physics::restitution::Restitution;
 use crate::physics::rough::{Friction, Roughness};
 use crate::physics::walls::{SideBounds, Top};
+use crate::platform::cpu::Lanes;
 use crate::scenario::checks::mean_disk_area;
 use crate::scenario::{
     GridChoice, MaskChoice, Placement, PlacementKind, QueueChoice, Radius, RemapChoice,
@@ -47,6 +48,8 @@ pub struct Scene {
     pub remap: RemapChoice,
     /// Event queue choice.
     pub queue: QueueChoice,
+    /// The vector path of the hot loops: the process's ([`Lanes::found`]); the tests choose.
+    pub lanes: Lanes,
     /// Whether the engine renumbers its disks (see [`RenumberChoice`]).
     pub renumber: RenumberChoice,
     /// Packing fraction of the box, or of the initial bed under an open top (guides `auto`).
@@ -134,6 +137,7 @@ impl Scene {
             rough: rough_laws(s),
             mask: s.engine.mask,
             grid: s.engine.grid,
+            lanes: Lanes::found(),
             remap: s
                 .engine
                 .remap

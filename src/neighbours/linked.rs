@@ -7,6 +7,7 @@
 
 use super::grid::{GridGeometry, SeveralPerCell};
 use super::rows::{Rows, GROUP};
+use crate::platform::cpu::Lanes;
 
 /// Disks by cell, several per cell: one list per cell, in [`Rows`] with room (about two disks
 /// per cell on average, four slots per cell cover nearly all of them). Reading a cell copies
@@ -46,9 +47,10 @@ impl LinkedCells {
         self.cells.push(self.index(cell), i);
     }
 
-    /// Takes disk `i` out of cell `cell` (nothing if it is not there).
-    pub fn remove(&mut self, cell: (u32, u32), i: u32) {
-        self.cells.remove(self.index(cell), i);
+    /// Takes disk `i` out of cell `cell` (nothing if it is not there), searching the cell's
+    /// row on the path `lanes`.
+    pub fn remove(&mut self, cell: (u32, u32), i: u32, lanes: Lanes) {
+        self.cells.remove(self.index(cell), i, lanes);
     }
 
     /// Writes to `out` from its start every disk in `cell` and in the cells at `offsets`
@@ -126,7 +128,7 @@ mod tests {
         let mut seen = Vec::new();
         c.each((0, 0), |j| seen.push(j));
         assert_eq!(seen, [0, 1, 3]);
-        c.remove((0, 0), 1);
+        c.remove((0, 0), 1, Lanes::ONE_BY_ONE);
         c.insert((2, 2), 1);
         seen.clear();
         c.each((0, 0), |j| seen.push(j));
@@ -167,7 +169,8 @@ mod tests {
         // Moving disks in and out keeps it so (the full cell back into its row, another
         // overflowing).
         for i in 0..8 {
-            c.remove((1, 1), i);
+            let lanes = [Lanes::ONE_BY_ONE, Lanes::widest()][i as usize % 2];
+            c.remove((1, 1), i, lanes);
             c.insert((3, 2), i);
         }
         check(&c);

@@ -3,6 +3,7 @@
 //! when single lists change (the local re-mapping).
 
 use super::rows::Rows;
+use crate::platform::cpu::Lanes;
 
 /// Moves the entries `j` of `v[from..]` that `near(j)` accepts to the front of that range, in
 /// order, and returns where they end: without a branch per candidate (most are turned down, at
@@ -199,9 +200,9 @@ impl NeighbourLists {
 
     /// Makes `new` disk `i`'s list (rows only), keeping the lists symmetric: `i` leaves the
     /// lists of all its old neighbours and joins those of all its new ones (cheaper than
-    /// sorting out which stay, for lists of a dozen).
-    pub fn replace(&mut self, i: usize, new: &[u32]) {
-        self.rows.leave_all(i);
+    /// sorting out which stay, for lists of a dozen). Rows are searched on the path `lanes`.
+    pub fn replace(&mut self, i: usize, new: &[u32], lanes: Lanes) {
+        self.rows.leave_all(i, lanes);
         self.rows.clear(i);
         for &j in new {
             self.rows.push(j as usize, i as u32);
@@ -305,7 +306,8 @@ mod tests {
                     new.push(j);
                 }
             }
-            rows.replace(i, &new);
+            // Either path, by turns: each must keep the lists as the plain ones.
+            rows.replace(i, &new, [Lanes::ONE_BY_ONE, Lanes::widest()][step % 2]);
             for j in std::mem::take(&mut plain[i]) {
                 let l = &mut plain[j as usize];
                 let e = l.iter().position(|&k| k == i as u32).unwrap();

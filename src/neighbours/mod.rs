@@ -13,6 +13,7 @@ pub use lists::NeighbourLists;
 pub use masks::Mask;
 
 use crate::error::Result;
+use crate::platform::cpu::Lanes;
 
 /// The grid storage a scene uses: dense for closed domains, Isobe's compressed array for an
 /// open top; linked cells (several disks per cell) for the local re-mapping's anchors.
@@ -45,13 +46,15 @@ impl Cells {
     }
 
     /// Moves disk `i` from cell `from` to cell `to`; `Ok(false)` if `to`'s storage is full
-    /// (then `i` is in no cell: the caller re-maps).
+    /// (then `i` is in no cell: the caller re-maps). Linked cells search `from`'s row on the
+    /// path `lanes`.
     pub fn relocate(
         &mut self,
         geometry: &GridGeometry,
         from: (u32, u32),
         to: (u32, u32),
         i: u32,
+        lanes: Lanes,
     ) -> Result<bool> {
         match self {
             Cells::Dense(d) => {
@@ -63,7 +66,7 @@ impl Cells {
                 s.insert(geometry, to, i)
             }
             Cells::Linked(l) => {
-                l.remove(from, i);
+                l.remove(from, i, lanes);
                 l.insert(to, i);
                 Ok(true)
             }

@@ -4,6 +4,8 @@
 //! overflow area while they are long. Rows sized for the longest list would spend most of
 //! their memory on room few lists use.
 
+use crate::platform::cpu::Lanes;
+
 /// `len` of a list in the overflow area.
 const SPILLED: u8 = u8::MAX;
 
@@ -17,22 +19,44 @@ const LANES: usize = 8;
 /// Slots kept past the last row, for the reads past a row's end.
 const PADDING: usize = if GROUP > LANES { GROUP } else { LANES };
 
-/// The slots of `group` that hold `j`, as bits (bit k for slot k).
+/// The slots of `row` (whole groups of [`LANES`], at most 64 slots) that hold `j`, as bits
+/// (bit k for slot k), one slot at a time.
 #[inline(always)]
-fn matches(group: &[u32; LANES], j: u32) -> u32 {
-    // SAFETY: built only where AVX2 is enabled at compile time; the load is unaligned.
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    unsafe {
-        use std::arch::x86_64::*;
+fn holding(row: &[u32], j: u32) -> u64 {
+    let mut bits = 0u64;
+    let mut g = 0;
+    while g < row.len() {
+        let found = row[g..g + LANES]
+            .iter()
+            .enumerate()
+            .fold(0, |bits, (k, &x)| bits | (((x == j) as u64) << k));
+        bits |= found << g;
+        g += LANES;
+    }
+    bits
+}
+
+/// [`holding`], a group in one AVX2 comparison of 32-bit numbers.
+///
+/// # Safety
+///
+/// Only where the processor has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[cfg_attr(target_feature = "avx2", inline(always))]
+#[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
+unsafe fn holding_in_lanes(row: &[u32], j: u32) -> u64 {
+    use std::arch::x86_64::*;
+    let mut bits = 0u64;
+    let mut g = 0;
+    while g < row.len() {
+        let group: &[u32; LANES] = row[g..g + LANES].try_into().unwrap();
+        // The load is unaligned, of a whole group.
         let slots = _mm256_loadu_si256(group.as_ptr().cast());
         let equal = _mm256_cmpeq_epi32(slots, _mm256_set1_epi32(j as i32));
-        _mm256_movemask_ps(_mm256_castsi256_ps(equal)) as u32
+        bits |= (_mm256_movemask_ps(_mm256_castsi256_ps(equal)) as u32 as u64) << g;
+        g += LANES;
     }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-    group
-        .iter()
-        .enumerate()
-        .fold(0, |bits, (k, &x)| bits | (((x == j) as u32) << k))
+    bits
 }
 
 /// Lists in rows with room and an overflow area: list `i` is `slots[i·room .. i·room +
@@ -209,9 +233,21 @@ impl Rows {
     }
 
     /// Removes `j` from list `i` (the last entry takes its place), moving the list back into
-    /// its row once it fits.
+    /// its row once it fits; the row searched on the path `lanes`.
     #[inline(always)]
-    pub fn remove(&mut self, i: usize, j: u32) {
+    pub fn remove(&mut self, i: usize, j: u32, lanes: Lanes) {
+        #[cfg(target_arch = "x86_64")]
+        if lanes.avx2() {
+            // SAFETY: the processor has AVX2 (`lanes` says so).
+            return self.remove_by(i, j, |row, j| unsafe { holding_in_lanes(row, j) });
+        }
+        let _ = lanes;
+        self.remove_by(i, j, holding)
+    }
+
+    /// [`remove`](Self::remove), the row's slots that hold `j` found by `holding`.
+    #[inline(always)]
+    fn remove_by(&mut self, i: usize, j: u32, holding: impl Fn(&[u32], u32) -> u64) {
         let l = self.len[i];
         if l == SPILLED {
             self.remove_long(i, j);
@@ -225,13 +261,7 @@ impl Rows {
         let s = i * self.room;
         let width = self.room.next_multiple_of(LANES);
         let e = if width <= 64 && s + width <= self.slots.len() {
-            let row = &self.slots[s..s + width];
-            let mut bits = 0u64;
-            let mut g = 0;
-            while g < width {
-                bits |= (matches(row[g..g + LANES].try_into().unwrap(), j) as u64) << g;
-                g += LANES;
-            }
+            let bits = holding(&self.slots[s..s + width], j);
             // The list's slots (none when it is empty); of several, the last (as the loop
             // below finds: a list holds a disk once).
             let listed = u64::MAX.checked_shr(64 - l as u32).unwrap_or(0);
@@ -252,14 +282,27 @@ impl Rows {
         }
     }
 
-    /// Removes `i` from the list of each disk in list `i` (which stays as it is).
+    /// Removes `i` from the list of each disk in list `i` (which stays as it is), the rows
+    /// searched on the path `lanes`.
     #[inline]
-    pub fn leave_all(&mut self, i: usize) {
+    pub fn leave_all(&mut self, i: usize, lanes: Lanes) {
+        #[cfg(target_arch = "x86_64")]
+        if lanes.avx2() {
+            // SAFETY: the processor has AVX2 (`lanes` says so).
+            return self.leave_all_by(i, |row, j| unsafe { holding_in_lanes(row, j) });
+        }
+        let _ = lanes;
+        self.leave_all_by(i, holding)
+    }
+
+    /// [`leave_all`](Self::leave_all), the rows' slots that hold `i` found by `holding`.
+    #[inline(always)]
+    fn leave_all_by(&mut self, i: usize, holding: impl Fn(&[u32], u32) -> u64 + Copy) {
         let l = self.len[i];
         if l == SPILLED {
             for k in 0..self.length(i) {
                 let j = self.of(i)[k];
-                self.remove(j as usize, i as u32);
+                self.remove_by(j as usize, i as u32, holding);
             }
             return;
         }
@@ -267,7 +310,7 @@ impl Rows {
         let s = i * self.room;
         for k in s..s + l as usize {
             let j = self.slots[k];
-            self.remove(j as usize, i as u32);
+            self.remove_by(j as usize, i as u32, holding);
         }
     }
 
@@ -353,5 +396,36 @@ impl Rows {
     pub fn bytes(&self) -> usize {
         4 * (self.slots.capacity() + self.spill.capacity() + self.free.capacity())
             + self.len.capacity()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// The slot search one slot at a time and in AVX2 lanes: the same bits for rows of one to
+    /// eight groups, the number sought nowhere, once or in several slots, in every group.
+    #[test]
+    fn lanes_find_the_slots_one_by_one_finds() {
+        if !Lanes::widest().avx2() {
+            eprintln!("no AVX2 on this processor: the lanes are not compared");
+            return;
+        }
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        let mut found = 0;
+        for _ in 0..5000 {
+            let groups = rng.random_range(1..=64 / LANES);
+            let row: Vec<u32> = (0..groups * LANES)
+                .map(|_| rng.random_range(0..12))
+                .collect();
+            let j = rng.random_range(0..14);
+            let one = holding(&row, j);
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the processor has AVX2 (checked above).
+            assert_eq!(unsafe { holding_in_lanes(&row, j) }, one, "{row:?} {j}");
+            found += one.count_ones();
+        }
+        assert!(found > 5000, "too few found to compare: {found}");
     }
 }

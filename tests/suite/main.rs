@@ -13,6 +13,7 @@ mod brute_force;
 mod checkpoint;
 mod cli;
 mod contact;
+mod cpu_paths;
 mod endings;
 mod equation_of_state;
 mod faults;

@@ -2,8 +2,8 @@
 //! hot loops: the pair search's kernel ([`pair::lanes`](crate::engine::pair)) and the filter of a
 //! disk's new neighbours when it leaves its shell. Each lane does exactly the scalar operations
 //! of [`Images::wrap`] and [`within_reach`](super::within_reach), in the same order: the same
-//! results bit for bit (a test compares the two). Built where AVX2 is (the engine's x86-64-v3
-//! target: `.cargo/config.toml`).
+//! results bit for bit (a test compares the two). Run only where the processor has AVX2
+//! ([`Lanes`](crate::platform::cpu::Lanes) says so).
 
 use super::Images;
 use crate::physics::disks::PerDisk;
@@ -14,7 +14,7 @@ use std::arch::x86_64::*;
 ///
 /// # Safety
 ///
-/// Sound wherever this module is built (AVX2 is enabled at compile time).
+/// Only inside a function that runs with AVX2 enabled (inlined there).
 #[inline(always)]
 pub(in crate::engine) unsafe fn nearest_image(
     d: __m256d,
@@ -34,9 +34,10 @@ pub(in crate::engine) unsafe fn nearest_image(
 ///
 /// # Safety
 ///
-/// Sound wherever this module is built (AVX2 is enabled at compile time); every candidate and
-/// `i` index `anchor` (indexing is checked).
-#[inline(always)]
+/// Only where the processor has AVX2; every candidate and `i` index `anchor` (indexing is
+/// checked).
+#[cfg_attr(target_feature = "avx2", inline(always))]
+#[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
 pub(in crate::engine) unsafe fn within_reach(
     found: &mut [u32],
     n: usize,
@@ -101,6 +102,10 @@ mod tests {
     /// anchors at the reach's edge.
     #[test]
     fn four_lanes_keep_what_the_scalar_filter_keeps() {
+        if !crate::platform::cpu::Lanes::widest().avx2() {
+            eprintln!("no AVX2 on this processor: the four lanes are not compared");
+            return;
+        }
         use crate::engine::images::Images;
         use crate::physics::disks::PerDisk;
         use crate::physics::walls::{SideBounds, Top};
@@ -148,11 +153,11 @@ mod tests {
                     candidates.push(edge as u32);
                     let n = candidates.len();
                     let (mut a, mut b) = (candidates.clone(), candidates);
-                    // SAFETY: this module is built only with AVX2; the candidates are disks.
+                    // SAFETY: the processor has AVX2 (checked above); the candidates are disks.
                     let ka = unsafe {
                         super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
                     };
-                    let kb = crate::engine::images::within_reach(
+                    let kb = crate::engine::images::within_reach_one_by_one(
                         &mut b, n, i, reach, &anchor, &radius, &images,
                     );
                     assert_eq!(a[..ka], b[..kb], "disk {i}, mixed {mixed}");

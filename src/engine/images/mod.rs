@@ -1,13 +1,14 @@
 //! The domain's periodic images as the engine sees them: the minimum image of a separation, and
 //! which candidate neighbours lie within reach of a disk across the images (the filter of the
-//! local re-mapping's shells). Where AVX2 is, both also run four lanes at a time
+//! local re-mapping's shells). Where the processor has AVX2, both also run four lanes at a time
 //! ([`lanes`](lanes.rs)): the pair search's kernel and the shells' filter share them.
 
-#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[cfg(target_arch = "x86_64")]
 pub(in crate::engine) mod lanes;
 
 use crate::physics::disks::PerDisk;
 use crate::physics::walls::{SideBounds, Top};
+use crate::platform::cpu::Lanes;
 
 /// The periodic images of the domain, for minimum-image separations: each direction's period
 /// and half period, the half period ∞ where the direction is not periodic (so the comparisons
@@ -41,13 +42,13 @@ impl Images {
     }
 
     /// Half periods (∞ where not periodic).
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    #[cfg(target_arch = "x86_64")]
     pub(in crate::engine) fn half(&self) -> [f64; 2] {
         self.half
     }
 
     /// Periods (0 where not periodic).
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    #[cfg(target_arch = "x86_64")]
     pub(in crate::engine) fn period(&self) -> [f64; 2] {
         self.period
     }
@@ -71,11 +72,36 @@ impl Images {
 
 /// Keeps at the front of `found[..n]`, in order, the candidates whose anchors lie within reach
 /// of disk `i`'s: `j ≠ i` and `|Δ|² ≤ (reach + a_j)²` for the minimum image `Δ` of the two
-/// anchors (`reach` = `a_i` + the list's margin); returns how many. Without a branch per
-/// candidate (about a third are kept, at random). Where AVX2 is, [`lanes::within_reach`](lanes.rs) does
-/// the same four at a time (a test compares the two).
-#[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
+/// anchors (`reach` = `a_i` + the list's margin); returns how many. On the path `lanes`: four at
+/// a time ([`lanes::within_reach`](lanes.rs)) or [one by one](within_reach_one_by_one), the same
+/// candidates kept.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(in crate::engine) fn within_reach(
+    lanes: Lanes,
+    found: &mut [u32],
+    n: usize,
+    i: usize,
+    reach: f64,
+    anchor: &[[f64; 2]],
+    radius: &PerDisk<f64>,
+    images: &Images,
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    if lanes.avx2() {
+        // SAFETY: the processor has AVX2 (`lanes` says so); every candidate and `i` index
+        // `anchor` (indexing is checked).
+        return unsafe { self::lanes::within_reach(found, n, i, reach, anchor, radius, images) };
+    }
+    let _ = lanes;
+    within_reach_one_by_one(found, n, i, reach, anchor, radius, images)
+}
+
+/// [`within_reach`] one candidate at a time, without a branch per candidate (about a third are
+/// kept, at random). Out of line where the whole build has AVX2 (the four lanes' loop then
+/// stays as it was without the choice).
+#[cfg_attr(target_feature = "avx2", inline(never))]
+pub(in crate::engine) fn within_reach_one_by_one(
     found: &mut [u32],
     n: usize,
     i: usize,

@@ -8,8 +8,8 @@
 //! [`meeting_time`](crate::physics::pair::meeting_time) on the state the disk's
 //! [`Flight`](crate::physics::flight::Flight) gives (IEEE arithmetic is exact per lane, and Rust
 //! never contracts a product and a sum): the same results bit for bit as the scalar loop, which
-//! stays for other processors (tests compare the two). Built where
-//! AVX2 is (the engine's x86-64-v3 target: `.cargo/config.toml`).
+//! stays for other processors (tests compare the two). Run only where the processor has AVX2
+//! ([`Lanes`](crate::platform::cpu::Lanes) says so).
 
 use crate::engine::event::code;
 use crate::engine::images::lanes::nearest_image;
@@ -52,9 +52,10 @@ pub(in crate::engine) struct Probe {
 ///
 /// # Safety
 ///
-/// Sound wherever this module is built (AVX2 is enabled at compile time); `motion` holds a
-/// `repr(C)` [`Motion`] per disk, and every entry of `list` indexes it (indexing is checked).
-#[inline(always)]
+/// Only where the processor has AVX2; `motion` holds a `repr(C)` [`Motion`] per disk, and every
+/// entry of `list` indexes it (indexing is checked).
+#[cfg_attr(target_feature = "avx2", inline(always))]
+#[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
 #[allow(clippy::too_many_arguments)]
 pub(in crate::engine) unsafe fn earliest_contact<const WITHIN: bool>(
     p: &Probe,
@@ -279,6 +280,10 @@ mod tests {
 
     #[test]
     fn four_lanes_find_what_the_scalar_loop_finds() {
+        if !crate::platform::cpu::Lanes::found().avx2() {
+            eprintln!("the engine's lanes are not AVX2's here: nothing to compare");
+            return;
+        }
         let scenes = [
             (
                 "gas_periodic_phi07",
@@ -328,6 +333,10 @@ mod tests {
     /// diagonals fill the list.
     #[test]
     fn of_equal_times_the_first_in_the_list_is_kept() {
+        if !crate::platform::cpu::Lanes::found().avx2() {
+            eprintln!("the engine's lanes are not AVX2's here: nothing to compare");
+            return;
+        }
         let axes = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)];
         let diagonals = [(1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)];
         for subset in 1..16 {

@@ -141,7 +141,8 @@ impl<F: Flight> Simulation<F> {
     /// (every scene without a floor, and beds while nothing rests): the same contacts, in a loop
     /// that carries nothing for disks at rest. `WITHIN`: the first pass also drops the pairs
     /// that cannot touch within `horizon` (it pays where the horizon is near, Isobe's deadline, and
-    /// would only cost where it is far).
+    /// would only cost where it is far). Four neighbours at a time where the engine's lanes
+    /// are AVX2's, else one by one: the same contact to the bit.
     #[inline]
     pub(in crate::engine) fn pair_event_in_flight<const WITHIN: bool>(
         &self,
@@ -149,10 +150,8 @@ impl<F: Flight> Simulation<F> {
         list: &[u32],
         horizon: f64,
     ) -> (f64, u32) {
-        // SAFETY: the four-lane loop is built only where AVX2 is enabled at compile time; the
-        // states are `repr(C)` and every listed neighbour is a disk (indexing is checked).
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        unsafe {
+        #[cfg(target_arch = "x86_64")]
+        if self.control.lanes.avx2() {
             let m = &self.disks.motion[i];
             let (x, y, vx, vy) = self.flight.advance(m.x, m.y, m.vx, m.vy, self.now - m.t);
             let probe = super::lanes::Probe {
@@ -168,25 +167,30 @@ impl<F: Flight> Simulation<F> {
                 half: self.bounds.images.half(),
                 period: self.bounds.images.period(),
             };
-            super::lanes::earliest_contact::<WITHIN>(
-                &probe,
-                list,
-                &self.disks.motion,
-                self.disks.radius.common(),
-                self.disks.radius.each(),
-                horizon,
-                &self.disks.counter,
-                self.control.prefetching,
-            )
+            // SAFETY: the processor has AVX2 (the engine's lanes say so); the states are
+            // `repr(C)` and every listed neighbour is a disk (indexing is checked).
+            return unsafe {
+                super::lanes::earliest_contact::<WITHIN>(
+                    &probe,
+                    list,
+                    &self.disks.motion,
+                    self.disks.radius.common(),
+                    self.disks.radius.each(),
+                    horizon,
+                    &self.disks.counter,
+                    self.control.prefetching,
+                )
+            };
         }
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         self.pair_event_one_by_one::<WITHIN>(i, list, horizon)
     }
 
     /// Disk `i`'s earliest contact with a neighbour of `list` one neighbour at a time
-    /// (processors without AVX2; the tests compare it with the four lanes).
-    #[inline]
-    #[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
+    /// (processors without AVX2, or `VIBROBED_CPU=scalar`; the tests compare it with the four
+    /// lanes). Out of line where the whole build has AVX2 (the four lanes' loop then stays as
+    /// it was without the choice).
+    #[cfg_attr(not(target_feature = "avx2"), inline)]
+    #[cfg_attr(target_feature = "avx2", inline(never))]
     pub(in crate::engine) fn pair_event_one_by_one<const WITHIN: bool>(
         &self,
         i: usize,

@@ -277,10 +277,13 @@ impl<F: Flight> Simulation<F> {
         let from = self.map.geometry.cell_of(ox, oy);
         let to = self.map.geometry.cell_of(a[0], a[1]);
         if from != to
-            && !self
-                .map
-                .cells
-                .relocate(&self.map.geometry, from, to, i as u32)?
+            && !self.map.cells.relocate(
+                &self.map.geometry,
+                from,
+                to,
+                i as u32,
+                self.control.lanes,
+            )?
         {
             // The grid's storage is full where the disk goes: re-map everything now.
             return self.remap();
@@ -345,22 +348,8 @@ impl<F: Flight> Simulation<F> {
         }
         let reach = self.disks.radius[i] + self.map.margin;
         let radius = &self.disks.radius;
-        // SAFETY: the four-lane filter is built only where AVX2 is enabled at compile time;
-        // every candidate is a disk (indexing is checked).
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        let kept = unsafe {
-            crate::engine::images::lanes::within_reach(
-                found,
-                n,
-                i,
-                reach,
-                anchor,
-                radius,
-                &self.bounds.images,
-            )
-        };
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         let kept = crate::engine::images::within_reach(
+            self.control.lanes,
             found,
             n,
             i,
@@ -372,7 +361,7 @@ impl<F: Flight> Simulation<F> {
         let new = &self.map.shells.as_ref()?.found[..kept];
         let contact =
             (!self.rest.riders.any()).then(|| self.pair_event_over(i, new, self.pair_horizon()));
-        self.map.lists.replace(i, new);
+        self.map.lists.replace(i, new, self.control.lanes);
         contact
     }
 

@@ -4,6 +4,7 @@
 use serde_json::Value;
 use vibrobed::engine::{Progress, Scene, Simulation, Snapshot};
 use vibrobed::physics::flight::{Ballistic, Straight};
+use vibrobed::platform::cpu::Lanes;
 use vibrobed::run::{run, RunOptions};
 use vibrobed::Scenario;
 
@@ -24,9 +25,18 @@ pub fn summary(s: &Scenario, drop: &[&str]) -> (Value, Vec<Value>) {
     (v, dropped)
 }
 
+/// The end of a run as [`final_state`] gives it: state, event counts, virial.
+pub type FinalState = (Snapshot, String, u64);
+
 /// Runs the engine itself to the end of the scenario: final state, event counts, virial.
-pub fn final_state(s: &Scenario) -> (Snapshot, String, u64) {
-    let (scene, disks) = Scene::build(s).expect("scene");
+pub fn final_state(s: &Scenario) -> FinalState {
+    final_state_on(s, Lanes::found())
+}
+
+/// [`final_state`] on the vector path `lanes`.
+pub fn final_state_on(s: &Scenario, lanes: Lanes) -> FinalState {
+    let (mut scene, disks) = Scene::build(s).expect("scene");
+    scene.lanes = lanes;
     let end = s.run.duration;
     macro_rules! go {
         ($sim:expr) => {{
@@ -68,7 +78,11 @@ pub fn assert_same_runs(
 
 /// Asserts that `a` and `b` end in the same state, bit for bit.
 pub fn same_final_state(what: &str, a: &Scenario, b: &Scenario) {
-    let ((sa, ca, va), (sb, cb, vb)) = (final_state(a), final_state(b));
+    same_states(what, final_state(a), final_state(b));
+}
+
+/// Asserts that two ends of runs are the same, bit for bit.
+pub fn same_states(what: &str, (sa, ca, va): FinalState, (sb, cb, vb): FinalState) {
     assert_eq!(ca, cb, "{what}: event counts differ");
     assert_eq!(va, vb, "{what}: virial differs");
     assert_eq!(sa.time.to_bits(), sb.time.to_bits());

@@ -1,0 +1,81 @@
+//! The vector path of the engine's short hot loops, chosen at run time on the processor found:
+//! four `f64` lanes (eight `u32` slots) at a time where it has AVX2, one at a time elsewhere.
+//! Every path does the same operations in the same order, so the events are the same bit for
+//! bit whichever runs (the tests run scenes on both and compare).
+//!
+//! `VIBROBED_CPU=scalar` in the environment asks for the one-at-a-time path on any processor
+//! (`avx2` asks for the four lanes, an error where the processor lacks them; unset or `auto`:
+//! the widest found).
+
+use std::sync::OnceLock;
+
+/// The environment variable that overrides the path found.
+pub const OVERRIDE: &str = "VIBROBED_CPU";
+
+/// How the engine's short hot loops run (the pair search, the shells' filter, the rows' slot
+/// search). The four lanes are only ever chosen where the processor has them: the value is made
+/// by this module alone, on what it finds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lanes(Width);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Width {
+    /// One neighbour, one slot at a time: any processor.
+    One,
+    /// Four neighbours, eight slots at a time: x86-64 processors with AVX2.
+    Avx2,
+}
+
+impl Lanes {
+    /// One at a time, on any processor.
+    pub const ONE_BY_ONE: Lanes = Lanes(Width::One);
+
+    /// The path of this process: the [`OVERRIDE`]'s if it is set and valid, else the widest the
+    /// processor offers. Found once (the command line reports an invalid setting before any run).
+    pub fn found() -> Lanes {
+        static FOUND: OnceLock<Lanes> = OnceLock::new();
+        *FOUND.get_or_init(|| Lanes::from_environment().unwrap_or_else(|_| Lanes::widest()))
+    }
+
+    /// The widest path this processor runs.
+    pub fn widest() -> Lanes {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Lanes(Width::Avx2);
+        }
+        Lanes::ONE_BY_ONE
+    }
+
+    /// The path the [`OVERRIDE`] asks for (unset: the widest); what is wrong with its value if
+    /// it is not one it takes or asks for a path this processor cannot run.
+    pub fn from_environment() -> Result<Lanes, String> {
+        match std::env::var(OVERRIDE) {
+            Err(std::env::VarError::NotPresent) => Ok(Lanes::widest()),
+            Err(std::env::VarError::NotUnicode(_)) => Err("not text".into()),
+            Ok(v) => match v.as_str() {
+                "" | "auto" => Ok(Lanes::widest()),
+                "scalar" => Ok(Lanes::ONE_BY_ONE),
+                "avx2" if Lanes::widest().avx2() => Ok(Lanes::widest()),
+                "avx2" => Err("this processor has no AVX2".into()),
+                _ => Err(format!(
+                    "unknown path {:?}: expected auto, scalar or avx2",
+                    v.chars().take(80).collect::<String>()
+                )),
+            },
+        }
+    }
+
+    /// Whether the four AVX2 lanes run (then the processor has them).
+    #[inline(always)]
+    pub fn avx2(self) -> bool {
+        self.0 == Width::Avx2
+    }
+
+    /// The path's name, as [`OVERRIDE`] takes it.
+    pub fn name(self) -> &'static str {
+        match self.0 {
+            Width::One => "scalar",
+            Width::Avx2 => "avx2",
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! The vector paths of the engine's hot loops (`src/platform/cpu.rs`): the same scenes run
+//! four AVX2 lanes at a time and one by one end in the same state, bit for bit, with the same
+//! event counts and summaries; `VIBROBED_CPU` chooses the path on the command line, and a value
+//! it does not take exits 2 naming it.
+
+use crate::common::same_run::{final_state_on, same_states};
+use serde_json::Value;
+use std::process::{Command, Output};
+use vibrobed::platform::cpu::Lanes;
+use vibrobed::Scenario;
+
+/// Shipped scenes, shortened, and their re-mappings: the pair search, the shells' filter and
+/// the rows' slot search (local), Isobe's re-mapping (global), mixed radii, walls, a floor with
+/// disks riding on it, rough disks.
+const SCENES: &[(&str, &[&str])] = &[
+    (
+        "gas_periodic_phi03",
+        &["run.duration=3", "run.warmup=1", "engine.remap=local"],
+    ),
+    (
+        "gas_periodic_phi03",
+        &["run.duration=3", "run.warmup=1", "engine.remap=global"],
+    ),
+    ("gas_periodic_phi07", &["run.duration=1", "run.warmup=0.5"]),
+    (
+        "polydisperse",
+        &["run.duration=4", "run.warmup=1", "engine.remap=local"],
+    ),
+    ("box_walls", &["run.duration=6", "run.warmup=1"]),
+    ("vibrated_bed", &["run.duration=30", "run.warmup=10"]),
+    ("rough_vibrated_bed", &["run.duration=10", "run.warmup=2"]),
+];
+
+fn scenario(stem: &str, sets: &[&str]) -> Scenario {
+    let path = crate::common::crate_path(&format!("scenarios/{stem}.json"));
+    let json = std::fs::read_to_string(&path).expect("a shipped scenario");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    Scenario::from_json_with_overrides(&json, &sets).expect("valid overrides")
+}
+
+/// The pair collisions in an engine's event counts (as `Debug` prints them).
+fn pairs(counts: &str) -> u64 {
+    let at = counts
+        .find("pair: ")
+        .expect("the counts name pair collisions")
+        + 6;
+    let digits: String = counts[at..]
+        .chars()
+        .take_while(char::is_ascii_digit)
+        .collect();
+    digits.parse().expect("a count")
+}
+
+#[test]
+fn four_lanes_and_one_by_one_end_in_the_same_state() {
+    let widest = Lanes::widest();
+    if !widest.avx2() {
+        eprintln!("no AVX2 on this processor: one path only, nothing to compare");
+        return;
+    }
+    for &(stem, sets) in SCENES {
+        let what = format!("{stem} {sets:?}");
+        let s = scenario(stem, sets);
+        let (lanes, one) = (
+            final_state_on(&s, widest),
+            final_state_on(&s, Lanes::ONE_BY_ONE),
+        );
+        assert!(
+            pairs(&one.1) > 1000,
+            "{what}: too few collisions to compare"
+        );
+        same_states(&what, lanes, one);
+    }
+}
+
+fn vibrobed(path: Option<&str>, args: &[&str]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_vibrobed"));
+    command.current_dir(env!("CARGO_MANIFEST_DIR")).args(args);
+    match path {
+        Some(p) => command.env("VIBROBED_CPU", p),
+        None => command.env_remove("VIBROBED_CPU"),
+    };
+    command.output().expect("the vibrobed binary starts")
+}
+
+/// The summary of the shortened gas under `VIBROBED_CPU=path`, without what measures the
+/// process.
+fn summary(path: Option<&str>, out: &std::path::Path) -> Value {
+    let _ = std::fs::remove_file(out);
+    let o = vibrobed(
+        path,
+        &[
+            "run",
+            "scenarios/gas_periodic_phi03.json",
+            "-q",
+            "--set",
+            "run.duration=3",
+            "--set",
+            "run.warmup=1",
+            "--summary",
+            out.to_str().expect("a path in UTF-8"),
+        ],
+    );
+    assert!(o.status.success(), "{path:?}: {o:?}");
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(out).expect("summary")).expect("JSON");
+    let o = v.as_object_mut().expect("an object");
+    o.remove("wall_seconds");
+    o.remove("collisions_per_second");
+    o["engine"]
+        .as_object_mut()
+        .expect("engine")
+        .remove("bytes_per_disk");
+    v
+}
+
+#[test]
+fn the_environment_chooses_the_path_and_the_summary_stays() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cpu-paths");
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    let out = dir.join("summary.json");
+    let found = summary(None, &out);
+    assert!(found["events"]["pair"].as_u64().expect("pairs") > 1000);
+    assert_eq!(summary(Some("scalar"), &out), found, "scalar");
+    assert_eq!(summary(Some("auto"), &out), found, "auto");
+    if Lanes::widest().avx2() {
+        assert_eq!(summary(Some("avx2"), &out), found, "avx2");
+    }
+    // Values it does not take, and AVX2 where there is none: exit 2 naming the variable, and
+    // nothing written.
+    let mut bad = vec!["sse9", "SCALAR"];
+    if !Lanes::widest().avx2() {
+        bad.push("avx2");
+    }
+    for value in bad {
+        let _ = std::fs::remove_file(&out);
+        let o = vibrobed(
+            Some(value),
+            &[
+                "run",
+                "scenarios/gas_periodic_phi03.json",
+                "-q",
+                "--summary",
+                out.to_str().expect("a path in UTF-8"),
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "{value}: {o:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("VIBROBED_CPU"), "{value}: {err}");
+        assert!(!out.exists(), "{value}: a summary was written");
+    }
+}
