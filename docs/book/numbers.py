@@ -13,6 +13,11 @@ makes them and compares:
 - the packing-fraction sentence (summary page, Getting started): a pile at rest
   (`scenarios/hard/pile_equal_periodic_tc.json`) in bins half a diameter high reads above the
   densest packing of the plane (0.907) and never above 1; its largest value is quoted;
+- the summary page: the floor's pressure over the weight of the shipped scenes' full runs (all
+  but `deep_bed.json`, 100 s), the velocity distributions' kurtosis, and the shipped bed's
+  motion against the floor's phase (lockings, undulation, the gap's widest, the pressure's peak);
+- the stability page's table of hard cases, remade from itself: each row's files run as shipped,
+  their events per unit time and times to rest;
 - the sweeps page's worked example: `scenarios/sweeps/temperature_vs_drive.json` on two workers,
   its points table, fits (plain, over the dense part, the centre of mass's rise above a fitted
   offset) and local slopes, and its CPU time (checked to a factor of 2: a machine
@@ -23,7 +28,7 @@ makes them and compares:
 
 `--bin` defaults to `vibrobed` on PATH. A change that moves a run (the engine, a scenario)
 moves the book's numbers: run with --write, and read the prose around them again. `.ci/run`
-runs the check (about 30 s of the machine's two cores).
+runs the check (about 40 s of the machine's two cores).
 """
 
 from __future__ import annotations
@@ -166,6 +171,106 @@ def packing_at_rest(binary: str, tmp: Path) -> dict[str, str]:
     return {"rest-packing": f"{math.floor(top * 100) / 100:.2f}"}
 
 
+def summary_page(binary: str, tmp: Path) -> dict[str, str]:
+    """The summary page: the floor's pressure over the weight of the shipped scenes' full runs
+    (`deep_bed.json`, 100 s of runs, is not remade), the velocity distributions' kurtosis, and
+    the shipped bed's motion against the floor's phase."""
+    made = {}
+    pressure_runs = {
+        "vibrated-bed": ("scenarios/vibrated_bed.json", []),
+        "leidenfrost": ("scenarios/leidenfrost.json", []),
+        "dilute": ("scenarios/vibrofluidized_dilute.json", []),
+        "ball": ("scenarios/bouncing_ball.json", []),
+        "at-rest": ("scenarios/hard/bed_at_rest_tc.json", []),
+        "time-step": ("scenarios/vibrated_bed.json",
+                      ["engine.scheme=time-step", "run.duration=100"]),
+        "space-time": ("scenarios/vibrated_bed.json",
+                       ["engine.scheme=space-time", "run.duration=100"]),
+    }
+    runs = {}
+    for name, (scenario, sets) in pressure_runs.items():
+        runs[name] = summary_of(binary, scenario, sets, tmp, f"pressure-{name}")
+        p = runs[name]["floor_pressure"]
+        made[f"p-{name}"] = f"{p['measured'] / p['weight']:.4f}"
+    # The gas over 200 units (its scenario's 20 hold too few samples for a fourth moment).
+    for name, scenario, sets in (("gas", "gas_periodic_phi03", ["run.duration=200"]),
+                                 ("bed", "vibrated_bed", [])):
+        s = summary_of(binary, f"scenarios/{scenario}.json",
+                       ["output.velocity_distribution=true", *sets], tmp, f"kurtosis-{name}")
+        v = s["velocity_distribution"]
+        digits = 3 if name == "gas" else 2
+        for axis in ("x", "y"):
+            made[f"kurtosis-{name}-{axis}"] = f"{v[axis]['kurtosis']:.{digits}f}"
+    bed = runs["vibrated-bed"]
+    phase = bed["phase"]
+    edge = phase["lower_edge"]  # the gap above the floor
+    top = max(range(len(edge)), key=edge.__getitem__)
+    com = max(range(len(edge)), key=phase["com_height"].__getitem__)
+    made.update({
+        "phase-locking": f"{phase['com_locking']:.2f}",
+        "phase-locking-two": f"{phase['com_locking_two_periods']:.2f}",
+        "phase-undulation": f"{phase['undulation']:.2f}",
+        "phase-edge-top": f"{edge[top]:.2f}",
+        "phase-edge-top-at": f"{round(phase['phase'][top], 2):g}",
+        "phase-com-top-at": f"{round(phase['phase'][com], 2):g}",
+        "phase-pressure-peak": f"{max(phase['pressure']) / bed['floor_pressure']['weight']:.1f}",
+        "phase-samples": f"{sum(phase['samples'])}",
+    })
+    return made
+
+
+def rate_text(x: float) -> str:
+    """Events per unit time as the hard-case table writes them: `0.84`, `8.9`, `60`, `185`,
+    `3.2·10³`."""
+    if x >= 1000:
+        return power_of_ten(x)
+    if x >= 100:
+        return f"{x:.0f}"
+    return f"{x:.{max(1 - math.floor(math.log10(x)), 0)}f}" if x > 0 else "0"
+
+
+def hard_cases(binary: str, tmp: Path) -> dict[str, str]:
+    """The stability page's table of hard cases, remade from itself: each row's files
+    (`scenarios/hard/NAME.json`, in backticks) run as shipped; its last column is their events
+    per unit time (popped and re-mappings, as `tests/suite/hard_cases.rs` bounds them; a range
+    `a – b` where the page gives one), and its "at rest from t = …" their `at_rest_since`, in
+    the order of the files that come to rest."""
+    page = (BOOK / "stability.md").read_text()
+    quoted = re.search(r"<!-- n:hard-cases -->(.*?)<!-- /n -->", page, re.S)
+    if quoted is None:
+        sys.exit("numbers.py: stability.md has no hard-cases table")
+    rows = []
+    for line in quoted.group(1).strip().splitlines():
+        cells = line.split(" | ")
+        files = re.findall(r"`([a-z0-9_.]+)`", cells[1]) if len(cells) == 4 else []
+        if not files or line.startswith("| case"):
+            rows.append(line)
+            continue
+        runs = [summary_of(binary, f"scenarios/hard/{f}.json", [], tmp, f) for f in files]
+        for f, s in zip(files, runs):
+            if s["ending"] != "completed":
+                sys.exit(f"numbers.py: hard case {f} ended {s['ending']}")
+        rates = [(sum(s["events"].values()) - s["events"].get("rest", 0)) / s["sim_time"]
+                 for s in runs]
+        last = cells[3].removesuffix(" |")
+        if " – " in last:
+            cells[3] = f"{rate_text(min(rates))} – {rate_text(max(rates))} |"
+        else:
+            cells[3] = ", ".join(rate_text(r) for r in rates) + " |"
+        rested = [s["at_rest_since"] for s in runs if s.get("at_rest_since") is not None]
+        said = re.search(r"at rest from t = ([0-9.]+(?:(?:, | and )[0-9.]+)*)", cells[2])
+        if said:
+            count = len(re.findall(r"[0-9.]+", said.group(1)))
+            if count != len(rested):
+                sys.exit(f"numbers.py: hard cases {', '.join(files)}: the page gives {count} "
+                         f"times to rest, the runs {len(rested)}")
+            times = [f"{t:.1f}" for t in rested]
+            words = times[0] if len(times) == 1 else ", ".join(times[:-1]) + " and " + times[-1]
+            cells[2] = cells[2].replace(said.group(0), f"at rest from t = {words}")
+        rows.append(" | ".join(cells))
+    return {"hard-cases": "\n".join(rows)}
+
+
 def sweep(binary: str, tmp: Path) -> dict[str, str]:
     """The sweeps page: the 21 runs on two workers, their points, fits and CPU time."""
     out = tmp / "tvd"
@@ -235,7 +340,7 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         made: dict[str, str] = {}
-        for part in (worked_example, quick_try, packing_at_rest, sweep):
+        for part in (worked_example, quick_try, packing_at_rest, summary_page, hard_cases, sweep):
             made.update(part(binary, tmp))
     wrong, used = [], set()
     for page in sorted(BOOK.rglob("*.md")):
