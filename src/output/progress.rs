@@ -198,6 +198,7 @@ impl ProgressReport {
     fn stop_reading(&mut self) {
         if let Some((reader, over)) = self.reader.take() {
             over.store(true, Ordering::Relaxed);
+            reader.thread().unpark();
             let _ = reader.join();
         }
     }
@@ -249,7 +250,11 @@ impl Reader {
     fn run(mut self, over: &AtomicBool) {
         let mut due = self.every;
         while !over.load(Ordering::Relaxed) {
-            std::thread::sleep(TICK.min(Duration::from_secs_f64(self.every)));
+            // Woken early when the run ends (`stop_reading` unparks it).
+            std::thread::park_timeout(TICK.min(Duration::from_secs_f64(self.every)));
+            if over.load(Ordering::Relaxed) {
+                return;
+            }
             let now = self.clock.read();
             let elapsed = self.started.elapsed().as_secs_f64();
             self.draw(now, elapsed);
