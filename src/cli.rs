@@ -181,8 +181,8 @@ pub struct OutputArgs<'a> {
     pub inputs: Vec<(&'static str, &'a Path)>,
 }
 
-/// Refuses, before anything runs, output files that cannot be written: a path that is a
-/// directory or lies in a directory that does not exist, one that names an input or another
+/// Refuses, before anything runs, output files that cannot be written: a path that is not a
+/// regular file (a directory, a device, a fifo) or lies in a directory that does not exist, one that names an input or another
 /// output, profiles of a scene without gravity, a recording from a build without recording, a
 /// recording or trajectory larger than [`MAX_RECORDED_DISKS`](crate::scenario::checks). A run
 /// that starts can write all it was asked for.
@@ -205,12 +205,7 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
     for (field, path) in files {
         let Some(path) = path else { continue };
         crate::output::not_dash(field, path)?;
-        if path.is_dir() {
-            return Err(Error::input(
-                field,
-                format!("{} is a directory: name a file", path.display()),
-            ));
-        }
+        not_special(field, path)?;
         crate::output::writable_directory(path)
             .map_err(|why| Error::input(field, format!("{}: {why}", path.display())))?;
     }
@@ -245,6 +240,28 @@ pub fn output_paths(s: &Scenario, args: &OutputArgs) -> Result<()> {
         return Err(Error::input(
             field,
             "this build of vibrobed has no recording (build with the `record` feature)",
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses a path that exists and is not a regular file (a directory, a device, a fifo, a
+/// socket): an output is written under another name and renamed over its path, which would
+/// replace the special file rather than write to it.
+fn not_special(field: &str, path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(());
+    };
+    if meta.is_dir() {
+        return Err(Error::input(
+            field,
+            format!("{} is a directory: name a file", path.display()),
+        ));
+    }
+    if !meta.is_file() {
+        return Err(Error::input(
+            field,
+            format!("{} is not a regular file: name a file", path.display()),
         ));
     }
     Ok(())

@@ -470,6 +470,45 @@ fn a_summary_into_a_directory_is_refused() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Every output given a fifo is refused before the run naming its option, and the fifo is left
+/// a fifo with nothing else written: an output renamed over it would replace it.
+#[cfg(unix)]
+#[test]
+fn outputs_onto_a_fifo_are_refused() {
+    use std::os::unix::fs::FileTypeExt;
+    let options = [
+        "--summary",
+        "--trajectory",
+        "--fields",
+        "--profiles",
+        "--checkpoint",
+    ];
+    for option in options {
+        let dir = fresh_dir(&format!("bad-fifo{option}"));
+        let made = std::process::Command::new("mkfifo")
+            .arg(dir.join("pipe"))
+            .status()
+            .expect("mkfifo runs");
+        assert!(made.success(), "mkfifo failed");
+        let out = vibrobed(
+            &dir,
+            &run_args("vibrated_bed.json", &[option, "pipe"], LONG),
+        );
+        assert_refused(&out, &[option], &dir, &["pipe"]);
+        let message = error_line(&out.stderr).unwrap_or_default();
+        assert!(
+            message.contains("pipe is not a regular file"),
+            "{option}: {message:?}"
+        );
+        let kind = std::fs::symlink_metadata(dir.join("pipe")).expect("the fifo is there");
+        assert!(
+            kind.file_type().is_fifo(),
+            "{option}: the fifo was replaced"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
 #[test]
 fn a_summary_in_a_missing_directory_is_refused() {
     run_refuses(
