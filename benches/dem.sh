@@ -9,10 +9,17 @@
 #   benches/dem.sh scenarios/vibrated_bed.json --kn 1e5 --set floor.gamma=0.8 \
 #     --set collisions.tc=0.001
 # Options: --set KEY=VALUE (as vibrobed's), --kn LIST (default 1e4,1e5,1e6), --seeds LIST (default:
-# the scenario's seed), --duration T (a shorter run.duration), --out DIR (raw results).
+# the scenario's seed), --duration T (a shorter run.duration), --out DIR (raw results),
+# -h or --help (this text, and nothing built or run).
 # Runs go one at a time, each on one core: minutes per seed at k_n = 1e6.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
+case " $* " in
+  *" -h "* | *" --help "*)
+    sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
+    exit 0
+    ;;
+esac
 if ! command -v lmp >/dev/null; then
   sudo=""
   [ "$(id -u)" = 0 ] || sudo="sudo"
