@@ -660,14 +660,10 @@ fn simulate(
 ) -> Result<i32> {
     signals::install();
     signals::building();
-    let written_after = [
-        ("profiles", &files.profiles),
-        ("fields", &files.fields),
-        ("summary", &files.summary),
-    ]
-    .into_iter()
-    .filter_map(|(output, path)| Some((output, path.clone()?)))
-    .collect();
+    let written_after = [("profiles", &files.profiles), ("summary", &files.summary)]
+        .into_iter()
+        .filter_map(|(output, path)| Some((output, path.clone()?)))
+        .collect();
     let result = run(
         s,
         RunOptions {
@@ -681,14 +677,14 @@ fn simulate(
             checkpoint,
             resume,
             written_after,
-            fields: files.fields.is_some(),
+            fields: false,
+            fields_file: files.fields,
         },
     );
     signals::built();
     let result = result?;
     let written = Written {
         profiles: files.profiles.as_deref(),
-        fields: files.fields.as_deref(),
         summary: files.summary.as_deref(),
     };
     write_results(&result, written)
@@ -697,7 +693,6 @@ fn simulate(
 /// The files written once a run has ended.
 struct Written<'a> {
     profiles: Option<&'a Path>,
-    fields: Option<&'a Path>,
     summary: Option<&'a Path>,
 }
 
@@ -709,15 +704,12 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Writes a run's profiles, fields and summary, each whatever becomes of the other; a summary that
+/// Writes a run's profiles and summary (the fields are an output of the run), each whatever
+/// becomes of the other; a summary that
 /// cannot be written goes to stdout instead (a batch job's log keeps it). Returns the exit code:
 /// 1 when one of them could not be written, else that of the run's ending ([`ending_code`]).
 fn write_results(result: &Summary, files: Written) -> Result<i32> {
-    let Written {
-        profiles,
-        fields,
-        summary,
-    } = files;
+    let Written { profiles, summary } = files;
     let mut lost = false;
     if let Some(path) = profiles {
         match &result.profiles {
@@ -728,17 +720,6 @@ fn write_results(result: &Summary, files: Written) -> Result<i32> {
                 }
             }
             None => not_measured("profiles", path, result),
-        }
-    }
-    if let Some(path) = fields {
-        match &result.fields {
-            Some(f) => {
-                if let Err(e) = crate::output::fields::write(path, f) {
-                    eprintln!("vibrobed: {e}");
-                    lost = true;
-                }
-            }
-            None => not_measured("fields", path, result),
         }
     }
     let json = result.to_json();
@@ -764,7 +745,7 @@ fn ending_code(result: &Summary) -> i32 {
     }
 }
 
-/// Says that `output` (profiles, fields), asked for at `path`, was not written: the run ended
+/// Says that `output` (the profiles), asked for at `path`, was not written: the run ended
 /// before it measured any (no sample after the warm-up), and zeros would read as a measurement.
 fn not_measured(output: &str, path: &Path, result: &Summary) {
     eprintln!(

@@ -25,6 +25,7 @@ mod averages;
 pub mod checkpoint;
 mod driver;
 mod failures;
+mod fields_file;
 mod frames;
 mod invariants;
 mod resume;
@@ -70,6 +71,8 @@ pub struct RunOptions {
     pub progress_label: Option<String>,
     /// Measure the 2D fields after the warm-up (`run --fields`; gravity scenes).
     pub fields: bool,
+    /// Write the fields measured to this file at the end (measuring them).
+    pub fields_file: Option<PathBuf>,
     /// Files written once the run has ended (`summary`, `profiles`: the output and its path),
     /// whose directories are watched while it runs.
     pub written_after: Vec<(&'static str, PathBuf)>,
@@ -202,7 +205,8 @@ struct Outputs {
 /// The outputs written at stops, opened only now that the engine has accepted the initial state
 /// (a refused scene leaves no file behind): the frame sink — the caller's, else the recording —
 /// at the frames, the trajectory of `--trajectory` or `output.trajectory` at its frames, the
-/// checkpoint of `--checkpoint` at the checkpoints. A new output is one more registration here.
+/// fields of `--fields` at the end, the checkpoint of `--checkpoint` at the checkpoints. A new
+/// output is one more registration here.
 fn open_streams(
     out: &mut Outputs,
     s: &Scenario,
@@ -239,6 +243,11 @@ fn open_streams(
             OnFailure::Drop,
             Box::new(sink),
         );
+    }
+    if let Some(path) = &opts.fields_file {
+        let named = ("fields", path.clone());
+        let file = Box::new(fields_file::FieldsFile(path.clone()));
+        streams.add(named, Takes::End, OnFailure::TryAgain, file);
     }
     if let Some(plan) = &opts.checkpoint {
         let file = CheckpointFile(plan.path.clone());

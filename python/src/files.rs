@@ -58,18 +58,14 @@ impl Files {
 
     /// The files written once the run has ended, whose directories the run watches.
     pub fn written_after(&self) -> Vec<(&'static str, PathBuf)> {
-        [
-            ("profiles", &self.profiles),
-            ("fields", &self.fields),
-            ("summary", &self.summary),
-        ]
-        .into_iter()
-        .filter_map(|(output, path)| Some((output, path.clone()?)))
-        .collect()
+        [("profiles", &self.profiles), ("summary", &self.summary)]
+            .into_iter()
+            .filter_map(|(output, path)| Some((output, path.clone()?)))
+            .collect()
     }
 
-    /// Writes the run's profiles, fields and summary, as the command line does, each whatever
-    /// becomes of the others; returns the first failure.
+    /// Writes the run's profiles and summary (the fields are an output of the run), as the
+    /// command line does, each whatever becomes of the other; returns the first failure.
     pub fn write(&self, result: &Summary) -> Result<()> {
         let mut first = Ok(());
         let mut keep = |written: Result<()>| {
@@ -79,9 +75,6 @@ impl Files {
         };
         if let (Some(path), Some(p)) = (&self.profiles, &result.profiles) {
             keep(write_atomic(path, &p.to_csv()));
-        }
-        if let (Some(path), Some(f)) = (&self.fields, &result.fields) {
-            keep(vibrobed::output::fields::write(path, f));
         }
         if let Some(path) = &self.summary {
             keep(write_atomic(path, &result.to_json()));

@@ -52,6 +52,7 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
     let (rrd, trajectory) = (files.rrd.clone(), files.trajectory.clone());
     let written_after = files.written_after();
     let fields = measure_fields || files.fields.is_some();
+    let fields_file = files.fields.clone();
     let summary = detached::run(py, stop, move || {
         vibrobed::run::run(
             s,
@@ -66,6 +67,7 @@ pub fn simulate(py: Python<'_>, s: &Scenario, files: &Files, start: Start) -> Py
                 progress_every,
                 progress_label: None,
                 fields,
+                fields_file,
                 written_after,
             },
         )

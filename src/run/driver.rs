@@ -84,7 +84,13 @@ impl<'a, E: Integrator> Driver<'a, E> {
         }
         let g = scene.gravity.unwrap_or(0.0);
         let initial = Observables::of(&StatesAt(&sim, 0.0), sim.disks(), g);
-        let averages = Averages::new(s, scene, &StatesAt(&sim, 0.0), sim.disks(), opts.fields);
+        let averages = Averages::new(
+            s,
+            scene,
+            &StatesAt(&sim, 0.0),
+            sim.disks(),
+            opts.fields || opts.fields_file.is_some(),
+        );
         let phase = match (&scene.floor, scene.gravity) {
             (Some(f), Some(_)) => PhaseClock::of(f, s.output.phase_bins, s.sample_interval()),
             _ => None,
@@ -333,6 +339,15 @@ impl<'a, E: Integrator> Driver<'a, E> {
         });
     }
 
+    /// What the run measured, to the outputs that take its end: the fields once sampled after
+    /// the warm-up.
+    fn measured(&mut self, ending: Ending, end_time: f64) {
+        let fields = self.averages.fields.as_ref().filter(|f| f.samples() > 0);
+        let given = Given::End(fields, ending, end_time);
+        let time = self.sim.time();
+        (self.streams).give(Takes::End, &given, time, &mut self.failures);
+    }
+
     /// Closes the outputs with a note on how the run ended.
     fn close_streams(&mut self, ending: Ending, end_time: f64) {
         let note = match ending {
@@ -368,6 +383,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
         self.checkpoint()?;
         progress.finish(ending, end_time, self.sim.counts().collisions());
         self.drop_outputs_gone();
+        self.measured(ending, end_time);
         self.close_streams(ending, end_time);
         Ok(self.summarise(ending, end_time, wall))
     }

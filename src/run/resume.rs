@@ -114,7 +114,7 @@ impl Output for CheckpointFile {
     fn take(&mut self, given: &Given) -> Result<()> {
         match given {
             Given::Checkpoint(ck) => ck.write(&self.0),
-            Given::Frame(_) => Ok(()),
+            Given::Frame(_) | Given::End(..) => Ok(()),
         }
     }
     fn watched(&self, name: &'static str) -> Option<Target> {

@@ -1,5 +1,5 @@
 //! The outputs a run writes at its stops — the recording (or a caller's frame sink), the
-//! trajectory, the checkpoint — as plugins: each one [`Output`], registered with the stops it
+//! trajectory, the checkpoint, the fields — as plugins: each one [`Output`], registered with the stops it
 //! takes and what it does when it fails, under one failure policy. A failure is said once on
 //! stderr and listed in the summary (`output_failures`); then an output that is dropped on
 //! failure (a stream: its file removed, or found removed during the run) is closed and the run
@@ -9,8 +9,10 @@
 use super::checkpoint::Checkpoint;
 use super::failures::Failures;
 use crate::error::{Error, Result};
+use crate::measure::fields::Fields;
 use crate::output::frame::{FrameSink, FrameView};
 use crate::output::partial::partial_name;
+use crate::output::summary::Ending;
 use crate::output::watch::Target;
 use std::path::PathBuf;
 
@@ -26,6 +28,8 @@ pub(super) enum Takes {
     TrajectoryFrames,
     /// The checkpoints (`--checkpoint-every`, and the end): the run's whole state.
     Checkpoints,
+    /// The end of the run: what it measured.
+    End,
 }
 
 /// What a stop gives the outputs that take it.
@@ -34,6 +38,9 @@ pub(super) enum Given<'a> {
     Frame(&'a FrameView<'a>),
     /// The run's whole state, to resume from.
     Checkpoint(&'a Checkpoint),
+    /// The end of the run: the fields measured (none before a sample after the warm-up), how
+    /// the run ended and when.
+    End(Option<&'a Fields>, Ending, f64),
 }
 
 /// What an output does when it fails.
@@ -42,7 +49,7 @@ pub(super) enum OnFailure {
     /// It is dropped (its file removed): the run goes on without it.
     Drop,
     /// It stays, and is tried again at its next stop and at the end (what it wrote before stays
-    /// whole).
+    /// whole); one written at the end only is tried there, whatever became of its directory.
     TryAgain,
 }
 
@@ -70,7 +77,7 @@ impl Output for Box<dyn FrameSink> {
     fn take(&mut self, given: &Given) -> Result<()> {
         match given {
             Given::Frame(view) => self.frame(view),
-            Given::Checkpoint(_) => Ok(()),
+            Given::Checkpoint(_) | Given::End(..) => Ok(()),
         }
     }
     fn log_text(&mut self, time: f64, level: &str, text: &str) -> Result<()> {
@@ -231,11 +238,15 @@ impl Streams {
     /// written since it last failed.
     fn fail_again(&mut self, i: usize, e: Error, time: f64, failures: &mut Failures) {
         let s = &mut self.list[i];
-        let goes_on = format!(
-            "the run goes on, and tries the {0} again at the next interval and at the end (an \
-             earlier {0} stays whole)",
-            s.name
-        );
+        let goes_on = if s.takes == Takes::End {
+            format!("the run ends without its {}", s.name)
+        } else {
+            format!(
+                "the run goes on, and tries the {0} again at the next interval and at the end \
+                 (an earlier {0} stays whole)",
+                s.name
+            )
+        };
         let first = !std::mem::replace(&mut s.failing, true);
         failures.record(s.name, &s.path, e, time, first.then_some(goes_on.as_str()));
     }
