@@ -1,10 +1,10 @@
 //! The outputs a run writes at its stops — the recording (or a caller's frame sink), the
-//! trajectory, the checkpoint, the fields — as plugins: each one [`Output`], registered with the stops it
-//! takes and what it does when it fails, under one failure policy. A failure is said once on
-//! stderr and listed in the summary (`output_failures`); then an output that is dropped on
-//! failure (a stream: its file removed, or found removed during the run) is closed and the run
-//! goes on without it, and one that is tried again (the checkpoint: each write whole on its
-//! own) is given its next stop, and said again only if it was written in between.
+//! trajectory, the checkpoint, the fields — as plugins: each one [`Output`], registered with
+//! the stops it takes and what it does when it fails, under one failure policy. A failure is
+//! said once on stderr and listed in the summary (`output_failures`); then an output that is
+//! dropped on failure (a stream: its file removed, or found removed during the run) is closed
+//! and the run goes on without it, and one that is tried again (the checkpoint: each write
+//! whole on its own) is given its next stop, and said again only if it was written in between.
 
 use super::checkpoint::Checkpoint;
 use super::failures::Failures;
