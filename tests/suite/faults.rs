@@ -5,9 +5,9 @@
 //! `sweep run`. Each case asserts the exit code, the message (the file and the system's reason),
 //! the time to exit, that SIGINT and SIGTERM work during the fault, and which files exist after.
 //!
-//! The policy checked (docs/book/src/outputs.md): a recording, trajectory or checkpoint that
-//! cannot be written is a warning, the run goes on and exits 3, its summary listing
-//! `output_failures`; a summary or profiles that cannot be written exit 1 (the summary then goes
+//! The policy checked (docs/book/src/outputs.md): a recording, trajectory, checkpoint or 2D
+//! fields file that cannot be written is a warning, the run goes on and exits 3, its summary
+//! listing `output_failures`; a summary or profiles that cannot be written exit 1 (the summary then goes
 //! to stdout); a directory that cannot be written in is refused before the run (exit 2); no
 //! temporary file is left behind.
 #![cfg(target_os = "linux")]
@@ -360,6 +360,42 @@ fn a_filling_disk_costs_only_the_outputs_that_fill_it() {
         assert_eq!(s["sim_time"], 20.0);
         assert_eq!(failed_outputs(&s), outputs, "{}", ended.describe());
         assert_eq!(names(&dir), ["p.csv", "s.json"], "{}", ended.describe());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// The file-size limit under which the bed's 2D fields (76 kB as VTI, 109 kB as CSV) cannot be
+/// written but its summary (12 kB) can.
+const FIELDS_DO_NOT_FIT: u64 = 40_000;
+
+/// The 2D fields, an output at the run's end, that cannot be written: said once, naming the file
+/// and the reason, and that the run ends without them; the summary lists them alone in
+/// `output_failures` and the completed run exits 3; neither the file nor a temporary one is left.
+#[test]
+fn fields_that_cannot_be_written_exit_3() {
+    let under = Under {
+        file_size: Some(FIELDS_DO_NOT_FIT),
+        ..Under::default()
+    };
+    for file in ["f.vti", "f.csv"] {
+        let dir = scratch(&format!("fields-{file}"));
+        let path = dir.join(file).display().to_string();
+        let mut args = bed("20");
+        args.extend(["--fields".into(), path.clone()]);
+        args.extend(["--summary".into(), dir.join("s.json").display().to_string()]);
+        let ended = run(&args, &dir, &under);
+        ended.assert(3, SHORT_RUN);
+        ended.says(&[
+            "warning: cannot write",
+            &path,
+            "File too large",
+            "the run ends without its fields",
+        ]);
+        let s = summary(&dir.join("s.json"));
+        assert_eq!(s["ending"], "completed", "{file}");
+        assert_eq!(failed_outputs(&s), ["fields"], "{}", ended.describe());
+        assert_eq!(s["output_failures"][0]["path"], path.as_str());
+        assert_eq!(names(&dir), ["s.json"], "{}", ended.describe());
         std::fs::remove_dir_all(&dir).ok();
     }
 }
