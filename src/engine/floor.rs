@@ -192,7 +192,7 @@ impl<F: Flight> Simulation<F> {
         // or stay put (fixed-position model).
         let (h, hd_ride) = floor.ride(now);
         let rests = floor.comes_to_rest(after - hd_ride, self.disks.radius[i], g, now);
-        let lift_speed = floor.max_speed();
+        let lift_speed = floor.drive().peak_velocity();
         let before = (self.disks.motion[i].vx, vy);
         self.set_vy(i, after);
         self.rub_boundary(i, Boundary::Floor, (0.0, hd), before);

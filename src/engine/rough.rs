@@ -208,13 +208,13 @@ impl<F: Flight> Simulation<F> {
                 g,
                 now,
                 ride_end,
-                floor.max_speed(),
+                floor.drive().peak_velocity(),
                 |t| floor.ride(t).1,
             );
             self.rest.riders.set_slide(i, slide);
             if slide.is_some() {
                 let v_end = self.disks.motion[i].vx - slip * q / (1.0 + q);
-                let lift = floor.max_speed();
+                let lift = floor.drive().peak_velocity();
                 self.map.dutc.ride(now, v_end.abs() + lift, g);
                 return;
             }

@@ -93,17 +93,11 @@ impl Scene {
             }
         };
         let (sides, top) = bounds(s, height);
-        let floor = s.floor.as_ref().map(|f| {
-            Floor::new(
-                f.restitution,
-                s.floor_amplitude(),
-                std::f64::consts::TAU * f.frequency.unwrap_or(0.0),
-                f.phase,
-                f.waveform,
-                f.model,
-            )
-        });
-        let floor_top = floor.as_ref().map_or(0.0, |f| f.amplitude);
+        let floor = s
+            .floor
+            .as_ref()
+            .map(|f| Floor::new(f.restitution, f.drive(s.gravity), f.phase));
+        let floor_top = s.floor_amplitude();
         let positions = positions(s, &radius, height, floor_top, &mut rng)?;
         let mut disks = Disks::new(&positions, radius, mass, species);
         let velocities = match &s.particles.placement {

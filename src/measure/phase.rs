@@ -316,7 +316,7 @@ impl PhaseBins {
             period: self.clock.period,
             floor_height: phase
                 .iter()
-                .map(|p| floor.height((p * TAU - floor.phase_origin()) / floor.omega))
+                .map(|p| floor.height((p * TAU - floor.phase_origin()) / floor.drive().omega))
                 .collect(),
             phase,
             com_height: per(&|k| mean(&self.com, k)),
@@ -444,17 +444,10 @@ fn lower_edge(bottoms: &mut [f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::drive::{FloorModel, Waveform};
+    use crate::physics::drive::Drive;
 
     fn floor(phase: f64) -> Floor {
-        Floor::new(
-            1.0,
-            0.5,
-            TAU * 0.5,
-            phase,
-            Waveform::Sine,
-            FloorModel::Exact,
-        )
+        Floor::new(1.0, Drive::new(0.5, 0.5), phase)
     }
 
     #[test]

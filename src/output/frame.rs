@@ -65,7 +65,10 @@ impl SceneLayout {
     /// `output.spin_scale`, else a third of the speed scale (a rim speed of the floor's peak
     /// speed, or the rms speed).
     pub fn of(s: &Scenario, scene: &Scene, disks: &Disks) -> SceneLayout {
-        let floor_speed = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
+        let floor_speed = scene
+            .floor
+            .as_ref()
+            .map_or(0.0, |f| f.drive().peak_velocity());
         let n = disks.len().max(1) as f64;
         let rms = (disks
             .motion

@@ -32,9 +32,13 @@ pub enum FloorModel {
     FixedPosition,
 }
 
-/// How far and how fast the floor vibrates.
+/// The floor's vibration: its shape, how impacts on it are located, how far and how fast.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Drive {
+    /// Shape of the vibration.
+    pub waveform: Waveform,
+    /// How impacts are located.
+    pub model: FloorModel,
     /// Amplitude A (0 for a static floor).
     pub amplitude: f64,
     /// Angular frequency ω = 2π·frequency.
@@ -42,27 +46,44 @@ pub struct Drive {
 }
 
 impl Drive {
-    /// Amplitude `amplitude` at `frequency` cycles per unit time.
+    /// A sine of amplitude `amplitude` at `frequency` cycles per unit time, its impacts located
+    /// exactly (see [`shaped`](Self::shaped) for the others).
     pub fn new(amplitude: f64, frequency: f64) -> Drive {
         Drive {
+            waveform: Waveform::Sine,
+            model: FloorModel::Exact,
             amplitude,
             omega: TAU * frequency,
         }
     }
 
-    /// The drive whose peak acceleration is `gamma` times gravity `g` at `frequency`:
+    /// The sine whose peak acceleration is `gamma` times gravity `g` at `frequency`:
     /// A = Γ g/ω².
     pub fn of_gamma(gamma: f64, frequency: f64, g: f64) -> Drive {
         let omega = TAU * frequency;
+        Drive::new(gamma * g / (omega * omega), frequency)
+    }
+
+    /// The same amplitude and frequency with the vibration's shape `waveform`, its impacts
+    /// located by `model`.
+    pub fn shaped(self, waveform: Waveform, model: FloorModel) -> Drive {
         Drive {
-            amplitude: gamma * g / (omega * omega),
-            omega,
+            waveform,
+            model,
+            ..self
         }
     }
 
     /// `true` when the floor does not move.
+    #[inline]
     pub fn is_static(&self) -> bool {
         self.amplitude == 0.0 || self.omega == 0.0
+    }
+
+    /// Peak acceleration Aω² (of the sine).
+    #[inline]
+    pub fn peak_acceleration(&self) -> f64 {
+        self.amplitude * self.omega * self.omega
     }
 
     /// Peak acceleration in units of gravity `g`, Γ = Aω²/g (0 for a static floor).
@@ -70,7 +91,7 @@ impl Drive {
         if self.is_static() {
             0.0
         } else {
-            self.amplitude * self.omega * self.omega / g
+            self.peak_acceleration() / g
         }
     }
 
@@ -79,7 +100,8 @@ impl Drive {
         TAU / self.omega
     }
 
-    /// Peak floor velocity Aω (of the sine).
+    /// Peak floor velocity Aω (of the sine): a bound on the floor's speed for every waveform.
+    #[inline]
     pub fn peak_velocity(&self) -> f64 {
         self.amplitude * self.omega
     }

@@ -14,19 +14,13 @@ use crate::physics::flight::time_to_fall;
 use crate::physics::restitution::CollisionLaw;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// The floor: its motion and restitution.
+/// The floor: its drive, its phase and its restitution.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Floor {
     /// Normal restitution of impacts (relative to the floor).
     pub restitution: f64,
-    /// Amplitude A (0 for a static floor).
-    pub amplitude: f64,
-    /// Angular frequency ω = 2π·frequency.
-    pub omega: f64,
-    /// Shape of the vibration.
-    pub waveform: Waveform,
-    /// How impacts are located.
-    pub model: FloorModel,
+    /// How it vibrates: waveform, model, amplitude and angular frequency.
+    drive: Drive,
     /// Phase at the engine's local time 0, in [0, 2π).
     phase0: f64,
 }
@@ -87,47 +81,36 @@ pub enum RideEnd {
 }
 
 impl Floor {
-    /// A floor with amplitude `amplitude`, angular frequency `omega` and initial phase `phase`.
-    pub fn new(
-        restitution: f64,
-        amplitude: f64,
-        omega: f64,
-        phase: f64,
-        waveform: Waveform,
-        model: FloorModel,
-    ) -> Floor {
+    /// A floor vibrating as `drive` from initial phase `phase`.
+    pub fn new(restitution: f64, drive: Drive, phase: f64) -> Floor {
         Floor {
             restitution,
-            amplitude,
-            omega,
-            waveform,
-            model,
+            drive,
             phase0: phase.rem_euclid(TAU),
         }
     }
 
-    /// Its amplitude and angular frequency, with what follows from them (Γ, the period).
-    pub fn drive(&self) -> Drive {
-        Drive {
-            amplitude: self.amplitude,
-            omega: self.omega,
-        }
+    /// How it vibrates, with what follows (Γ, the period, the peak velocity).
+    #[inline]
+    pub fn drive(&self) -> &Drive {
+        &self.drive
     }
 
     /// `true` when the floor does not move.
+    #[inline]
     pub fn is_static(&self) -> bool {
-        self.drive().is_static()
+        self.drive.is_static()
     }
 
     /// Lowest height the floor reaches (−A).
     pub fn lowest(&self) -> f64 {
-        -self.amplitude
+        -self.drive.amplitude
     }
 
     /// Phase at local time `t`.
     #[inline]
     pub fn phase(&self, t: f64) -> f64 {
-        self.phase0 + self.omega * t
+        self.phase0 + self.drive.omega * t
     }
 
     /// Phase at local time 0 (in [0, 2π)): with the engine's clock, the floor's whole state.
@@ -142,7 +125,7 @@ impl Floor {
 
     /// Moves the local time origin forward by `dt` (the engine re-bases its clock).
     pub fn rebase(&mut self, dt: f64) {
-        self.phase0 = (self.phase0 + self.omega * dt).rem_euclid(TAU);
+        self.phase0 = (self.phase0 + self.drive.omega * dt).rem_euclid(TAU);
     }
 
     /// Floor height at local time `t`.
@@ -152,8 +135,8 @@ impl Floor {
             return 0.0;
         }
         let th = self.phase(t);
-        self.amplitude
-            * match self.waveform {
+        self.drive.amplitude
+            * match self.drive.waveform {
                 Waveform::Sine => th.sin(),
                 Waveform::Triangle => triangle(th),
                 Waveform::Sawtooth => th.rem_euclid(TAU) / PI - 1.0,
@@ -167,9 +150,9 @@ impl Floor {
             return 0.0;
         }
         let th = self.phase(t);
-        self.amplitude
-            * self.omega
-            * match self.waveform {
+        self.drive.amplitude
+            * self.drive.omega
+            * match self.drive.waveform {
                 Waveform::Sine => th.cos(),
                 Waveform::Triangle => triangle_slope(th),
                 Waveform::Sawtooth => 1.0 / PI,
@@ -193,7 +176,7 @@ impl Floor {
         // of the floor's travel, h + v τ − ½ g τ², is concave in τ and so stays positive over
         // [0, w] if it is positive at both ends. The margin keeps this test from deciding
         // what only round-off separates; anything closer is left to the exact search.
-        let h = y - a - self.amplitude;
+        let h = y - a - self.drive.amplitude;
         let w = limit - now;
         let end = h + (vy - 0.5 * g * w) * w;
         if h > 0.0 && end > 1e-12 * (h + (vy * w).abs() + g * w * w) {
@@ -213,11 +196,11 @@ impl Floor {
         now: f64,
         limit: f64,
     ) -> Option<FloorEvent> {
-        if self.is_static() || self.model == FloorModel::FixedPosition {
+        if self.is_static() || self.drive.model == FloorModel::FixedPosition {
             let t = now + time_to_fall(y - a, vy, g)?;
             return (t <= limit).then_some(FloorEvent::Impact(t));
         }
-        match self.waveform {
+        match self.drive.waveform {
             Waveform::Sine => self.sine_impact(y, vy, a, g, now, limit),
             Waveform::Triangle | Waveform::Sawtooth => {
                 self.piecewise_impact(y, vy, a, g, now, limit)
@@ -249,7 +232,7 @@ impl Floor {
     pub fn bounce_on(&self, vy: f64, hd: f64, elastic: bool) -> f64 {
         let e = if elastic { 1.0 } else { self.restitution };
         let moving = hd - e * (vy - hd).min(0.0);
-        match self.model {
+        match self.drive.model {
             FloorModel::Exact => moving,
             FloorModel::FixedPosition => moving.max(-e * vy).max(0.0),
         }
@@ -260,39 +243,36 @@ impl Floor {
         if self.is_static() {
             1.0
         } else {
-            self.drive().period()
+            self.drive.period()
         }
     }
 
     /// Floor acceleration at local time `t` (0 on the pieces of a piecewise-linear floor).
     #[inline]
     pub fn acceleration(&self, t: f64) -> f64 {
-        match self.waveform {
+        match self.drive.waveform {
             Waveform::Sine if !self.is_static() => {
-                -self.amplitude * self.omega * self.omega * self.phase(t).sin()
+                -self.drive.peak_acceleration() * self.phase(t).sin()
             }
             _ => 0.0,
         }
     }
 
-    /// Largest |h'| of the floor.
-    pub fn max_speed(&self) -> f64 {
-        self.drive().peak_velocity()
-    }
-
     /// How far a disk riding the floor can move up or down with it, at most (0 in the
     /// fixed-position model), and its largest vertical speed doing so.
     pub fn ride_bounds(&self) -> (f64, f64) {
-        match self.model {
-            FloorModel::Exact if !self.is_static() => (2.0 * self.amplitude, self.max_speed()),
+        match self.drive.model {
+            FloorModel::Exact if !self.is_static() => {
+                (2.0 * self.drive.amplitude, self.drive.peak_velocity())
+            }
             _ => (0.0, 0.0),
         }
     }
 
     /// Bound on |h''| over a piece of the motion (the sine's Aω²; 0 on linear pieces).
     pub fn max_acceleration(&self) -> f64 {
-        match (self.model, self.waveform) {
-            (FloorModel::Exact, Waveform::Sine) => self.amplitude * self.omega * self.omega,
+        match (self.drive.model, self.drive.waveform) {
+            (FloorModel::Exact, Waveform::Sine) => self.drive.peak_acceleration(),
             _ => 0.0,
         }
     }
@@ -302,7 +282,7 @@ impl Floor {
     /// always).
     pub fn throws(&self, g: f64) -> bool {
         !self.is_static()
-            && match self.waveform {
+            && match self.drive.waveform {
                 Waveform::Sine => self.max_acceleration() > g * (1.0 + 1e-12),
                 Waveform::Triangle | Waveform::Sawtooth => true,
             }
@@ -311,13 +291,13 @@ impl Floor {
     /// End of the phase interval in which the sine floor accelerates downwards faster than g
     /// (`sin θ > g/(Aω²)`), for a time `t` inside it.
     fn leaves_throw_zone(&self, t: f64, g: f64) -> f64 {
-        let peak = self.amplitude * self.omega * self.omega;
+        let peak = self.drive.peak_acceleration();
         let crit = (g / peak).min(1.0).asin();
         let th = self.phase(t).rem_euclid(TAU);
         let end = PI - crit;
         let dth = if th <= end { end - th } else { TAU + end - th };
         // Step at least a few ulps so that time moves on.
-        t + (dth / self.omega).max(4.0 * f64::EPSILON * t.abs().max(1.0))
+        t + (dth / self.drive.omega).max(4.0 * f64::EPSILON * t.abs().max(1.0))
     }
 
     /// Rebound speed (relative to the floor) below which a disk of radius `a` comes to rest.
@@ -341,7 +321,7 @@ impl Floor {
 
     /// How hard the floor presses a disk that moves with it: `g + h''(t)`.
     fn press(&self, t: f64, g: f64) -> f64 {
-        match self.model {
+        match self.drive.model {
             FloorModel::Exact => g + self.acceleration(t),
             FloorModel::FixedPosition => g,
         }
@@ -357,7 +337,7 @@ impl Floor {
     /// floor's in the exact model, (0, 0) in the fixed-position model (the floor stays put).
     #[inline]
     pub fn ride(&self, t: f64) -> (f64, f64) {
-        match self.model {
+        match self.drive.model {
             FloorModel::Exact => (self.height(t), self.velocity(t)),
             FloorModel::FixedPosition => (0.0, 0.0),
         }
@@ -367,7 +347,7 @@ impl Floor {
     /// exact model, 0 in the fixed-position model.
     #[inline]
     pub fn ride_acceleration(&self, t: f64) -> f64 {
-        match self.model {
+        match self.drive.model {
             FloorModel::Exact => self.acceleration(t),
             FloorModel::FixedPosition => 0.0,
         }
@@ -381,12 +361,12 @@ impl Floor {
         if self.is_static() {
             return None;
         }
-        let w = self.omega;
+        let w = self.drive.omega;
         let th = self.phase(now).rem_euclid(TAU);
-        let slope = |k: f64| self.amplitude * w * k;
-        match self.waveform {
+        let slope = |k: f64| self.drive.amplitude * w * k;
+        match self.drive.waveform {
             Waveform::Sine => {
-                let peak = self.amplitude * w * w;
+                let peak = self.drive.peak_acceleration();
                 if peak <= g {
                     return None;
                 }
@@ -395,7 +375,8 @@ impl Floor {
                 // The fixed-position floor cannot launch a disk while it moves down (the launch
                 // would be 0 and the disk land again at once, for ever): a disk that comes to
                 // rest there rides on to the next take-off.
-                let falling = self.model == FloorModel::FixedPosition && self.velocity(now) <= 0.0;
+                let falling =
+                    self.drive.model == FloorModel::FixedPosition && self.velocity(now) <= 0.0;
                 let dth = if th < crit {
                     crit - th
                 } else if th < PI - crit && !falling {
@@ -404,7 +385,7 @@ impl Floor {
                     TAU + crit - th
                 };
                 let t = now + dth / w;
-                let launch = match self.model {
+                let launch = match self.drive.model {
                     FloorModel::Exact => self.velocity(t),
                     FloorModel::FixedPosition => self.velocity(t).max(0.0),
                 };
@@ -416,7 +397,7 @@ impl Floor {
                 let up = slope(2.0 / PI);
                 if p < PI {
                     Some((now + (PI - p) / w, RideEnd::TakeOff { launch: up }))
-                } else if self.model == FloorModel::Exact {
+                } else if self.drive.model == FloorModel::Exact {
                     Some((
                         now + (TAU - p) / w,
                         RideEnd::Kick {
@@ -438,7 +419,7 @@ impl Floor {
     }
 
     fn tolerance(&self, a: f64, y: f64) -> f64 {
-        1e-13 * (a + self.amplitude + y.abs())
+        1e-13 * (a + self.drive.amplitude + y.abs())
     }
 
     /// Exact impact on the sine floor by safe stepping from below.
@@ -451,8 +432,8 @@ impl Floor {
         now: f64,
         limit: f64,
     ) -> Option<FloorEvent> {
-        let amp = self.amplitude;
-        let k = g + amp * self.omega * self.omega;
+        let amp = self.drive.amplitude;
+        let k = g + self.drive.peak_acceleration();
         // Above the floor's reach, fall exactly into the envelope y − a ≤ A first.
         let mut tau = if y - a > amp {
             time_to_fall(y - a - amp, vy, g)?
@@ -469,7 +450,7 @@ impl Floor {
             let th = self.phase(t);
             let (s, c) = th.sin_cos();
             let f = yy - a - amp * s;
-            let fd = vv - amp * self.omega * c;
+            let fd = vv - amp * self.drive.omega * c;
             if f <= self.tolerance(a, yy) {
                 if !self.presses(t, g) && fd >= 0.0 {
                     // Touching and not approaching while the floor accelerates down faster than
@@ -511,8 +492,8 @@ impl Floor {
         now: f64,
         limit: f64,
     ) -> Option<FloorEvent> {
-        let amp = self.amplitude;
-        let w = self.omega;
+        let amp = self.drive.amplitude;
+        let w = self.drive.omega;
         let mut tau = if y - a > amp {
             time_to_fall(y - a - amp, vy, g)?
         } else {
@@ -527,7 +508,7 @@ impl Floor {
             // End of the current linear piece, in phase and then in time.
             // (The same phase decomposition as `triangle` and `triangle_slope`, so that piece
             // and slope always agree at the kinks.)
-            let piece_end = match self.waveform {
+            let piece_end = match self.drive.waveform {
                 Waveform::Triangle => {
                     let p = (th + FRAC_PI_2).rem_euclid(TAU);
                     th + if p < PI { PI - p } else { TAU - p }
@@ -587,8 +568,18 @@ fn triangle_slope(th: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A drive of amplitude 0.2 and ω = 2, of the given shape.
+    fn shaped(waveform: Waveform, model: FloorModel) -> Drive {
+        Drive {
+            waveform,
+            model,
+            amplitude: 0.2,
+            omega: 2.0,
+        }
+    }
+
     fn sine(a: f64, f: f64, e: f64) -> Floor {
-        Floor::new(e, a, TAU * f, 0.0, Waveform::Sine, FloorModel::Exact)
+        Floor::new(e, Drive::new(a, f), 0.0)
     }
 
     #[test]
@@ -638,14 +629,11 @@ mod tests {
         let floors = [
             sine(0.3, 0.5, 0.9),
             sine(0.0, 1.0, 0.5),
-            Floor::new(0.9, 0.2, 2.0, 1.0, Waveform::Triangle, FloorModel::Exact),
+            Floor::new(0.9, shaped(Waveform::Triangle, FloorModel::Exact), 1.0),
             Floor::new(
                 0.9,
-                0.2,
-                2.0,
+                shaped(Waveform::Sawtooth, FloorModel::FixedPosition),
                 0.3,
-                Waveform::Sawtooth,
-                FloorModel::FixedPosition,
             ),
         ];
         let mut shortcuts = 0;
@@ -656,7 +644,7 @@ mod tests {
             let vy = rng.random_range(-2.0..2.0);
             let now = rng.random_range(0.0..10.0);
             // Limits around the fall to the floor's reach, where the shortcut decides.
-            let h = y - a - fl.amplitude;
+            let h = y - a - fl.drive.amplitude;
             let fall = time_to_fall(h, vy, g).unwrap_or(1.0);
             let limit = now
                 + fall * rng.random_range(0.0..2.0)

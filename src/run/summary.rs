@@ -200,11 +200,11 @@ fn bed_state(
         circulation: None,
     };
     let indicators = match profiles {
-        Some(p) => indicators.with_profiles(p, floor.amplitude),
+        Some(p) => indicators.with_profiles(p, floor.drive().amplitude),
         None => indicators,
     };
     let state = BedState::of(match &avg.state_fields {
-        Some(f) => indicators.with_fields(f, floor.amplitude, mean_area),
+        Some(f) => indicators.with_fields(f, floor.drive().amplitude, mean_area),
         None => indicators,
     });
     // On a static floor the states of a shaken bed do not apply (a pour, a draining silo): no

@@ -204,17 +204,19 @@ pub struct Floor {
 }
 
 impl Floor {
-    /// The drive this floor asks for under gravity `gravity`: `amplitude` at `frequency`, or
-    /// the amplitude of peak acceleration `gamma` (which needs gravity); static without either.
+    /// The drive this floor asks for under gravity `gravity`: its waveform and model, with
+    /// `amplitude` at `frequency` or the amplitude of peak acceleration `gamma` (which needs
+    /// gravity); static without either.
     pub fn drive(&self, gravity: Option<f64>) -> Drive {
         let f = self.frequency.unwrap_or(0.0);
-        match (self.amplitude, self.gamma, gravity) {
+        let drive = match (self.amplitude, self.gamma, gravity) {
             (Some(a), _, _) => Drive::new(a, f),
             (None, Some(gamma), Some(g)) if self.frequency.is_some() => {
                 Drive::of_gamma(gamma, f, g)
             }
             _ => Drive::new(0.0, f),
-        }
+        };
+        drive.shaped(self.waveform, self.model)
     }
 }
 

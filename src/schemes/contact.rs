@@ -201,7 +201,7 @@ impl<F: Flight> Contact<F> {
             })?,
         };
         if matches!(
-            scene.floor.as_ref().map(|f| f.model),
+            scene.floor.as_ref().map(|f| f.drive().model),
             Some(FloorModel::FixedPosition)
         ) {
             return Err(Error::input(

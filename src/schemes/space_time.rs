@@ -514,7 +514,11 @@ impl<F: Flight> SpaceTime<F> {
             .reduce(|| 0.0f64, f64::max)
             .sqrt();
         let v = v_disks
-            .max(self.floor.as_ref().map_or(0.0, |f| f.max_speed()))
+            .max(
+                self.floor
+                    .as_ref()
+                    .map_or(0.0, |f| f.drive().peak_velocity()),
+            )
             .max((self.flight.g() * a_min).sqrt());
         if v > 0.0 {
             self.sync_distance / v

@@ -57,7 +57,10 @@ pub fn default_dt(scene: &Scene, disks: &Disks) -> Option<f64> {
         .map(|m| (m.vx * m.vx + m.vy * m.vy).sqrt())
         .fold(0.0f64, f64::max);
     let v_fall = (scene.gravity.unwrap_or(0.0) * a_min).sqrt();
-    let v_floor = scene.floor.as_ref().map_or(0.0, |f| f.max_speed());
+    let v_floor = scene
+        .floor
+        .as_ref()
+        .map_or(0.0, |f| f.drive().peak_velocity());
     let v = v_disks.max(v_fall).max(v_floor);
     (v > 0.0).then(|| 0.1 * a_min / v)
 }
@@ -274,7 +277,7 @@ impl<F: Flight> TimeStep<F> {
     /// The floor's height (as the floor model places it) and velocity at `now`.
     fn floor_at(&self, now: f64) -> Option<(f64, f64)> {
         self.floor.as_ref().map(|f| {
-            let h = match f.model {
+            let h = match f.drive().model {
                 FloorModel::Exact => f.height(now),
                 FloorModel::FixedPosition => 0.0,
             };

@@ -8,9 +8,9 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::TAU;
 use vibrobed::neighbours::grid::{WINDOW_CELLS_FLOOR, WINDOW_CELLS_PER_DISK};
 use vibrobed::neighbours::{CellMap, DenseCells, GridGeometry, Mask, NeighbourLists, SparseCells};
+use vibrobed::physics::drive::Drive;
 use vibrobed::physics::floor::{Floor, FloorEvent};
 use vibrobed::run::{run, RunOptions};
-use vibrobed::scenario::{FloorModel, Waveform};
 
 fn single_disk(y0: f64, vx: f64, vy: f64, floor: &str) -> String {
     format!(
@@ -69,7 +69,7 @@ fn elastic_bounces_on_a_static_floor_return_to_the_same_height() {
 /// change, then bisect.
 fn reference_impact(fl: &Floor, y: f64, vy: f64, a: f64, g: f64, horizon: f64) -> Option<f64> {
     let f = |t: f64| y + vy * t - 0.5 * g * t * t - a - fl.height(t);
-    let step = (TAU / fl.omega).min(1.0) * 2e-4;
+    let step = (TAU / fl.drive().omega).min(1.0) * 2e-4;
     let n = (horizon / step).ceil() as usize;
     if f(0.0) <= 0.0 {
         return Some(0.0);
@@ -103,14 +103,7 @@ fn sine_floor_impacts_agree_with_an_independent_root_search() {
         let amp = 10f64.powf(rng.random_range(-3.0..0.0));
         let freq = 10f64.powf(rng.random_range(-1.0..1.0));
         let phase = rng.random_range(0.0..TAU);
-        let fl = Floor::new(
-            0.9,
-            amp,
-            TAU * freq,
-            phase,
-            Waveform::Sine,
-            FloorModel::Exact,
-        );
+        let fl = Floor::new(0.9, Drive::new(amp, freq), phase);
         let a = 0.5;
         let h0 = fl.height(0.0);
         let hd0 = fl.velocity(0.0);

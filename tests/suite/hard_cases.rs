@@ -721,7 +721,7 @@ fn a_bed_at_rest_rides_a_slow_floor() {
     let n = s.particles.count.unwrap();
     let mut sim = common::ballistic(&json_of(&s));
     let fl = sim.floor().unwrap().clone();
-    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let (w, phi0) = (fl.drive().omega, s.floor.as_ref().unwrap().phase);
     let half = 0.5 * s.run.duration;
     sim.advance_to(half).unwrap();
     assert_eq!(sim.riders(), n, "not every disk rests at t = {half}");
@@ -736,7 +736,7 @@ fn a_bed_at_rest_rides_a_slow_floor() {
         );
         let snap = sim.snapshot(t);
         let h = snap.floor_height.unwrap();
-        let hd = fl.amplitude * w * (phi0 + w * t).cos();
+        let hd = fl.drive().amplitude * w * (phi0 + w * t).cos();
         for i in 0..n {
             assert!(
                 ((snap.y[i] - h) - (start.y[i] - h0)).abs() < 1e-9,
@@ -974,7 +974,7 @@ fn stack_rides_a_slow_floor() {
     let s = load("stack_gamma_0.5.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
     let fl = sim.floor().unwrap().clone();
-    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let (w, phi0) = (fl.drive().omega, s.floor.as_ref().unwrap().phase);
     sim.advance_to(25.0).unwrap();
     assert_eq!((sim.riders(), sim.stacked()), (5, 4));
     let before = sim.counts().popped();
@@ -983,7 +983,10 @@ fn stack_rides_a_slow_floor() {
         sim.advance_to(t).unwrap();
         let snap = sim.snapshot(t);
         let th = phi0 + w * t;
-        let (h, hd) = (fl.amplitude * th.sin(), fl.amplitude * w * th.cos());
+        let (h, hd) = (
+            fl.drive().amplitude * th.sin(),
+            fl.drive().amplitude * w * th.cos(),
+        );
         let mut order: Vec<usize> = (0..5).collect();
         order.sort_by(|&a, &b| snap.y[a].total_cmp(&snap.y[b]));
         for (k, &i) in order.iter().enumerate() {
@@ -1009,8 +1012,8 @@ fn stack_leaves_a_fast_floor_together() {
     let s = load("stack_gamma_1.2.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
     let fl = sim.floor().unwrap().clone();
-    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
-    let gamma = fl.amplitude * w * w;
+    let (w, phi0) = (fl.drive().omega, s.floor.as_ref().unwrap().phase);
+    let gamma = fl.drive().amplitude * w * w;
     let mut whole_stack_left = 0;
     for k in 0..20 {
         let t_off = ((1.0 / gamma).asin() - phi0 + std::f64::consts::TAU * k as f64) / w;
@@ -1038,7 +1041,7 @@ fn stack_leaves_a_fast_floor_together() {
             "{:?}",
             snap.vy
         );
-        assert!((vy0 - fl.amplitude * w * (w * t_off + phi0).cos()).abs() < 1e-5);
+        assert!((vy0 - fl.drive().amplitude * w * (w * t_off + phi0).cos()).abs() < 1e-5);
         whole_stack_left += 1;
     }
     assert!(
@@ -1081,7 +1084,7 @@ fn ball_on_a_slow_floor_ends_up_riding_it() {
     let s = load("ball_gamma_0.5.json", &[]);
     let mut sim = common::ballistic(&json_of(&s));
     let fl = sim.floor().unwrap().clone();
-    let (w, phi0) = (fl.omega, s.floor.as_ref().unwrap().phase);
+    let (w, phi0) = (fl.drive().omega, s.floor.as_ref().unwrap().phase);
     let mut t = 0.0;
     let mut resting_since = None;
     while t < s.run.duration {
@@ -1089,7 +1092,10 @@ fn ball_on_a_slow_floor_ends_up_riding_it() {
         sim.advance_to(t).unwrap();
         let snap = sim.snapshot(t);
         let th = phi0 + w * t;
-        let (h, hd) = (fl.amplitude * th.sin(), fl.amplitude * w * th.cos());
+        let (h, hd) = (
+            fl.drive().amplitude * th.sin(),
+            fl.drive().amplitude * w * th.cos(),
+        );
         let gap = snap.y[0] - 0.5 - h;
         if sim.riders() == 1 {
             resting_since.get_or_insert(t);
@@ -1220,8 +1226,8 @@ fn floor_phase_is_exact_after_ten_million_periods() {
     sim.advance_to(end).unwrap();
     let snap = sim.snapshot(end);
     let fl = sim.floor().unwrap();
-    let th = exact_phase(s.floor.as_ref().unwrap().phase, fl.omega, end);
-    let (amp, w) = (fl.amplitude, fl.omega);
+    let th = exact_phase(s.floor.as_ref().unwrap().phase, fl.drive().omega, end);
+    let (amp, w) = (fl.drive().amplitude, fl.drive().omega);
     let (h, hd) = (amp * th.sin(), amp * w * th.cos());
     let (dy, dv) = (snap.y[0] - 0.5 - h, snap.vy[0] - hd);
     eprintln!(

@@ -16,6 +16,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 use std::f64::consts::{PI, TAU};
+use vibrobed::physics::drive::Drive;
 use vibrobed::physics::floor::{Floor, FloorEvent};
 use vibrobed::physics::pair::{
     collide, collide_rebounding, contact_time, contact_time_within, paths_meet_within,
@@ -437,7 +438,7 @@ struct FloorCase {
 impl FloorCase {
     /// The floor height the impact search sees.
     fn h(&self, t: f64) -> f64 {
-        if self.floor.model == FloorModel::FixedPosition {
+        if self.floor.drive().model == FloorModel::FixedPosition {
             0.0
         } else {
             self.floor.height(t)
@@ -448,7 +449,7 @@ impl FloorCase {
     }
     /// Round-off of `f` at time `t` (the engine's contact tolerance included).
     fn noise(&self, t: f64) -> f64 {
-        let amp = self.floor.amplitude;
+        let amp = self.floor.drive().amplitude;
         let y = self.y.abs() + self.vy.abs() * t + 0.5 * self.g * t * t;
         16.0 * EPS * (y + self.a + amp) + 4e-13 * (self.a + amp + y)
     }
@@ -463,9 +464,9 @@ fn grid_step(c: &FloorCase) -> f64 {
     let period = if c.floor.is_static() {
         1.0
     } else {
-        TAU / c.floor.omega
+        TAU / c.floor.drive().omega
     };
-    let fall = (2.0 * (c.a + c.floor.amplitude).max(1e-300) / c.g).sqrt();
+    let fall = (2.0 * (c.a + c.floor.drive().amplitude).max(1e-300) / c.g).sqrt();
     period.min(fall).min(c.limit) * 2e-4
 }
 
@@ -568,7 +569,7 @@ fn check_floor(c: &FloorCase) -> Result<(), TestCaseError> {
             // by the conditioning of the root.
             let noise = c.noise(tr);
             let slope = ((c.vy - c.g * tr)
-                - if c.floor.model == FloorModel::Exact {
+                - if c.floor.drive().model == FloorModel::Exact {
                     c.floor.velocity(tr)
                 } else {
                     0.0
@@ -611,21 +612,19 @@ fn make_floor(la: f64, lf: f64, phase: f64, w: Waveform, fixed: bool, len: f64) 
     } else {
         FloorModel::Exact
     };
-    Floor::new(
-        0.9,
-        10f64.powf(la) * len,
-        TAU * 10f64.powf(lf),
-        phase,
-        w,
-        model,
-    )
+    let drive = Drive::new(10f64.powf(la) * len, 10f64.powf(lf)).shaped(w, model);
+    Floor::new(0.9, drive, phase)
 }
 
 /// Horizon: fall into the floor's reach plus two periods.
 fn horizon(fl: &Floor, y: f64, vy: f64, a: f64, g: f64) -> f64 {
     let rise = vy.max(0.0) / g;
-    let drop = (2.0 * (y - a + fl.amplitude).max(0.0) / g).sqrt();
-    let period = if fl.is_static() { 1.0 } else { TAU / fl.omega };
+    let drop = (2.0 * (y - a + fl.drive().amplitude).max(0.0) / g).sqrt();
+    let period = if fl.is_static() {
+        1.0
+    } else {
+        TAU / fl.drive().omega
+    };
     2.0 * rise + drop + 2.0 * period + 0.1
 }
 
@@ -650,7 +649,7 @@ macro_rules! floor_properties {
                 ) {
                     let fl = make_floor(la, lf, phase, $waveform, fixed, len);
                     let (a, g) = (0.5 * len, len);
-                    let y = fl.amplitude + a + dy * len;
+                    let y = fl.drive().amplitude + a + dy * len;
                     let vy = vy * len;
                     let limit = horizon(&fl, y, vy, a, g);
                     check_floor(&FloorCase { floor: fl, y, vy, a, g, limit })?;
@@ -667,7 +666,7 @@ macro_rules! floor_properties {
                 ) {
                     let fl = make_floor(la, lf, phase, $waveform, fixed, len);
                     let (a, g) = (0.5 * len, len);
-                    let amp = fl.amplitude;
+                    let amp = fl.drive().amplitude;
                     let top = if fixed { 0.0 } else { amp };
                     let h0 = if fixed { 0.0 } else { fl.height(0.0) };
                     let vy = frac * (2.0 * g * (top - h0).max(0.0)).sqrt();
@@ -689,8 +688,8 @@ macro_rules! floor_properties {
                     let fl = make_floor(la, lf, phase, $waveform, false, len);
                     let (a, g) = (0.5 * len, len);
                     let (h0, hd0) = (fl.height(0.0), fl.velocity(0.0));
-                    let y = h0 + a + 10f64.powi(-k) * (a + fl.amplitude);
-                    let vy = hd0 + if faster { 1.0 } else { -1.0 } * 10f64.powi(-m) * (len + fl.max_speed());
+                    let y = h0 + a + 10f64.powi(-k) * (a + fl.drive().amplitude);
+                    let vy = hd0 + if faster { 1.0 } else { -1.0 } * 10f64.powi(-m) * (len + fl.drive().peak_velocity());
                     let limit = horizon(&fl, y, vy, a, g);
                     check_floor(&FloorCase { floor: fl, y, vy, a, g, limit })?;
                 }
@@ -706,7 +705,7 @@ macro_rules! floor_properties {
                     let fl = make_floor(la, lf, phase, $waveform, false, len);
                     let (a, g) = (0.5 * len, len);
                     let (h0, hd0) = (fl.height(0.0), fl.velocity(0.0));
-                    let y = h0 + a - 10f64.powi(-k) * (a + fl.amplitude);
+                    let y = h0 + a - 10f64.powi(-k) * (a + fl.drive().amplitude);
                     let vy = hd0 - v * len;
                     let c = FloorCase { floor: fl, y, vy, a, g, limit: 1.0 };
                     let (engine, _) = engine_impact(&c, 0).map_err(TestCaseError::fail)?;
@@ -729,14 +728,13 @@ floor_properties!(triangle_floor, Waveform::Triangle,);
 /// the falling slope and its impact is missed.
 #[test]
 fn triangle_floor_missed_impact() {
-    let floor = Floor::new(
-        0.9,
-        1.0,
-        38.25252007637385,
-        2.2252243689644033,
-        Waveform::Triangle,
-        FloorModel::Exact,
-    );
+    let drive = Drive {
+        waveform: Waveform::Triangle,
+        model: FloorModel::Exact,
+        amplitude: 1.0,
+        omega: 38.25252007637385,
+    };
+    let floor = Floor::new(0.9, drive, 2.2252243689644033);
     let c = FloorCase {
         floor,
         y: 2.979360992180905,
@@ -770,7 +768,7 @@ fn takeoff_with_round_off_separation() {
         let g = 1.0;
         let amp = gamma * g / (w * w);
         let th = (1.0f64 / gamma).asin();
-        let fl = Floor::new(0.5, amp, w, th, Waveform::Sine, FloorModel::Exact);
+        let fl = Floor::new(0.5, Drive::new(amp, f), th);
         let a = 0.5;
         let c = FloorCase {
             y: fl.height(0.0) + a,
@@ -791,7 +789,7 @@ fn takeoff_with_round_off_separation() {
 #[test]
 fn static_floor_and_sawtooth_closed_forms() {
     // Static: from y − a = 5 at rest under g = 2: t = √5.
-    let fl = Floor::new(1.0, 0.0, 0.0, 0.0, Waveform::Sine, FloorModel::Exact);
+    let fl = Floor::new(1.0, Drive::new(0.0, 0.0), 0.0);
     let c = FloorCase {
         floor: fl,
         y: 5.5,
@@ -804,15 +802,9 @@ fn static_floor_and_sawtooth_closed_forms() {
     assert!((t.unwrap() - 5f64.sqrt()).abs() < 4.0 * EPS * 5f64.sqrt());
     // Sawtooth at its drop (phase 2π⁻ → 0): h jumps from A to −A; a disk resting at the top
     // falls 2A after the drop.
-    let (amp, omega) = (0.1, TAU);
-    let fl = Floor::new(
-        1.0,
-        amp,
-        omega,
-        TAU - 1e-9,
-        Waveform::Sawtooth,
-        FloorModel::Exact,
-    );
+    let (amp, frequency) = (0.1, 1.0);
+    let drive = Drive::new(amp, frequency).shaped(Waveform::Sawtooth, FloorModel::Exact);
+    let fl = Floor::new(1.0, drive, TAU - 1e-9);
     let c = FloorCase {
         y: amp + 0.5 + 1e-12,
         vy: fl.velocity(0.0),
@@ -868,11 +860,11 @@ impl RiderCase {
     fn noise(&self, t: f64) -> f64 {
         let ddx = self.dx.abs()
             + self.dvx.abs() * t
-            + self.kappa.abs() * (self.g * t * t + 2.0 * self.floor.amplitude);
+            + self.kappa.abs() * (self.g * t * t + 2.0 * self.floor.drive().amplitude);
         let ddy = self.fy.abs()
             + self.fvy.abs() * t
             + 0.5 * self.g * t * t
-            + self.floor.amplitude
+            + self.floor.drive().amplitude
             + self.ar;
         32.0 * EPS * (ddx * ddx + ddy * ddy + self.s * self.s) + 4e-13 * self.s * self.s
     }
@@ -918,7 +910,7 @@ impl RiderCase {
         ))
     }
     fn reference(&self) -> (Option<f64>, f64) {
-        let period = TAU / self.floor.omega;
+        let period = TAU / self.floor.drive().omega;
         let step = period.min(1.0).min(self.limit) * 1e-4;
         if self.f(0.0) <= 0.0 {
             return (Some(0.0), self.f(0.0));
@@ -981,8 +973,10 @@ fn check_rider(c: &RiderCase) -> Result<(), TestCaseError> {
             // Accuracy: the time F needs to change by its noise near the root.
             let h = 1e-7 * (1.0 + tr);
             let slope = ((c.f(tr + h) - c.f(tr - h).max(-1e300)) / (2.0 * h)).abs();
-            let vx = c.dvx.abs() + c.kappa.abs() * (c.g * tr + 2.0 * c.floor.max_speed());
-            let k = 2.0 * (vx * vx + (c.fvy.abs() + c.g * tr + c.floor.max_speed()).powi(2))
+            let vx =
+                c.dvx.abs() + c.kappa.abs() * (c.g * tr + 2.0 * c.floor.drive().peak_velocity());
+            let k = 2.0
+                * (vx * vx + (c.fvy.abs() + c.g * tr + c.floor.drive().peak_velocity()).powi(2))
                 + 2.0 * c.s * (c.g + c.floor.max_acceleration());
             let noise = c.noise(tr);
             let dt = 2.0 * noise / slope.max(f64::MIN_POSITIVE)
@@ -1059,7 +1053,7 @@ proptest! {
 /// contact again at the same time, forever (scenarios/hard/bug_stack_on_rider.json).
 #[test]
 fn flyer_resting_on_a_rider_makes_progress() {
-    let floor = Floor::new(0.5, 0.0, 0.0, 0.0, Waveform::Sine, FloorModel::Exact);
+    let floor = Floor::new(0.5, Drive::new(0.0, 0.0), 0.0);
     let r = rider_contact(
         0.0,
         0.0,

@@ -59,7 +59,11 @@ impl<F: Flight> Simulation<F> {
         self.map
             .cells
             .rebuild(geometry, &self.map.mask, n, cell, &mut self.map.lists, near)?;
-        let lift = self.bounds.floor.as_ref().map_or(0.0, |f| f.max_speed());
+        let lift = self
+            .bounds
+            .floor
+            .as_ref()
+            .map_or(0.0, |f| f.drive().peak_velocity());
         let speed = |i: usize| {
             if self.is_riding(i) {
                 self.riding_speed_bound(i, self.disks.motion[i].vx) + lift

@@ -162,7 +162,7 @@ impl<F: Flight> Simulation<F> {
         match (self.bounds.top, self.bounds.floor.as_ref()) {
             (Top::Lid { height, .. }, Some(floor)) => {
                 let (_, y, _, _) = self.state_at(k, self.now);
-                y + self.disks.radius[k] + 2.0 * floor.amplitude >= height
+                y + self.disks.radius[k] + 2.0 * floor.drive().amplitude >= height
             }
             _ => false,
         }
@@ -190,9 +190,11 @@ impl<F: Flight> Simulation<F> {
         self.take_velocity(k, (vx, hd));
         self.tally.counts.rest += 1;
         let floor = self.bounds.floor.as_ref().expect("riders need a floor");
-        self.map
-            .dutc
-            .ride(self.now, vx.abs() + floor.max_speed(), self.flight.g());
+        self.map.dutc.ride(
+            self.now,
+            vx.abs() + floor.drive().peak_velocity(),
+            self.flight.g(),
+        );
         self.moved(k);
         true
     }

@@ -154,7 +154,7 @@ fn floor_models(scene: &Scene) -> Vec<Variant> {
     ];
     models
         .into_iter()
-        .filter(|&(w, m, _)| (w, m) != (floor.waveform, floor.model))
+        .filter(|&(w, m, _)| (w, m) != (floor.drive().waveform, floor.drive().model))
         .map(|(w, m, name)| {
             let w_name = match w {
                 Waveform::Sine => "sine",
