@@ -220,7 +220,7 @@ fn bed_state(
 pub(super) fn closed_elastic(s: &Scenario, scene: &Scene) -> bool {
     scene.gravity.is_none()
         && s.domain.y_boundary != YBoundary::Open
-        && scene.restitution.e == 1.0
+        && !scene.restitution.inelastic()
         && s.domain.wall_restitution == 1.0
         && scene
             .floor

@@ -199,7 +199,7 @@ impl<F: Flight> Simulation<F> {
     /// cure, on a floor that never pulls away from a bed at rest: the jammed cluster they
     /// belong to may hold as a whole.
     fn settle_if_jammed(&mut self, i: usize, j: usize) {
-        if self.restitution.law.e < 1.0
+        if self.restitution.law.inelastic()
             && self.rest.resting_contacts
             && self
                 .bounds

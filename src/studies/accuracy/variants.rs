@@ -59,7 +59,7 @@ pub(super) fn all(b: &Basis) -> Vec<Variant> {
     variants.extend(time_step_sweep(b));
     variants.extend(space_time_sweep(b));
     variants.extend(floor_models(b.scene));
-    if b.reference.collisions.restitution < 1.0 {
+    if b.scene.restitution.inelastic() {
         variants.extend(collapse_cures(b));
     }
     if b.scene.floor.is_some() && b.reference.collisions.resting_contacts {
