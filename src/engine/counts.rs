@@ -133,6 +133,22 @@ impl EnergyFlow {
         self.injected += 0.5 * mass * (after * after - before * before);
         self.floor_impulse += mass * (after - before);
     }
+
+    /// The floor carries a disk of mass `mass` at rest on it, under gravity `g`, from height,
+    /// vertical velocity and time `(y0, vy0, t0)` to `(y1, vy1, t1)`: the work it does (the
+    /// disk's gain of potential and kinetic energy) and the momentum it gives (the weight it
+    /// holds meanwhile and the change of the disk's momentum).
+    #[inline]
+    pub fn floor_carry(
+        &mut self,
+        mass: f64,
+        g: f64,
+        (y0, vy0, t0): (f64, f64, f64),
+        (y1, vy1, t1): (f64, f64, f64),
+    ) {
+        self.injected += mass * (g * (y1 - y0) + 0.5 * (vy1 * vy1 - vy0 * vy0));
+        self.floor_impulse += mass * (g * (t1 - t0) + (vy1 - vy0));
+    }
 }
 
 #[cfg(test)]

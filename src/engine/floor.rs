@@ -209,9 +209,9 @@ impl<F: Flight> Simulation<F> {
             } else {
                 a
             };
-            self.tally.flow.injected +=
-                mass * (g * (h + above - m.y) + 0.5 * (hd_ride * hd_ride - m.vy * m.vy));
-            self.tally.flow.floor_impulse += mass * (hd_ride - m.vy);
+            // Seated on the floor at once: no time passes.
+            let seat = (h + above, hd_ride, now);
+            self.tally.flow.floor_carry(mass, g, (m.y, m.vy, now), seat);
             m.y = h + above;
             m.vy = hd_ride;
             let t = self.time();

@@ -112,8 +112,9 @@ impl<F: Flight> Simulation<F> {
         }
         let m = &mut self.disks.motion[i];
         if self.rest.riders.is_riding(i) {
-            self.tally.flow.injected += mass * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
-            self.tally.flow.floor_impulse += mass * (g * (t - m.t) + (vy - m.vy));
+            self.tally
+                .flow
+                .floor_carry(mass, g, (m.y, m.vy, m.t), (y, vy, t));
         }
         *m = crate::physics::disks::Motion { x, y, vx, vy, t };
     }

@@ -254,8 +254,7 @@ impl<F: Flight> Simulation<F> {
         for i in self.rest.riders.iter() {
             let (_, y, _, vy) = self.state_at(i, local);
             let m = &self.disks.motion[i];
-            flow.injected += self.disks.mass[i] * (g * (y - m.y) + 0.5 * (vy * vy - m.vy * m.vy));
-            flow.floor_impulse += self.disks.mass[i] * (g * (local - m.t) + (vy - m.vy));
+            flow.floor_carry(self.disks.mass[i], g, (m.y, m.vy, m.t), (y, vy, local));
             if self.rest.riders.slide(i).is_some() {
                 flow.dissipated += self.slide_loss(i, local);
             }
