@@ -13,22 +13,28 @@ makes them and compares:
 - the packing-fraction sentence (summary page, Getting started): a pile at rest
   (`scenarios/hard/pile_equal_periodic_tc.json`) in bins half a diameter high reads above the
   densest packing of the plane (0.907) and never above 1; its largest value is quoted;
-- the summary page: the floor's pressure over the weight of the shipped scenes' full runs (all
-  but `deep_bed.json`, 100 s), the velocity distributions' kurtosis, and the shipped bed's
+- the summary page: the floor's pressure over the weight of the shipped scenes' full runs, the
+  velocity distributions' kurtosis, and the shipped bed's
   motion against the floor's phase (lockings, undulation, the gap's widest, the pressure's peak);
 - the stability page's table of hard cases, remade from itself: each row's files run as shipped,
   their events per unit time and times to rest;
 - the sweeps page's worked example: `scenarios/sweeps/temperature_vs_drive.json` on two workers,
   its points table, fits (plain, over the dense part, the centre of mass's rise above a fitted
-  offset) and local slopes, and its CPU time (checked to a factor of 2: a machine
-  differs from another; everything else is deterministic and must match to the digits quoted).
+  offset) and local slopes, its figure (`figures/sweep-temperature.svg`, byte for byte), and its
+  CPU time (checked to a factor of 2: a machine differs from another; everything else is
+  deterministic and must match to the digits quoted; its wall time and the machine that took it
+  are written, not checked);
+- the summary page's bed states of the shipped scenes (the shortened runs of
+  `tests/suite/bed_state.rs`: each state with the indicators that decided it) and the pressure
+  of `deep_bed.json` (as shipped: about two minutes of CPU, on the second core beside the parts
+  before the sweep).
 
     python3 docs/book/numbers.py [--bin PATH]          # check (exit 1 naming each difference)
     python3 docs/book/numbers.py [--bin PATH] --write  # rewrite the numbers in the pages
 
 `--bin` defaults to `vibrobed` on PATH. A change that moves a run (the engine, a scenario)
 moves the book's numbers: run with --write, and read the prose around them again. `.ci/run`
-runs the check (about 40 s of the machine's two cores).
+runs the check (about 160 s of CPU, 2 to 3 minutes on the machine's two cores).
 """
 
 from __future__ import annotations
@@ -52,6 +58,9 @@ BOOK = ROOT / "docs" / "book" / "src"
 MARK = re.compile(r"<!-- n:([a-z0-9-]+) -->(.*?)<!-- /n -->", re.S)
 # The pages that give the shipped bed's quick try.
 QUICK_PAGES = ["getting-started.md", "sweeps.md", "outputs/python.md"]
+# A part's result keyed `figure:PATH` is a figure the binary draws, compared with the book's
+# `docs/book/src/PATH` byte for byte.
+FIGURE = "figure:"
 # Timing regions: compared to a factor, not to the digit; None: written, not compared (the wall
 # time of two workers on a machine shared with other work).
 TIMING = {"tvd-cpu": 2.0, "tvd-wall": None, "tvd-machine": None}
@@ -355,6 +364,7 @@ def sweep(binary: str, tmp: Path) -> dict[str, str]:
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     run(binary, "sweep", "collect", str(out), "--x", "drive.peak_velocity", "--y",
         "temperature.mean", "--y", "com_height", "--fit", "power", "--log")
+    figure = (out / "plot.svg").read_text()
     with open(out / "points.csv") as f:
         points = list(csv.DictReader(f))
     rows = ["| A | Γ | Aω | T | T_x | T_y | centre of mass | pair collisions per run |",
@@ -397,6 +407,7 @@ def sweep(binary: str, tmp: Path) -> dict[str, str]:
         "tvd-cpu": f"{cpu:.0f} s",
         "tvd-wall": f"{wall:.0f} s",
         "tvd-machine": machine(),
+        f"{FIGURE}figures/sweep-temperature.svg": figure,
     }
 
 
@@ -443,6 +454,12 @@ def main() -> int:
                 deep.process.kill()
                 deep.process.wait()
     wrong, used = [], set()
+    for key in [k for k in made if k.startswith(FIGURE)]:
+        figure, fresh = BOOK / key.removeprefix(FIGURE), made.pop(key)
+        if not figure.exists() or figure.read_text() != fresh:
+            wrong.append(f"{figure.relative_to(ROOT)}: not the figure today's build draws")
+            if args.write:
+                figure.write_text(fresh)
     for page in sorted(BOOK.rglob("*.md")):
         text = page.read_text()
 
