@@ -462,6 +462,13 @@ def main() -> int:
                 figure.write_text(fresh)
     for page in sorted(BOOK.rglob("*.md")):
         text = page.read_text()
+        # A line that opens with a marker is an HTML block in Markdown: the rest of it would
+        # not render (code spans, links); only a marker alone on its line (around a block) may.
+        for k, line in enumerate(text.splitlines(), 1):
+            if line.startswith(("<!-- n:", "<!-- /n")) and not re.fullmatch(
+                    r"<!-- (n:[a-z0-9-]+|/n) -->", line):
+                wrong.append(f"{page.relative_to(ROOT)}:{k}: a number opens the line (Markdown "
+                             "then reads the line as HTML): move it into the line")
 
         def replace(m: re.Match) -> str:
             name, quoted = m.group(1), m.group(2)
