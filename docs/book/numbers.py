@@ -482,7 +482,10 @@ def main() -> int:
                 same = factor is None or 1 / factor <= seconds(fresh) / max(
                     seconds(quoted), 1e-9) <= factor
             else:
-                same = quoted.strip() == fresh.strip()
+                # A quotation may be wrapped over lines like the prose around it.
+                same = quoted.split() == fresh.split()
+                if same:
+                    return m.group(0)
             if not same:
                 wrong.append(f"{page.relative_to(ROOT)}: {name}: the page says\n{quoted.strip()}\n"
                              f"today's build gives\n{fresh}")
