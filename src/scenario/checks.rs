@@ -140,6 +140,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_engine(s)?;
     validate_lengths(s)?;
     crate::scenario::speeds::validate_speeds(s)?;
+    crate::scenario::work::validate_work(s)?;
     Ok(())
 }
 
@@ -757,7 +758,7 @@ fn validate_output_visits(s: &Scenario) -> Result<()> {
 }
 
 /// The most disks the scene may hold: its initial disks and every disk an inlet may bring.
-fn most_disks(s: &Scenario) -> f64 {
+pub(crate) fn most_disks(s: &Scenario) -> f64 {
     let d = s.run.duration;
     s.disk_count() as f64
         + s.inlets

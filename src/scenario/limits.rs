@@ -1,7 +1,7 @@
 //! The limits a scene may ask for: magnitudes double precision computes with, and how much of
-//! anything (disks, bins, frames, travel) a run can be given, and the two checks of a number
-//! against them that the scene's checks and the intervals beside it share. The checks and the
-//! speeds' checks read them alike.
+//! anything (disks, bins, frames, travel, work) a run can be given, and the two checks of a
+//! number against them that the scene's checks and the intervals beside it share. The checks,
+//! the speeds' checks and the work's check read them alike.
 
 use crate::error::{Error, Result};
 
@@ -47,6 +47,14 @@ pub const MAX_CHECKPOINTS: f64 = 1e5;
 /// radii: about as many events as it would have (10¹² events are days of computing), and a
 /// speed at which the clock still advances by what double precision resolves.
 pub const MAX_TRAVEL: f64 = 1e12;
+/// Most disk crossings a run may be asked for without a budget of its own (every disk the
+/// scene may hold crossing its smallest radius at the scene's speed, over the run: see
+/// [`crate::scenario::work`]): 2 to 15 events each in the shipped beds, at a few million events
+/// a second on a Zen 4 core, weeks of computing at the bound.
+pub const MAX_WORK: f64 = 1e12;
+/// Largest `run.max_events` that lets a run ask for more than [`MAX_WORK`]: some ten years of
+/// a core at a few million events a second, of the order of the longest wall-clock limit.
+pub const MAX_EVENT_BUDGET: f64 = 1e15;
 /// Smallest inertia factor `q` of rough disks: spins and their energies stay finite.
 pub const MIN_INERTIA_FACTOR: f64 = 1e-6;
 /// Deepest a scenario field is nested (`inlets.0.radius.species.0.mass` is six deep).

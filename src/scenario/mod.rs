@@ -11,6 +11,7 @@ pub mod limits;
 pub mod overrides;
 pub mod phase_stops;
 pub mod speeds;
+pub mod work;
 
 use crate::error::{excerpt, Error, Result};
 use crate::physics::drive::Drive;

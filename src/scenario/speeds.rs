@@ -14,6 +14,36 @@ const MAX_SPEED: f64 = 1e100;
 /// Checks every speed the scene gives its disks, naming the field that sets it.
 pub fn validate_speeds(s: &Scenario) -> Result<()> {
     let bound = Travel::of(s);
+    given_speeds(s)
+        .iter()
+        .try_for_each(|g| bound.check(&g.field, g.what, g.speed))
+}
+
+/// The scene's own speed: the fastest it gives a disk ([`given_speeds`]), and at least
+/// √(g a_min), the speed of a disk that fell its smallest radius (0 when nothing moves: no
+/// speed, no gravity, no moving floor). The time-step scheme's default step is a tenth of the
+/// time a disk takes to cross its smallest radius at this speed.
+pub fn natural_speed(s: &Scenario) -> f64 {
+    let fall = (s.gravity.unwrap_or(0.0) * s.all_radius_range().0).sqrt();
+    given_speeds(s).iter().map(|g| g.speed).fold(fall, f64::max)
+}
+
+/// A speed the scene gives its disks: the field that sets it, what it is, and its value.
+struct Given {
+    field: String,
+    what: &'static str,
+    speed: f64,
+}
+
+/// Every speed the scene starts or brings disks with, and the floor's peak speed, in the
+/// file's order (so the first that breaks a bound is always the same one).
+fn given_speeds(s: &Scenario) -> Vec<Given> {
+    let given = |field: &str, what, speed| Given {
+        field: field.to_string(),
+        what,
+        speed,
+    };
+    let mut out = Vec::new();
     if let Placement::Explicit(e) = &s.particles.placement {
         let fastest = e
             .velocities
@@ -22,31 +52,35 @@ pub fn validate_speeds(s: &Scenario) -> Result<()> {
             .map(|[vx, vy]| vx.hypot(*vy))
             .map(|v| if v.is_nan() { f64::INFINITY } else { v })
             .fold(0.0, f64::max);
-        bound.check("particles.placement.velocities", "a velocity", fastest)?;
+        out.push(given(
+            "particles.placement.velocities",
+            "a velocity",
+            fastest,
+        ));
     }
     let lightest = lightest(s);
     let p = &s.particles;
-    bound.check(
+    out.push(given(
         "particles.temperature",
         "a thermal speed √(T/m)",
         (p.temperature / lightest).sqrt(),
-    )?;
+    ));
     if let Some(t) = p.rotational_temperature {
         let q = p.inertia_factor.unwrap_or(0.5);
-        bound.check(
+        out.push(given(
             "particles.rotational_temperature",
             "a rim speed √(T_rot/(q m))",
             (t / (q * lightest)).sqrt(),
-        )?;
+        ));
     }
     for (k, inlet) in s.inlets.iter().enumerate() {
-        bound.check(&format!("inlets.{k}.speed"), "a speed", inlet.speed)?;
+        out.push(given(&format!("inlets.{k}.speed"), "a speed", inlet.speed));
         let thermal = (inlet.temperature / lightest_entering(s, inlet)).sqrt();
-        bound.check(
+        out.push(given(
             &format!("inlets.{k}.temperature"),
             "a thermal speed √(T/m)",
             thermal,
-        )?;
+        ));
     }
     if let Some(f) = s.floor.as_ref().and_then(|f| f.frequency) {
         let peak = s.floor_amplitude() * 2.0 * std::f64::consts::PI * f;
@@ -54,9 +88,9 @@ pub fn validate_speeds(s: &Scenario) -> Result<()> {
             Some(_) => "floor.gamma",
             None => "floor.frequency",
         };
-        bound.check(field, "a floor peak speed Aω", peak)?;
+        out.push(given(field, "a floor peak speed Aω", peak));
     }
-    Ok(())
+    out
 }
 
 /// The farthest a disk may travel over the run, and the run it is measured on.

@@ -1641,3 +1641,91 @@ fn a_sweep_interrupted_while_its_first_run_builds_exits_130_keeping_its_inputs()
     assert!(!vibrobed::studies::sweep::local::is_done(&out, 0));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// --- The work a run is asked for. ---
+
+/// The gas of 2500 disks of radius 1/2 at T = 1 (mass 1: speed 1, a crossing every 1/2): its
+/// work bound is 10¹² crossings at a duration of 10¹² / (2500 × 2) = 2·10⁸, worked out here
+/// by hand, not by the code under test.
+const GAS_LONGEST: f64 = 2e8;
+
+/// The gas run for `duration`, its samples left to follow the frames, with `more` sets.
+fn gas_for(duration: f64, more: &[&str]) -> vibrobed::error::Result<Scenario> {
+    let text = std::fs::read_to_string(scenario("gas_periodic_phi03.json")).expect("scenario");
+    let mut sets = vec![
+        format!("run.duration={duration:e}"),
+        "output.sample_interval=null".to_string(),
+    ];
+    sets.extend(more.iter().map(|s| s.to_string()));
+    Scenario::from_json_with_overrides(&text, &sets)
+}
+
+/// Disks × duration past 10¹² crossings is refused naming `run.duration` and the bound; at the
+/// bound it is accepted.
+#[test]
+fn the_work_of_a_run_is_bounded_at_its_limit() {
+    assert!(
+        gas_for(GAS_LONGEST * (1.0 - 1e-9), &[]).is_ok(),
+        "refused within the bound"
+    );
+    let past = gas_for(GAS_LONGEST * (1.0 + 1e-9), &[]).expect_err("accepted past the bound");
+    let text = past.to_string();
+    assert!(text.starts_with("run.duration: "), "{text}");
+    assert!(
+        text.contains("at most 1e12"),
+        "the bound is not named: {text}"
+    );
+    assert!(
+        text.contains("2.000e8"),
+        "the longest duration is not named: {text}"
+    );
+}
+
+/// Past the bound, a run that bounds itself is accepted: `run.max_events` up to 10¹⁵ (one
+/// more is refused naming it), or any `run.max_wall_seconds`.
+#[test]
+fn a_budget_of_the_scene_s_own_lets_a_run_past_the_work_bound() {
+    let long = 10.0 * GAS_LONGEST;
+    assert!(gas_for(long, &["run.max_events=1000000000000000"]).is_ok());
+    let past = gas_for(long, &["run.max_events=1000000000000001"]).expect_err("past 1e15");
+    assert!(past.to_string().starts_with("run.max_events: "), "{past}");
+    assert!(gas_for(long, &["run.max_wall_seconds=3600"]).is_ok());
+    // Within the bound, an event limit needs no bound of its own.
+    assert!(gas_for(GAS_LONGEST / 2.0, &["run.max_events=18446744073709551615"]).is_ok());
+}
+
+/// A step scheme's own `engine.dt` sets the pace when shorter than a crossing: ten steps
+/// count as one; refused naming `engine.dt`, at the bound accepted.
+#[test]
+fn a_step_scheme_s_work_is_counted_in_its_steps() {
+    let duration = 4.0;
+    // 2500 × 4 / (10 dt) = 10¹² at dt = 10⁻⁹ (a crossing takes 1/2), 4·10⁹ steps.
+    let dt = 1e-9;
+    let with = |dt: f64| {
+        let step = format!("engine.dt={dt:e}");
+        gas_for(
+            duration,
+            &["run.warmup=0", "engine.scheme=time-step", &step],
+        )
+    };
+    if let Err(e) = with(dt * (1.0 + 1e-9)) {
+        panic!("refused within the bound: {e}");
+    }
+    let past = with(dt * (1.0 - 1e-9)).expect_err("accepted past the bound");
+    assert!(past.to_string().starts_with("engine.dt: "), "{past}");
+}
+
+/// Issue 62's case: 10⁹ time units of the thousand-disk bed are refused by `check` and by
+/// `run`, exit 2 naming `run.duration`, nothing written.
+#[test]
+fn a_billion_time_units_of_a_thousand_disks_are_refused() {
+    let sets = ["run.duration=1e9", "output.frame_interval=null"];
+    check_refuses("work-check", "vibrated_bed.json", &sets, &["run.duration"]);
+    run_refuses(
+        "work-run",
+        "vibrated_bed.json",
+        &["--summary", "s.json", "--checkpoint", "c.ckpt"],
+        &sets,
+        &["run.duration"],
+    );
+}

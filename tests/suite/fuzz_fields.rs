@@ -29,6 +29,7 @@ use vibrobed::scenario::checks::{
     MAX_OUTPUT_TIMES, MAX_PHASE_BINS, MAX_PROFILE_BINS, MAX_STEPS, MAX_STRIPS, MAX_THREADS,
     MAX_TRAVEL, MAX_WALL_SECONDS, MIN_INERTIA_FACTOR, MIN_MAGNITUDE,
 };
+use vibrobed::scenario::work::Work;
 use vibrobed::scenario::Scenario;
 
 /// Seconds of cases per command when `VIBROBED_FUZZ_SECONDS` is not set (as in CI): some 1500
@@ -98,6 +99,18 @@ fn scene_limits(d: f64, a: f64) -> Vec<(&'static str, Vec<String>)> {
         ("inlets.0.speed", just(MAX_TRAVEL * a / d)),
         ("--checkpoint-every", just(d / MAX_CHECKPOINTS)),
     ]
+}
+
+/// The duration of the most disk crossings a run may ask for (`checks::MAX_WORK`, as the
+/// checks estimate them), and one part in 10¹⁵ either side; none for a scene that does not
+/// load or where nothing moves.
+fn work_limit(scene: &Value) -> Option<(&'static str, Vec<String>)> {
+    let s = Scenario::from_json_with_overrides(&scene.to_string(), &[]).ok()?;
+    let d = Work::of(&s).longest_duration();
+    d.is_finite().then(|| {
+        let values = [1.0, 1.0 + 1e-15, 1.0 - 1e-15].map(|f| format!("{:e}", d * f));
+        ("run.duration", values.to_vec())
+    })
 }
 
 /// The checks' limits, and one past them, for the fields they bound.
@@ -209,7 +222,11 @@ fn singles(scene: &Value) -> Vec<Change> {
     }
     let duration = scene["run"]["duration"].as_f64().unwrap_or(1.0);
     let radius = scene["particles"]["radius"].as_f64().unwrap_or(0.5);
-    for (field, values) in limits().into_iter().chain(scene_limits(duration, radius)) {
+    let limits = limits()
+        .into_iter()
+        .chain(scene_limits(duration, radius))
+        .chain(work_limit(scene));
+    for (field, values) in limits {
         per_field.push(values.into_iter().map(|v| change(field, v)).collect());
     }
     interleave(&per_field)
