@@ -3,10 +3,13 @@
 pub use super::limits::*;
 use super::*;
 use crate::scenario::phase_stops::{stride, GROUP};
+use crate::scenario::work::{blame_a_factor_set, inlet_disks, most_disks, validate_work};
 
 /// A refused relation between two fields, blamed on the one the user set (`sets`: the `--set`
 /// overrides, a sweep's axes): a warm-up past the run's end is the duration's fault when only
-/// `run.duration` was set (a shorter run of a scene, or a resume), the warm-up's otherwise.
+/// `run.duration` was set (a shorter run of a scene, or a resume), the warm-up's otherwise; a
+/// run asking for too much work is the fault of the factor set (a speed, `engine.dt`, the
+/// count) when `run.duration` was not.
 pub fn blame_what_was_set(e: Error, s: &Scenario, sets: &[String]) -> Error {
     let set = |field: &str| {
         sets.iter()
@@ -30,7 +33,7 @@ pub fn blame_what_was_set(e: Error, s: &Scenario, sets: &[String]) -> Error {
                 ),
             )
         }
-        _ => e,
+        _ => blame_a_factor_set(&e, s, &set).unwrap_or(e),
     }
 }
 
@@ -140,7 +143,7 @@ pub fn validate(s: &Scenario) -> Result<()> {
     validate_engine(s)?;
     validate_lengths(s)?;
     crate::scenario::speeds::validate_speeds(s)?;
-    crate::scenario::work::validate_work(s)?;
+    validate_work(s)?;
     Ok(())
 }
 
@@ -362,16 +365,6 @@ fn validate_inlets(s: &Scenario) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// New disks `inlet` brings over its window (`end`: its end): its count, or its rate times
-/// the window's length; none for an inlet that only recycles.
-pub fn inlet_disks(inlet: &Inlet, end: f64) -> f64 {
-    match (inlet.rate, inlet.count) {
-        (_, Some(n)) => n as f64,
-        (Some(r), None) => r * (end - inlet.start),
-        (None, None) => 0.0,
-    }
 }
 
 /// The scene's disks in all, initial and through every inlet, at most [`MAX_DISKS`] (the
@@ -755,16 +748,6 @@ fn validate_output_visits(s: &Scenario) -> Result<()> {
              are supported (longer intervals, or fewer disks)"
         ),
     ))
-}
-
-/// The most disks the scene may hold: its initial disks and every disk an inlet may bring.
-pub(crate) fn most_disks(s: &Scenario) -> f64 {
-    let d = s.run.duration;
-    s.disk_count() as f64
-        + s.inlets
-            .iter()
-            .map(|i| inlet_disks(i, i.end.unwrap_or(d)))
-            .sum::<f64>()
 }
 
 /// Disk frames (disks × frames) of a recording or trajectory asked for by `field` (a frame

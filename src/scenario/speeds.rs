@@ -19,13 +19,18 @@ pub fn validate_speeds(s: &Scenario) -> Result<()> {
         .try_for_each(|g| bound.check(&g.field, g.what, g.speed))
 }
 
-/// The scene's own speed: the fastest it gives a disk ([`given_speeds`]), and at least
-/// √(g a_min), the speed of a disk that fell its smallest radius (0 when nothing moves: no
-/// speed, no gravity, no moving floor). The time-step scheme's default step is a tenth of the
-/// time a disk takes to cross its smallest radius at this speed.
-pub fn natural_speed(s: &Scenario) -> f64 {
+/// The scene's own speed and the field that sets it: the fastest speed it gives a disk
+/// ([`given_speeds`]), or √(g a_min), the speed of a disk that fell its smallest radius, when
+/// that is faster (no field then; 0 when nothing moves: no speed, no gravity, no moving
+/// floor). The time-step scheme's default step is a tenth of the time a disk takes to cross
+/// its smallest radius at this speed.
+pub fn natural_speed(s: &Scenario) -> (f64, Option<String>) {
     let fall = (s.gravity.unwrap_or(0.0) * s.all_radius_range().0).sqrt();
-    given_speeds(s).iter().map(|g| g.speed).fold(fall, f64::max)
+    given_speeds(s)
+        .into_iter()
+        .filter(|g| g.speed > fall)
+        .max_by(|a, b| a.speed.total_cmp(&b.speed))
+        .map_or((fall, None), |g| (g.speed, Some(g.field)))
 }
 
 /// A speed the scene gives its disks: the field that sets it, what it is, and its value.

@@ -382,8 +382,8 @@ fn a_temperature_of_1_8e19_is_refused() {
     );
 }
 
-/// Half that thermal speed is within the bound: a legal run of some 10¹² events, which SIGINT
-/// stops.
+/// Half that thermal speed is within the travel bound, but a thousand disks at it are past the
+/// work bound: refused naming the temperature set (or, were it legal, stopped by SIGINT).
 #[test]
 fn a_temperature_just_within_the_bound_is_interruptible() {
     refused_or_interruptible(
@@ -1728,4 +1728,39 @@ fn a_billion_time_units_of_a_thousand_disks_are_refused() {
         &sets,
         &["run.duration"],
     );
+}
+
+/// The work's refusal names the factor the user set when the duration was not set: the field
+/// of the scene's speed, or the disks' count; the duration when it was set.
+#[test]
+fn the_work_s_refusal_names_the_factor_that_was_set() {
+    let bed = std::fs::read_to_string(scenario("vibrated_bed.json")).expect("scenario");
+    // The same bed, run for 10⁵ in its file: 1.9·10⁸ crossings, 10⁴ times as many disks past
+    // the bound.
+    let long_bed = bed.replace("\"duration\": 200.0", "\"duration\": 1e5");
+    assert_ne!(long_bed, bed, "the bed's duration moved in its file");
+    let refused = |text: &str, sets: &[&str]| {
+        let mut all = vec!["output.frame_interval=null".to_string()];
+        all.extend(sets.iter().map(|s| s.to_string()));
+        let e = Scenario::from_json_with_overrides(text, &all).expect_err("past the bound");
+        let line = e.to_string();
+        assert!(
+            line.contains("disk crossings"),
+            "not the work's refusal: {line}"
+        );
+        line.split_once(": ").expect("a field").0.to_string()
+    };
+    assert_eq!(
+        refused(&bed, &["particles.temperature=4.5e18"]),
+        "particles.temperature"
+    );
+    assert_eq!(
+        refused(&long_bed, &["particles.count=10000000"]),
+        "particles.count"
+    );
+    assert_eq!(
+        refused(&long_bed, &["particles.count=10000000", "run.duration=1e5"]),
+        "run.duration"
+    );
+    assert!(Scenario::from_json_with_overrides(&long_bed, &[]).is_ok());
 }
