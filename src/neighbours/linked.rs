@@ -54,13 +54,15 @@ impl LinkedCells {
     }
 
     /// Writes to `out` from its start every disk in `cell` and in the cells at `offsets`
-    /// around it, and returns how many; `out` is scratch room (lengthened if it is too short
-    /// for the copies' whole groups, never shortened).
+    /// around it (none farther than `reach` cells in x or y), and returns how many; `out` is
+    /// scratch room (lengthened if it is too short for the copies' whole groups, never
+    /// shortened).
     #[inline]
     pub fn gather_into(
         &self,
         geometry: &GridGeometry,
         offsets: &[(i32, i32)],
+        reach: u32,
         cell: (u32, u32),
         out: &mut Vec<u32>,
     ) -> usize {
@@ -70,8 +72,20 @@ impl LinkedCells {
             out.resize(need, 0);
         }
         let mut n = self.cells.copy_into(self.index(cell), out, 0);
+        let ny = geometry.ny.unwrap_or(0);
+        let (ix, iy, h) = (cell.0, cell.1, reach);
+        if ix >= h && ix + h < geometry.nx && iy >= h && iy + h < ny {
+            // Away from the grid's edges no offset wraps nor leaves the grid: each cell is
+            // a fixed step from the centre's.
+            let centre = self.index(cell) as isize;
+            for &(dx, dy) in offsets {
+                let c = centre + dy as isize * self.nx as isize + dx as isize;
+                n += self.cells.copy_into(c as usize, out, n);
+            }
+            return n;
+        }
         for &(dx, dy) in offsets {
-            if let Some(c) = geometry.offset(cell.0, cell.1, dx, dy) {
+            if let Some(c) = geometry.offset(ix, iy, dx, dy) {
                 n += self.cells.copy_into(self.index(c), out, n);
             }
         }
@@ -157,8 +171,17 @@ mod tests {
                 for ix in 0..10 {
                     let mut want = Vec::new();
                     c.gather_all(&g, &mask.offsets, (ix, iy), |j| want.push(j));
-                    let n = c.gather_into(&g, &mask.offsets, (ix, iy), &mut scratch);
+                    let n = c.gather_into(&g, &mask.offsets, 1, (ix, iy), &mut scratch);
                     let mut got = scratch[..n].to_vec();
+                    // In the order of the mask's cells, the centre first, inside the grid and
+                    // at its edges alike (the lists are built in this order).
+                    let mut in_order = c.cells.of(c.index((ix, iy))).to_vec();
+                    for &(dx, dy) in &mask.offsets {
+                        if let Some(cell) = g.offset(ix, iy, dx, dy) {
+                            in_order.extend_from_slice(c.cells.of(c.index(cell)));
+                        }
+                    }
+                    assert_eq!(got, in_order, "the mask's order around ({ix}, {iy})");
                     want.sort_unstable();
                     got.sort_unstable();
                     assert_eq!(got, want, "around ({ix}, {iy})");

@@ -110,7 +110,9 @@ impl Cells {
         out: &mut Vec<u32>,
     ) -> usize {
         match self {
-            Cells::Linked(l) => l.gather_into(geometry, &mask.offsets, cell, out),
+            Cells::Linked(l) => {
+                l.gather_into(geometry, &mask.offsets, mask.half_width as u32, cell, out)
+            }
             _ => {
                 out.clear();
                 self.gather(geometry, mask, cell, |j| out.push(j));
