@@ -93,10 +93,12 @@ impl Params {
         }
         // Monotone in t (rounding is monotone), so earlier events never sit in later buckets.
         let x = (t - self.origin) * self.inv_width;
+        // Through `u32` (buckets never exceed 2³⁰): one instruction each way, where `usize`
+        // and `f64` convert in several on x86-64 without AVX-512.
         if x < (self.cur + 1) as f64 {
             Place::Current
-        } else if x < self.buckets as f64 {
-            Place::Bucket(x as usize)
+        } else if x < self.buckets as u32 as f64 {
+            Place::Bucket(x as u32 as usize)
         } else {
             Place::Overflow
         }
@@ -727,11 +729,20 @@ impl CalendarQueue {
         let len = self.current.len();
         if let Some(&first) = self.current.first().filter(|_| len <= SHORT) {
             // Each entry's place is the number of entries later than it (the keys differ):
-            // every comparison is made, none decides a branch.
+            // each pair is compared once, and its outcome counts for one of the two; every
+            // comparison is made, none decides a branch.
+            let mut place = [0usize; SHORT];
+            for k in 0..len {
+                let e = self.current[k];
+                for m in k + 1..len {
+                    let later = e.before(&self.current[m]) as usize;
+                    place[k] += later;
+                    place[m] += 1 - later;
+                }
+            }
             let mut sorted = [first; SHORT];
-            for &e in &self.current {
-                let place: usize = self.current.iter().map(|x| e.before(x) as usize).sum();
-                sorted[place] = e;
+            for (&e, &p) in self.current.iter().zip(&place) {
+                sorted[p] = e;
             }
             self.current.copy_from_slice(&sorted[..len]);
             return;
