@@ -487,7 +487,15 @@ fn accuracy(
             format!("must lie in [1, {MAX_CORES}] (got {k})"),
         ));
     }
-    let report = crate::studies::accuracy::report(&s, &options)?;
+    // SIGINT, SIGTERM and SIGHUP stop the run in hand; the report, unfinished, is not written.
+    signals::install();
+    let report = match crate::studies::accuracy::report(&s, &options) {
+        Err(_) if signals::stop_flag().load(std::sync::atomic::Ordering::Relaxed) => {
+            eprintln!("vibrobed: accuracy: interrupted; no report written");
+            return Ok(signals::exit_code());
+        }
+        made => made?,
+    };
     print!("{}", report.table());
     eprintln!(
         "wrote {}/accuracy.csv, answers.csv, accuracy.txt, accuracy.svg{}",

@@ -277,6 +277,10 @@ fn measure_and_write(scenario: &Scenario, opts: &Options) -> Result<Report> {
         effects,
         wall_seconds: clock.elapsed().as_secs_f64(),
     };
+    // A signal stopped the run in hand and every run after it: the rows are not measurements.
+    if crate::platform::signals::stop_flag().load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(Error::Runtime("interrupted: no report written".into()));
+    }
     write_outputs(&report, &opts.out)?;
     Ok(report)
 }
@@ -395,6 +399,7 @@ impl<'a> Runner<'a> {
             &s,
             RunOptions {
                 rrd: rrd.clone(),
+                interrupt: Some(crate::platform::signals::stop_flag()),
                 ..Default::default()
             },
         )?;

@@ -7,7 +7,8 @@
 
 use super::ensemble::{Ensemble, Measured};
 use super::{say, with_sets, EffectRow, Options};
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::output::summary::Ending;
 use crate::physics::drive::Drive;
 use crate::run::{run, RunOptions};
 use crate::scenario::{Scenario, XBoundary, YBoundary};
@@ -387,6 +388,7 @@ fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<([f64; 2], Measured)>
         sc,
         RunOptions {
             rrd: rrd.clone(),
+            interrupt: Some(crate::platform::signals::stop_flag()),
             ..Default::default()
         },
     );
@@ -394,6 +396,12 @@ fn time_run(sc: &Scenario, rrd: Option<PathBuf>) -> Result<([f64; 2], Measured)>
         let _ = std::fs::remove_file(p);
     }
     let sum = result?;
+    if sum.ending == Ending::Interrupted {
+        return Err(Error::Runtime(format!(
+            "interrupted at t = {:.4}",
+            sum.sim_time
+        )));
+    }
     let coll = sum.events.collisions().max(1) as f64;
     let times = [sum.wall_seconds / coll, sum.wall_seconds / sum.sim_time];
     Ok((times, Measured::of(&sum, sc.floor.is_some())))
