@@ -1579,6 +1579,53 @@ fn a_run_interrupted_while_its_scene_is_built_ends_at_once_writing_nothing() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An accuracy report interrupted while a variant runs (found by the commands fuzz: a floor
+/// thrown at 5·10⁵ makes the time-step variants run for minutes; the command watched no signal)
+/// stops the run in hand: exit 130 within the grace, said on stderr, and no report written.
+#[test]
+fn an_accuracy_report_interrupted_as_it_runs_exits_130_writing_nothing() {
+    let dir = fresh_dir("interrupted-accuracy");
+    let path = scenario("bouncing_ball.json").display().to_string();
+    let words = [
+        "accuracy",
+        &path,
+        "--quick",
+        "--quiet",
+        "--out",
+        "a",
+        "--cores",
+        "1",
+        "--set",
+        "run.duration=2",
+        "--set",
+        "run.warmup=0",
+        "--set",
+        "floor.amplitude=5e5",
+    ];
+    let logs = dir.with_extension("logs");
+    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
+    while !child.ended() && child.elapsed() < Duration::from_secs(3) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.interrupt();
+    let out = child.wait(Limits {
+        interrupt_after: Duration::ZERO,
+        kill_after: 2 * STOP_GRACE,
+    });
+    let _ = std::fs::remove_dir_all(&logs);
+    let what = out.describe();
+    assert_eq!(out.code(), Some(130), "{what}");
+    assert!(out.stderr.contains("interrupted"), "{what}");
+    assert!(
+        entries(&dir).is_empty(),
+        "files written: {:?}",
+        entries(&dir)
+    );
+    let at = out.interrupted_at.expect("interrupted");
+    assert!(out.elapsed - at <= STOP_GRACE, "{what}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A sweep interrupted while its first run builds its scene (2·10⁵ disks: about a second of
 /// placement and of the engine's build) stops once that build ends, as the book's Sweeps page
 /// says: exit 130; its sweep file and scenario untouched; its folder holds the plan and run 0's
