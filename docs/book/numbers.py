@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The book's numbers from runs, made by this script and checked against today's build.
 
-Every number the book quotes from a run of the shipped scenarios sits between markers in the
-page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This script runs what
+Every number the book (and the README) quotes from a run of the shipped scenarios sits between
+markers in the page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This script runs what
 makes them and compares:
 
+- the README's fourth step: the shipped bed's temperature and centre of mass at Γ = 3 and 6;
 - Getting started, the worked example: the shipped bed's full run (its counts, energies,
   temperatures, centre of mass, floor pressure and profile table); the same run's collisions
   (Python page, Overhead) and first rows of its fields (Fields page, CSV);
@@ -27,14 +28,25 @@ makes them and compares:
 - the summary page's bed states of the shipped scenes (the shortened runs of
   `tests/suite/bed_state.rs`: each state with the indicators that decided it) and the pressure
   of `deep_bed.json` (as shipped: about two minutes of CPU, on the second core beside the parts
-  before the sweep).
+  before the sweep);
+- the phase-diagram page: `scenarios/sweeps/phase_diagram.json` as shipped on two workers (24
+  runs, about 13 s of CPU), its table of states and indicators, its figure
+  (`figures/phase-diagram.svg`, byte for byte), the ranges its comparison quotes and its CPU
+  time (to a factor of 2); and the same sweep without its cure (no `collisions.tc`, 14 s of
+  CPU): the runs that change state, and how long the densest ride in contact dynamics;
+- the summary page's equation of state (the elastic gas of `tests/suite/equation_of_state.rs`:
+  Z against Henderson's); the Physics page's rough bed against the smooth one (temperatures,
+  pair collisions) and its discharge against the orifice width
+  (`scenarios/sweeps/beverloo.json`, 18 runs: rates, the Beverloo fit and its CPU time);
+- the Python page's account of the example notebook's sweep (`examples/gamma_sweep.ipynb`,
+  remade as a sweep file: the same runs): its fit T ∝ Γ^δ, states and indicators.
 
     python3 docs/book/numbers.py [--bin PATH]          # check (exit 1 naming each difference)
     python3 docs/book/numbers.py [--bin PATH] --write  # rewrite the numbers in the pages
 
 `--bin` defaults to `vibrobed` on PATH. A change that moves a run (the engine, a scenario)
 moves the book's numbers: run with --write, and read the prose around them again. `.ci/run`
-runs the check (about 160 s of CPU, 2 to 3 minutes on the machine's two cores).
+runs the check (about 260 s of CPU, 3 to 4 minutes on the machine's two cores).
 """
 
 from __future__ import annotations
@@ -63,7 +75,9 @@ QUICK_PAGES = ["getting-started.md", "sweeps.md", "outputs/python.md"]
 FIGURE = "figure:"
 # Timing regions: compared to a factor, not to the digit; None: written, not compared (the wall
 # time of two workers on a machine shared with other work).
-TIMING = {"tvd-cpu": 2.0, "tvd-wall": None, "tvd-machine": None}
+TIMING = {"tvd-cpu": 2.0, "tvd-wall": None, "tvd-machine": None,
+          "pd-cpu": 2.0, "pd-wall": None, "pd-machine": None,
+          "pd-exact-cpu": 2.0, "pd-exact-wall": None, "bev-cpu": 2.0}
 
 
 def run(binary: str, *args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
@@ -142,6 +156,17 @@ def worked_example(binary: str, tmp: Path) -> dict[str, str]:
         "py-collisions": thousands(sum(s["events"][k] for k in ("pair", "wall", "lid", "floor"))),
         "fields-csv": "\n".join(["```text", ",".join(header), row, "...", "```"]),
     }
+
+
+def readme_gamma(binary: str, tmp: Path) -> dict[str, str]:
+    """The README's fourth step: the shipped bed as shipped and at Γ = 6, their mean granular
+    temperatures and centres of mass."""
+    made = {}
+    for name, sets in (("readme-3", []), ("readme-6", ["floor.gamma=6"])):
+        s = summary_of(binary, "scenarios/vibrated_bed.json", sets, tmp, name)
+        made[f"{name}-t"] = sig(s["temperature"]["mean"], 2)
+        made[f"{name}-com"] = sig(s["com_height"], 2)
+    return made
 
 
 def quick_try(binary: str, tmp: Path) -> dict[str, str]:
@@ -232,6 +257,46 @@ def summary_page(binary: str, tmp: Path) -> dict[str, str]:
 def two(x: float) -> str:
     """An indicator to two decimals, `0` when it is nothing."""
     return "0" if round(x, 2) == 0 else f"{x:.2f}"
+
+
+def rough_bed(binary: str, tmp: Path) -> dict[str, str]:
+    """The Physics page's rough bed against the smooth one: the shipped bed with μ = 0.5 on pairs
+    and floor, and as shipped; their temperatures and pair collisions over the 200 units."""
+    made = {}
+    for name, sets in (("rough", ["collisions.friction=0.5", "floor.friction=0.5"]),
+                       ("smooth", [])):
+        s = summary_of(binary, "scenarios/vibrated_bed.json", sets, tmp, f"bed-{name}")
+        made[f"{name}-t"] = f"{s['temperature']['mean']:.2f}"
+        made[f"{name}-pairs"] = f"{s['events']['pair'] / 1e6:.2f}·10⁶"
+    return made
+
+
+# The equation of state's runs, as `tests/suite/equation_of_state.rs` makes them: (φ, duration).
+EOS_RUNS = [(0.1, 320), (0.2, 150), (0.3, 80), (0.4, 50)]
+
+
+def equation_of_state(binary: str, tmp: Path) -> dict[str, str]:
+    """The summary page's equation of state: the elastic gas of the test (2500 disks in a
+    periodic box, seed 7), its compressibility factor Z against Henderson's at each φ, and the
+    largest difference, rounded up to a tenth of a per cent."""
+    measured, henderson, worst = [], [], 0.0
+    for phi, duration in EOS_RUNS:
+        scene = tmp / f"eos-scene-{phi}.json"
+        scene.write_text(json.dumps({
+            "name": "eos", "seed": 7,
+            "domain": {"width": 50, "x_boundary": "periodic", "y_boundary": "periodic"},
+            "particles": {"count": 2500, "radius": 0.5, "packing_fraction": phi},
+            "run": {"duration": duration, "warmup": 2}, "output": {"sample_interval": 1}}))
+        z = summary_of(binary, str(scene), [], tmp, f"eos-{phi}")["compressibility_factor"]
+        h = (1 + phi**2 / 8) / (1 - phi) ** 2
+        measured.append(f"{z:.3f}")
+        henderson.append(f"{h:.3f}")
+        worst = max(worst, abs(z - h) / h)
+    rows = ["| φ | " + " | ".join(f"{phi:g}" for phi, _ in EOS_RUNS) + " |",
+            "|---|" + "---:|" * len(EOS_RUNS),
+            "| Z measured | " + " | ".join(measured) + " |",
+            "| Henderson | " + " | ".join(henderson) + " |"]
+    return {"eos-table": "\n".join(rows), "eos-within": f"{math.ceil(worst * 1000) / 10:.1f}%"}
 
 
 # The summary page's bed states: the shipped scenes in the shortened runs of
@@ -352,6 +417,119 @@ def hard_cases(binary: str, tmp: Path) -> dict[str, str]:
     return {"hard-cases": "\n".join(rows)}
 
 
+# The phase diagram's states as its table words them.
+STATE_WORDS = {"bouncing_bed": "bouncing", "leidenfrost": "Leidenfrost"}
+
+
+def pd_cell(r: dict) -> str:
+    """One run of the phase diagram as its table writes it: the state, then the indicators that
+    decided it (L₁ and L₂ the lockings to one and two periods)."""
+    i = {k.removeprefix("state.indicators."): v for k, v in r.items()
+         if k.startswith("state.indicators.")}
+    name = r["state.name"]
+    words = STATE_WORDS.get(name, name)
+    if name == "bouncing_bed":
+        lockings = f"L₁ {two(float(i['com_locking']))}, L₂ {two(float(i['com_locking_two_periods']))}"
+        doubled = float(i["com_locking"]) <= 0.5
+        return f"{words}, " + ("period-doubled: " if doubled else "") + lockings
+    if name == "convection":
+        return f"{words}, circ. {two(float(i['circulation']))}"
+    if name == "leidenfrost":
+        return f"{words}, dip {two(float(i['density_dip']))}, max φ {two(float(i['max_packing']))}"
+    if name == "gas":
+        return f"{words}, L₁ {two(float(i['com_locking']))}, max φ {two(float(i['max_packing']))}"
+    return words
+
+
+def phase_diagram_runs(binary: str, sweep_file: Path, out: Path) -> tuple[dict, float, float]:
+    """A phase-diagram sweep on two workers: its runs keyed (Γ, N), its CPU and wall seconds."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.monotonic()
+    run(binary, "sweep", "run", str(sweep_file), "--out", str(out), "--jobs", "2", "--quiet")
+    wall = time.monotonic() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    run(binary, "sweep", "collect", str(out), "--states", "floor.gamma", "particles.count", "--log")
+    with open(out / "runs.csv") as f:
+        runs = {(float(r["floor.gamma"]), int(r["particles.count"])): r for r in csv.DictReader(f)}
+    for key, r in runs.items():
+        if r["ending"] != "completed" or not r["state.name"]:
+            sys.exit(f"numbers.py: the phase diagram's run at Γ, N = {key} ended {r['ending']} "
+                     f"with state {r['state.name'] or 'none'}")
+    return runs, cpu, wall
+
+
+def phase_diagram(binary: str, tmp: Path) -> dict[str, str]:
+    """The phase-diagram page: `scenarios/sweeps/phase_diagram.json` as shipped (24 runs, about
+    13 s of CPU) — its table of states and indicators, its figure byte for byte, the numbers its
+    comparison quotes — and the same sweep without its cure (no `collisions.tc`): the runs that
+    change state and how long the densest ride in contact dynamics."""
+    shipped = ROOT / "scenarios/sweeps/phase_diagram.json"
+    runs, cpu, wall = phase_diagram_runs(binary, shipped, tmp / "pd")
+    plan = json.loads(shipped.read_text())
+    width = json.loads((shipped.parent / plan["scenario"]).read_text())["domain"]["width"]
+    gammas = sorted({g for g, _ in runs})
+    counts = sorted({n for _, n in runs})
+    layers = {n: f"{n / width:g}" for n in counts}
+    rows = ["| Γ (S) | " + " | ".join(f"F = {layers[n]}" for n in counts) + " |",
+            "|---|" + "---|" * len(counts)]
+    for g in gammas:
+        s = g**2 / math.pi**2
+        rows.append(f"| {g:g} ({s:.1f}) | " if s >= 1 else f"| {g:g} ({s:.2f}) | ")
+        rows[-1] += " | ".join(pd_cell(runs[g, n]) for n in counts) + " |"
+
+    def ind(r: dict, name: str) -> float:
+        return float(r[f"state.indicators.{name}"])
+
+    def span(values: list[float]) -> str:
+        return f"{two(min(values))}–{two(max(values))}"
+
+    state = {k: r["state.name"] for k, r in runs.items()}
+    gas = [k for k in runs if state[k] == "gas"]
+    beds = [k for k in runs if state[k] != "gas"]
+    wavy_gas = max(gas, key=lambda k: ind(runs[k], "undulation"))
+    doubled = [r for k, r in runs.items() if state[k] == "bouncing_bed"
+               and ind(r, "com_locking") <= 0.5]
+    thin, deep = counts[0], counts[-1]
+    made = {
+        "pd-table": "\n".join(rows),
+        f"{FIGURE}figures/phase-diagram.svg": (tmp / "pd" / "states.svg").read_text(),
+        "pd-cpu": f"{cpu:.0f} s",
+        "pd-wall": f"{wall:.0f} s",
+        "pd-machine": machine(),
+        "pd-undulation-bed": two(max(ind(runs[k], "undulation") for k in beds)),
+        "pd-undulation-gas": f"{two(ind(runs[wavy_gas], 'undulation'))} in the dilute gas of "
+                             f"F = {layers[wavy_gas[1]]} at Γ = {wavy_gas[0]:g}",
+        "pd-thin-locking": two(ind(runs[gammas[1], thin], "com_locking")),
+        "pd-thin-packing": two(max(ind(runs[k], "max_packing") for k in gas if k[1] == thin)),
+        "pd-doubled-dips": span([ind(r, "density_dip") for r in doubled]),
+        "pd-f6-packing": span([ind(runs[k], "max_packing") for k in runs
+                               if k[1] == counts[1] and state[k] == "convection"]),
+        "pd-deep-top-circulation": two(ind(runs[gammas[-1], deep], "circulation")),
+        "pd-convection-dips": span([ind(runs[k], "density_dip") for k in runs
+                                    if state[k] == "convection"]),
+    }
+    # Without the cure: the shipped file less its `collisions.tc`, the scene found from here.
+    plan["scenario"] = str((shipped.parent / plan["scenario"]).resolve())
+    plan["set"] = [s for s in plan["set"] if not s.startswith("collisions.tc=")]
+    exact_file = tmp / "phase_diagram_exact.json"
+    exact_file.write_text(json.dumps(plan))
+    exact, cpu, wall = phase_diagram_runs(binary, exact_file, tmp / "pd-exact")
+    changed = ["| Γ | F | as shipped | without the cure |", "|---:|---:|---|---|"]
+    for g, n in sorted(k for k in runs if exact[k]["state.name"] != state[k]):
+        changed.append(f"| {g:g} | {layers[n]} | {pd_cell(runs[g, n])} | "
+                       f"{pd_cell(exact[g, n])} |")
+    dense = [float(exact[gammas[0], n]["approximation.dense_time"] or 0) for n in counts[2:]]
+    made.update({
+        "pd-exact-cpu": f"{cpu:.0f} s",
+        "pd-exact-wall": f"{wall:.0f} s",
+        "pd-exact-changed": "\n".join(changed),
+        "pd-exact-count": f"{len(changed) - 2}",
+        "pd-exact-dense": " and ".join(f"{d:.0f}" for d in dense),
+    })
+    return made
+
+
 def sweep(binary: str, tmp: Path) -> dict[str, str]:
     """The sweeps page: the 21 runs on two workers, their points, fits and CPU time."""
     out = tmp / "tvd"
@@ -411,6 +589,140 @@ def sweep(binary: str, tmp: Path) -> dict[str, str]:
     }
 
 
+def notebook_sweep(binary: str, tmp: Path) -> dict[str, str]:
+    """The Python page's account of the example notebook's sweep (`examples/gamma_sweep.ipynb`:
+    the shipped bed over eleven Γ, three seeds, an event cap), remade as a sweep file on two
+    workers: the same runs, bit for bit. Its fit T ∝ Γ^δ (least squares of log T on log Γ, as the
+    notebook's `np.polyfit`), the state of each Γ, and the indicators its prose quotes."""
+    notebook = json.loads((ROOT / "examples/gamma_sweep.ipynb").read_text())
+    setup = "".join(next(c["source"] for c in notebook["cells"] if c["cell_type"] == "code"))
+    gammas = json.loads(re.search(r"GAMMAS = (\[[^\]]*\])", setup).group(1))
+    seeds = int(re.search(r"SEEDS = (\d+)", setup).group(1))
+    sets = json.loads(re.search(r"SETS = (\[[^\]]*\])", setup).group(1))
+    plan = tmp / "gamma_sweep.json"
+    plan.write_text(json.dumps({
+        "name": "gamma_sweep", "scenario": str(ROOT / "scenarios/vibrated_bed.json"), "set": sets,
+        "axes": [{"key": "floor.gamma", "values": gammas}], "seeds": seeds}))
+    out = tmp / "gamma_sweep"
+    run(binary, "sweep", "run", str(plan), "--out", str(out), "--jobs", "2", "--quiet")
+    run(binary, "sweep", "collect", str(out))
+    with open(out / "points.csv") as f:
+        points = {float(p["floor.gamma"]): p for p in csv.DictReader(f)}
+    with open(out / "runs.csv") as f:
+        runs = list(csv.DictReader(f))
+    if any(float(p["temperature.y:mean"]) <= float(p["temperature.x:mean"])
+           for p in points.values()):
+        sys.exit("numbers.py: the notebook's sweep has T_y ≤ T_x at some Γ: the Python page says "
+                 "T_y is above T_x throughout")
+    lx = [math.log(g) for g in points]
+    ly = [math.log(float(p["temperature.mean:mean"])) for p in points.values()]
+    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
+    slope = (sum((x - mx) * (y - my) for x, y in zip(lx, ly))
+             / sum((x - mx) ** 2 for x in lx))
+
+    def mean(g: float, name: str) -> float:
+        return float(points[g][f"state.indicators.{name}:mean"])
+
+    def states(name: str) -> str:
+        return ", ".join(f"{g:g}" for g, p in points.items() if p["state"] == name)
+
+    words = {0: "none", 1: "one", 2: "two", 3: "three"}
+    disagree = []
+    for g in (g for g, p in points.items() if int(p["state:n"]) < seeds):
+        bouncing = sum(1 for r in runs if float(r["floor.gamma"]) == g
+                       and r["state.name"] == "bouncing_bed")
+        disagree.append(f"at Γ = {g:g} the locking averages {mean(g, 'com_locking'):.2f} over "
+                        f"the seeds and {words.get(bouncing, bouncing)} of {words[seeds]} read "
+                        "bouncing")
+    made = {
+        "nb-slope": f"{slope:.2f}",
+        "nb-bouncing": states("bouncing_bed"),
+        "nb-gas": states("gas"),
+        "nb-boundary": "; ".join(disagree) or "none: every seed reads the same state at every Γ",
+    }
+    dipped = [g for g in points if mean(g, "density_dip") <= 0.8]
+    made["nb-dip-from"] = f"{min(dipped):g}"
+    made["nb-dip-packing"] = f"{max(mean(g, 'max_packing') for g in dipped):.2f}"
+    circulating = [g for g, p in points.items() if p.get("state.indicators.circulation:mean")]
+    made["nb-circulation-at"] = " and ".join(f"{g:g}" for g in circulating)
+    return made
+
+
+def beverloo(binary: str, tmp: Path) -> dict[str, str]:
+    """The Physics page's discharge against the orifice width: `scenarios/sweeps/beverloo.json`
+    on two workers (18 runs), its rates, and the fit of `examples/beverloo.py` (a weighted
+    straight line Q^(2/3) = a + b D over D ≥ 3, errors scaled by √(χ²/dof) when above 1; C =
+    b^(3/2), k = −a/b, their errors by the delta method), made here without numpy."""
+    out = tmp / "bev"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    run(binary, "sweep", "run", "scenarios/sweeps/beverloo.json", "--out", str(out), "--jobs",
+        "2", "--quiet")
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    run(binary, "sweep", "collect", str(out))
+    with open(out / "points.csv") as f:
+        points = sorted(csv.DictReader(f), key=lambda p: int(p["point"]))
+    with open(out / "runs.csv") as f:
+        runs = list(csv.DictReader(f))
+    rows = ["| D / d | rate | ± | the three seeds |", "|---|---|---|---|"]
+    used = []
+    for p in sorted(points, key=lambda p: float(p["floor.orifice.to"]) -
+                    float(p["floor.orifice.from"])):
+        width = float(p["floor.orifice.to"]) - float(p["floor.orifice.from"])
+        rate, se = float(p["flow.rate:mean"]), float(p["flow.rate:se"])
+        seeds = sorted((r for r in runs if r["point"] == p["point"]), key=lambda r: int(r["seed"]))
+        said = ", ".join(f"{float(r['flow.rate']):.2f}" for r in seeds)
+        if width < 3 - 1e-9:
+            said += " (arches clog the orifice for long spells)"
+        else:
+            used.append((width, rate, se))
+        rows.append(f"| {width:g} | {rate:.2f} | {se:.2f} | {said} |")
+    # The weighted straight line through y = Q^(2/3).
+    ws, xs, ys = [], [], []
+    for width, rate, se in used:
+        ws.append(1 / ((2 / 3) * rate ** (-1 / 3) * se) ** 2)
+        xs.append(width)
+        ys.append(rate ** (2 / 3))
+    s, sx, sy = sum(ws), sum(w * x for w, x in zip(ws, xs)), sum(w * y for w, y in zip(ws, ys))
+    sxx = sum(w * x * x for w, x in zip(ws, xs))
+    sxy = sum(w * x * y for w, x, y in zip(ws, xs, ys))
+    det = s * sxx - sx * sx
+    a, b = (sxx * sy - sx * sxy) / det, (s * sxy - sx * sy) / det
+    chi2 = sum(w * (y - a - b * x) ** 2 for w, x, y in zip(ws, xs, ys))
+    dof = len(used) - 2
+    scale = max(1.0, math.sqrt(chi2 / dof))
+    var_a, var_b, cov_ab = (sxx / det * scale**2, s / det * scale**2, -sx / det * scale**2)
+    c, k = b**1.5, -a / b
+    c_se = 1.5 * b**0.5 * math.sqrt(var_b)
+    gk = (-1 / b, a / b**2)
+    k_se = math.sqrt(gk[0] ** 2 * var_a + 2 * gk[0] * gk[1] * cov_ab + gk[1] ** 2 * var_b)
+    off = {width: c * (width - k) ** 1.5 / rate - 1 for width, rate, _ in used}
+    close = [w for w, d in off.items() if abs(d) < 0.03]
+    far = [w for w, d in off.items() if abs(d) >= 0.03]
+
+    def widths(ws: list[float]) -> str:
+        return ", ".join(f"{w:g}" for w in ws[:-1]) + (" and " if len(ws) > 1 else "") + \
+            f"{ws[-1]:g}"
+
+    made = {
+        "bev-table": "\n".join(rows),
+        "bev-cpu": f"{cpu:.0f} s",
+        "bev-chi2": f"χ² = {chi2:.0f} for {dof} degrees of freedom",
+        "bev-scale": f"{scale:.1f}",
+        "bev-fit": f"C = {c:.3f} ± {c_se:.3f} and k = {k:.2f} ± {k_se:.2f}",
+        "bev-close": f"within {math.ceil(max(abs(off[w]) for w in close) * 100):.0f} % of the "
+                     f"rates at D = {widths(close)}" if close else "within 3 % of no rate",
+    }
+    if far:
+        lo, hi = (100 * min(off[w] for w in far), 100 * max(off[w] for w in far))
+        side = "above" if lo > 0 else "below" if hi < 0 else "off"
+        lo, hi = sorted((abs(lo), abs(hi))) if side != "off" else (lo, hi)
+        made["bev-far"] = f"{lo:.0f}–{hi:.0f} % {side} them at D = {widths(far)}"
+    else:
+        made["bev-far"] = "within 3 % of them at every other D"
+    return made
+
+
 def machine() -> str:
     """The machine and the day a timing was taken on: `AMD EPYC (family 25, model 17), 2 cores,
     2026-11-29`."""
@@ -442,8 +754,9 @@ def main() -> int:
         deep = DeepBed(binary, tmp)
         made: dict[str, str] = {}
         try:
-            for part in (worked_example, quick_try, packing_at_rest, summary_page, bed_states,
-                         hard_cases, deep.deep_bed_pressure, sweep):
+            for part in (worked_example, readme_gamma, quick_try, packing_at_rest, summary_page,
+                         rough_bed, equation_of_state, bed_states, hard_cases,
+                         deep.deep_bed_pressure, sweep, notebook_sweep, phase_diagram, beverloo):
                 before = resource.getrusage(resource.RUSAGE_CHILDREN)
                 made.update(part(binary, tmp))
                 after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -460,7 +773,7 @@ def main() -> int:
             wrong.append(f"{figure.relative_to(ROOT)}: not the figure today's build draws")
             if args.write:
                 figure.write_text(fresh)
-    for page in sorted(BOOK.rglob("*.md")):
+    for page in [ROOT / "README.md", *sorted(BOOK.rglob("*.md"))]:
         text = page.read_text()
         # A line that opens with a marker is an HTML block in Markdown: the rest of it would
         # not render (code spans, links); only a marker alone on its line (around a block) may.
