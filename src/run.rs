@@ -346,12 +346,13 @@ fn drive<E: Integrator>(
 }
 
 /// How a run shows its progress: not at all unless asked; a sweep's run only by lines off a
-/// terminal (its pool draws the bar on one); a run of its own as [`ProgressMode::for_stderr`].
+/// terminal, and on one (where its pool draws the bar) only by the note on a growing cost; a
+/// run of its own as [`ProgressMode::for_stderr`].
 fn progress_mode(opts: &RunOptions) -> ProgressMode {
     use std::io::IsTerminal;
     match (opts.progress, &opts.progress_label) {
         (false, _) => ProgressMode::Quiet,
-        (true, Some(_)) if std::io::stderr().is_terminal() => ProgressMode::Quiet,
+        (true, Some(_)) if std::io::stderr().is_terminal() => ProgressMode::Notes,
         (true, Some(_)) => ProgressMode::Periodic,
         (true, None) => ProgressMode::for_stderr(true),
     }

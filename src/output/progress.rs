@@ -4,7 +4,8 @@
 //! collisions per second, the wall time to go) and one end line; nothing with `--quiet`. Both
 //! forms end with the run's ending, at which simulated time; both say once when the run's wall
 //! time per unit of simulated time has grown far above its start, or simulated time has stopped
-//! advancing (a bed freezing into a collapse), naming the cures. A thread of the report's own
+//! advancing (a bed freezing into a collapse), naming the cures — and so does a sweep's run on a
+//! terminal, whose progress the sweep's bar shows. A thread of the report's own
 //! reads the run's [published clock](crate::engine::published_clock) on the wall clock's
 //! schedule, so that a run crawling or frozen between two stops is seen and heard.
 
@@ -30,6 +31,9 @@ pub enum ProgressMode {
     /// Only the lines every few seconds, each named (a sweep's run in a log: the sweep says
     /// when each run starts and ends).
     Periodic,
+    /// Only the note on a growing cost, named (a sweep's run on a terminal: the sweep's bar
+    /// shows its progress).
+    Notes,
 }
 
 impl ProgressMode {
@@ -210,7 +214,10 @@ impl ProgressReport {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
-        if matches!(self.mode, ProgressMode::Quiet | ProgressMode::Periodic) {
+        if matches!(
+            self.mode,
+            ProgressMode::Quiet | ProgressMode::Periodic | ProgressMode::Notes
+        ) {
             return;
         }
         let wall = self.started.elapsed().as_secs_f64();
@@ -293,7 +300,7 @@ impl Reader {
         if now.wall <= last.wall {
             // Nothing published since the last line: an engine that publishes at stops only,
             // between two of them.
-            if self.bar.is_none() {
+            if self.prints_lines() {
                 let since = now.wall.elapsed().as_secs_f64();
                 self.print(format!("{head}, as of {} ago", clock_time(since)));
             }
@@ -315,7 +322,7 @@ impl Reader {
                 clock_time(wall)
             )
         };
-        if self.bar.is_none() {
+        if self.prints_lines() {
             self.print(news);
         }
         if let Some(note) = self.cost.read(t, wall, simulated) {
@@ -323,18 +330,25 @@ impl Reader {
         }
     }
 
-    /// A line on stderr, above the bar if there is one.
+    /// A line on stderr, above the bar if there is one: ours, or a sweep's (`Notes`: its line
+    /// cleared first, as the bar's own `println` does; the bar redraws below).
     fn print(&self, line: String) {
         match &self.bar {
             Some(bar) => bar.println(line),
+            None if self.mode == ProgressMode::Notes => eprintln!("\r\x1b[2K{line}"),
             None => eprintln!("{line}"),
         }
+    }
+
+    /// Progress goes out as lines (off a terminal), not as a bar or not at all.
+    fn prints_lines(&self) -> bool {
+        matches!(self.mode, ProgressMode::Lines | ProgressMode::Periodic)
     }
 
     /// `name: ` on a sweep's lines, nothing on a run's own.
     fn name_part(&self) -> String {
         match self.mode {
-            ProgressMode::Periodic => format!("{}: ", self.label),
+            ProgressMode::Periodic | ProgressMode::Notes => format!("{}: ", self.label),
             _ => String::new(),
         }
     }

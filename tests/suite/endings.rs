@@ -302,6 +302,56 @@ fn a_run_freezing_into_a_collapse_says_so_naming_the_cures() {
     assert!(summary["sim_time"].as_f64().unwrap() < 8.0, "{summary}");
 }
 
+/// On a terminal a sweep draws its own bar in place of its runs' progress lines, and a run's note
+/// on a growing cost still comes, once, named: the collapse above as a sweep's run, under a
+/// pseudo-terminal from util-linux's `script` (without `script` the test says so and passes).
+#[test]
+fn a_sweep_on_a_terminal_notes_a_run_freezing_into_a_collapse() {
+    let dir = scratch("sweep-terminal-note");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/hard/collapse_tc.json");
+    let sweep = serde_json::json!({
+        "name": "collapse",
+        "scenario": scene.display().to_string(),
+        "set": ["collisions.tc=null", "output.frame_interval=50",
+                "engine.check_invariants=false", "run.max_events=1000000000"],
+        "axes": [{ "key": "collisions.restitution", "values": [0.4] }],
+        "seeds": 1
+    });
+    std::fs::write(dir.join("collapse.json"), sweep.to_string()).expect("sweep file");
+    let command = format!(
+        "{} sweep run collapse.json --out out --jobs 1 --progress-every 0.1 --max-run-seconds 3",
+        env!("CARGO_BIN_EXE_vibrobed")
+    );
+    let out = match Command::new("script")
+        .current_dir(&dir)
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+    {
+        Ok(out) => out,
+        Err(e) => {
+            eprintln!("SKIPPED: no `script` to give the sweep a terminal ({e})");
+            return;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(5), "{}\n{text}", describe(&out));
+    let notes: Vec<&str> = text
+        .split(['\r', '\n'])
+        .filter(|l| l.contains("freezing into an inelastic collapse"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{text}");
+    assert!(
+        notes[0].contains("vibrobed: note: run 0: at t = "),
+        "{}",
+        notes[0]
+    );
+    assert!(notes[0].contains("collisions.tc"), "{}", notes[0]);
+    assert!(
+        !text.contains("vibrobed: run 0: t = "),
+        "a progress line beside the bar: {text}"
+    );
+}
+
 /// Bad values of the new limits exit 2 naming the field, and write nothing.
 #[test]
 fn bad_limits_are_refused_by_name() {

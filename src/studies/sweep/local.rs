@@ -89,7 +89,8 @@ pub fn check_plan(plan: &Plan, out: &Path) -> Result<bool> {
 /// summary, and the run counts as failed: a rerun runs it again.
 ///
 /// `progress_every`: off a terminal, a progress line named `run <index>` every so many wall
-/// seconds (`None`: silent).
+/// seconds, and on one only the note on a growing cost (the pool's bar shows the progress);
+/// `None`: silent.
 pub fn run_one(
     plan: &Plan,
     spec: &RunSpec,
@@ -248,7 +249,7 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
                 if let Some(seconds) = options.max_run_seconds {
                     scenario.run.max_wall_seconds = Some(seconds);
                 }
-                let lines = (progress && bar.is_hidden()).then_some(options.progress_every);
+                let lines = progress.then_some(options.progress_every);
                 let outcome = run_one(&exp.plan, &runs[i], &scenario, out, lines);
                 bar.inc(1);
                 let line = match &outcome {
