@@ -433,7 +433,12 @@ def pd_cell(r: dict) -> str:
         doubled = float(i["com_locking"]) <= 0.5
         return f"{words}, " + ("period-doubled: " if doubled else "") + lockings
     if name == "convection":
-        return f"{words}, circ. {two(float(i['circulation']))}"
+        # Tried before the bouncing bed: a lock above its threshold is said too.
+        locks = [f"{label} {two(float(i[key]))}" for label, key in
+                 (("L₁", "com_locking"), ("L₂", "com_locking_two_periods"))
+                 if float(i[key]) > 0.5]
+        return f"{words}, circ. {two(float(i['circulation']))}" + (
+            f" ({', '.join(locks)})" if locks else "")
     if name == "leidenfrost":
         return f"{words}, dip {two(float(i['density_dip']))}, max φ {two(float(i['max_packing']))}"
     if name == "gas":
