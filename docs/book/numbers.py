@@ -2,8 +2,8 @@
 """The book's numbers from runs, made by this script and checked against today's build.
 
 Every number the book (and the README) quotes from a run of the shipped scenarios sits between
-markers in the page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This script runs what
-makes them and compares:
+markers in the page's Markdown, `<!-- n:NAME -->…<!-- /n -->` (invisible on the page). This
+script runs what makes them and compares:
 
 - the README's fourth step: the shipped bed's temperature and centre of mass at Γ = 3 and 6;
 - Getting started, the worked example: the shipped bed's full run (its counts, energies,
@@ -429,7 +429,8 @@ def pd_cell(r: dict) -> str:
     name = r["state.name"]
     words = STATE_WORDS.get(name, name)
     if name == "bouncing_bed":
-        lockings = f"L₁ {two(float(i['com_locking']))}, L₂ {two(float(i['com_locking_two_periods']))}"
+        lockings = (f"L₁ {two(float(i['com_locking']))}, "
+                    f"L₂ {two(float(i['com_locking_two_periods']))}")
         doubled = float(i["com_locking"]) <= 0.5
         return f"{words}, " + ("period-doubled: " if doubled else "") + lockings
     if name == "convection":
@@ -454,7 +455,8 @@ def phase_diagram_runs(binary: str, sweep_file: Path, out: Path) -> tuple[dict, 
     wall = time.monotonic() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    run(binary, "sweep", "collect", str(out), "--states", "floor.gamma", "particles.count", "--log")
+    run(binary, "sweep", "collect", str(out), "--states", "floor.gamma", "particles.count",
+        "--log")
     with open(out / "runs.csv") as f:
         runs = {(float(r["floor.gamma"]), int(r["particles.count"])): r for r in csv.DictReader(f)}
     for key, r in runs.items():
