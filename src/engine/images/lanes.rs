@@ -50,46 +50,132 @@ pub(in crate::engine) unsafe fn within_reach(
     let set1 = |v: f64| _mm256_set1_pd(v);
     let [x, y] = anchor[i];
     let (half, period) = (images.half(), images.period());
-    let (xi, yi) = (set1(x), set1(y));
-    let (half_x, half_y) = (set1(half[0]), set1(half[1]));
-    let (neg_half_x, neg_half_y) = (set1(-half[0]), set1(-half[1]));
-    let (period_x, period_y) = (set1(period[0]), set1(period[1]));
-    let reach_v = set1(reach);
-    let common = radius.common().map(|r| {
-        let s = reach + r;
-        set1(s * s)
-    });
-    let each = radius.each();
+    let around = Around {
+        x: set1(x),
+        y: set1(y),
+        half_x: set1(half[0]),
+        half_y: set1(half[1]),
+        neg_half_x: set1(-half[0]),
+        neg_half_y: set1(-half[1]),
+        period_x: set1(period[0]),
+        period_y: set1(period[1]),
+    };
     let me = i as u32;
+    // One loop per kind of radii, so that neither tests which it is per group.
+    match radius.common() {
+        Some(r) => {
+            let s = reach + r;
+            let limit = set1(s * s);
+            keep_near(found, n, me, anchor, &around, |_| limit)
+        }
+        None => {
+            let (each, reach) = (radius.each(), set1(reach));
+            keep_near(found, n, me, anchor, &around, |js| {
+                let r = |l: usize| each[js[l] as usize];
+                let s = _mm256_add_pd(reach, _mm256_set_pd(r(3), r(2), r(1), r(0)));
+                _mm256_mul_pd(s, s)
+            })
+        }
+    }
+}
+
+/// Disk `i`'s anchor and the images, one value in all four lanes.
+struct Around {
+    x: __m256d,
+    y: __m256d,
+    half_x: __m256d,
+    half_y: __m256d,
+    neg_half_x: __m256d,
+    neg_half_y: __m256d,
+    period_x: __m256d,
+    period_y: __m256d,
+}
+
+/// For each set of lanes (bit l: lane l kept), the lanes to move to the front in order: the
+/// control of `vpermilps` that packs the kept candidates of a group.
+static PACK: [[u32; 4]; 16] = {
+    let mut table = [[0u32; 4]; 16];
+    let mut m = 0;
+    while m < 16 {
+        let mut to = 0;
+        let mut l = 0;
+        while l < 4 {
+            if m >> l & 1 == 1 {
+                table[m][to] = l as u32;
+                to += 1;
+            }
+            l += 1;
+        }
+        m += 1;
+    }
+    table
+};
+
+/// The filter's loop: keeps at the front of `found[..n]`, in order, the candidates other than
+/// `me` whose squared minimum-image distance from the anchor `around` is at most `limit` of
+/// their lanes. Four candidates at a time: whole groups packed by one shuffle and one store,
+/// the last few (padded with `me`, never kept) one by one.
+///
+/// # Safety
+///
+/// As [`within_reach`].
+#[inline(always)]
+unsafe fn keep_near(
+    found: &mut [u32],
+    n: usize,
+    me: u32,
+    anchor: &[[f64; 2]],
+    around: &Around,
+    limit: impl Fn([u32; 4]) -> __m256d,
+) -> usize {
+    let found = &mut found[..n];
+    let me_v = _mm_set1_epi32(me as i32);
+    let near = |js: [u32; 4]| {
+        let a = js.map(|j| _mm_loadu_pd(anchor[j as usize].as_ptr()));
+        // Lanes in the candidates' order: 0 and 2 in the halves of one register, 1 and 3 in
+        // the other's, interleaved by the unpacking.
+        let a02 = _mm256_set_m128d(a[2], a[0]);
+        let a13 = _mm256_set_m128d(a[3], a[1]);
+        let xs = _mm256_unpacklo_pd(a02, a13);
+        let ys = _mm256_unpackhi_pd(a02, a13);
+        let dx = nearest_image(
+            _mm256_sub_pd(around.x, xs),
+            around.half_x,
+            around.neg_half_x,
+            around.period_x,
+        );
+        let dy = nearest_image(
+            _mm256_sub_pd(around.y, ys),
+            around.half_y,
+            around.neg_half_y,
+            around.period_y,
+        );
+        let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+        let close = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, limit(js)));
+        let ids = _mm_loadu_si128(js.as_ptr().cast());
+        let itself = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(ids, me_v)));
+        ((close & !itself) as usize, ids)
+    };
     let mut kept = 0;
     let mut k = 0;
-    while k < n {
-        let js = [0, 1, 2, 3].map(|l| if k + l < n { found[k + l] } else { me });
-        let a = js.map(|j| _mm_loadu_pd(anchor[j as usize].as_ptr()));
-        // Lanes in the order 0, 2, 1, 3 (what the unpacking gives).
-        let a01 = _mm256_set_m128d(a[1], a[0]);
-        let a23 = _mm256_set_m128d(a[3], a[2]);
-        let xs = _mm256_unpacklo_pd(a01, a23);
-        let ys = _mm256_unpackhi_pd(a01, a23);
-        let dx = nearest_image(_mm256_sub_pd(xi, xs), half_x, neg_half_x, period_x);
-        let dy = nearest_image(_mm256_sub_pd(yi, ys), half_y, neg_half_y, period_y);
-        let d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
-        let limit = match common {
-            Some(s2) => s2,
-            None => {
-                let r = |l: usize| each[js[l] as usize];
-                let s = _mm256_add_pd(reach_v, _mm256_set_pd(r(3), r(1), r(2), r(0)));
-                _mm256_mul_pd(s, s)
-            }
-        };
-        let bits = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, limit)) as u32;
-        // Kept entries never overtake the candidates read (kept ≤ k + l); the padding lanes
-        // (beyond n) are never kept and write nothing.
-        for (l, lane) in [0, 2, 1, 3].into_iter().enumerate().take(n - k) {
-            found[kept] = js[l];
-            kept += ((bits >> lane) & 1 & (js[l] != me) as u32) as usize;
-        }
+    while k + 4 <= n {
+        let (keep, ids) = near(found[k..k + 4].try_into().unwrap());
+        // Kept entries never overtake the candidates read (kept ≤ k): the group's store only
+        // overwrites read candidates, and what lies past the kept ones is written again.
+        let at = kept.min(k);
+        let order = _mm_loadu_si128(PACK[keep].as_ptr().cast());
+        let packed = _mm_permutevar_ps(_mm_castsi128_ps(ids), order);
+        _mm_storeu_ps(found[at..at + 4].as_mut_ptr().cast(), packed);
+        kept += keep.count_ones() as usize;
         k += 4;
+    }
+    if k < n {
+        let js = [0, 1, 2, 3].map(|l| if k + l < n { found[k + l] } else { me });
+        let (keep, _) = near(js);
+        for (l, &j) in js.iter().enumerate().take(n - k) {
+            found[kept] = j;
+            kept += keep >> l & 1;
+        }
     }
     kept
 }
@@ -152,15 +238,22 @@ mod tests {
                     }
                     candidates.push(edge as u32);
                     let n = candidates.len();
-                    let (mut a, mut b) = (candidates.clone(), candidates);
-                    // SAFETY: the processor has AVX2 (checked above); the candidates are disks.
-                    let ka = unsafe {
-                        super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
-                    };
+                    let mut b = candidates.clone();
                     let kb = crate::engine::images::within_reach_one_by_one(
                         &mut b, n, i, reach, &anchor, &radius, &images,
                     );
-                    assert_eq!(a[..ka], b[..kb], "disk {i}, mixed {mixed}");
+                    // With and without entries past the candidates (never read: a disk
+                    // number there that no disk has would stop the test).
+                    for room in [0, 4] {
+                        let mut a = candidates.clone();
+                        a.resize(n + room, u32::MAX);
+                        // SAFETY: the processor has AVX2 (checked above); the candidates are
+                        // disks.
+                        let ka = unsafe {
+                            super::within_reach(&mut a, n, i, reach, &anchor, &radius, &images)
+                        };
+                        assert_eq!(a[..ka], b[..kb], "disk {i}, mixed {mixed}, room {room}");
+                    }
                     kept_total += kb;
                 }
             }
