@@ -46,17 +46,20 @@ fn holding(row: &[u32], j: u32) -> u64 {
 #[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
 unsafe fn holding_in_lanes(row: &[u32], j: u32) -> u64 {
     use std::arch::x86_64::*;
-    let mut bits = 0u64;
-    let mut g = 0;
-    while g < row.len() {
+    let key = _mm256_set1_epi32(j as i32);
+    let group = |g: usize| {
         let group: &[u32; LANES] = row[g..g + LANES].try_into().unwrap();
         // The load is unaligned, of a whole group.
         let slots = _mm256_loadu_si256(group.as_ptr().cast());
-        let equal = _mm256_cmpeq_epi32(slots, _mm256_set1_epi32(j as i32));
-        bits |= (_mm256_movemask_ps(_mm256_castsi256_ps(equal)) as u32 as u64) << g;
-        g += LANES;
+        let equal = _mm256_cmpeq_epi32(slots, key);
+        (_mm256_movemask_ps(_mm256_castsi256_ps(equal)) as u32 as u64) << g
+    };
+    // Rows of one or two groups (the lists of most scenes) without a loop to set up.
+    match row.len() {
+        LANES => group(0),
+        w if w == 2 * LANES => group(0) | group(LANES),
+        w => (0..w).step_by(LANES).fold(0, |bits, g| bits | group(g)),
     }
-    bits
 }
 
 /// Lists in rows with room and an overflow area: list `i` is `slots[i·room .. i·room +
