@@ -1,6 +1,7 @@
 //! What a collision of two disks does: the impulse with the restitution of the collision law,
-//! the rest rules that may take a collision over (a landing on a disk at rest, jammed rows and
-//! clusters), the floor's answer to disks it carried, and the re-prediction of both disks.
+//! the floor's answer to disks it carried, and the re-prediction of both disks. The rest rules
+//! that may take a collision over (a landing on a disk at rest, jammed rows and clusters) are
+//! only asked here: each decides, acts and counts in its own file under `engine/rest/`.
 
 use crate::engine::{Simulation, OVERLAP_TOLERANCE};
 use crate::error::{Error, Result};
@@ -14,7 +15,9 @@ impl<F: Flight> Simulation<F> {
     /// Where no disk rides, the two neighbour searches run side by side before either event is
     /// filed: they are independent (a search in flight reads the disks' states, not the queue
     /// nor the event times), so the processor overlaps their square roots and divisions, and
-    /// the events filed are the same.
+    /// the events filed are the same. Always inlined into [`pair`](Self::pair), as are the
+    /// floor's answer and the jammed cluster's trigger: every collision runs them.
+    #[inline(always)]
     fn moved_pair(&mut self, i: usize, j: usize) {
         self.disks.counter[j] = self.disks.counter[j].wrapping_add(1);
         if self.rest.riders.any() {
@@ -75,16 +78,8 @@ impl<F: Flight> Simulation<F> {
         let rode = [self.is_riding(i), self.is_riding(j)];
         let d = &self.disks;
         let (dx, dy) = self.wrap(d.motion[i].x - d.motion[j].x, d.motion[i].y - d.motion[j].y);
-        if self.rest.riders.any_sliding() && self.roll_pressed_slider(i, j, (dx, dy)) {
+        if self.roll_pressed_slider(i, j, (dx, dy)) || self.held_at_rest(i, j, rode, (dx, dy))? {
             return Ok(());
-        }
-        if rode[0] != rode[1] && self.rest.resting_contacts {
-            let (k, s) = if rode[0] { (j, i) } else { (i, j) };
-            // Separation from the disk at rest to the flying one.
-            let sep = if k == i { (dx, dy) } else { (-dx, -dy) };
-            if self.push_gently(k, s, sep)? || self.hit_jammed_row(k, s, sep)? {
-                return Ok(());
-            }
         }
         let d = &self.disks;
         let (dvx, dvy) = (
@@ -106,7 +101,7 @@ impl<F: Flight> Simulation<F> {
         } else {
             0.0
         };
-        if self.rest.resting_contacts && self.rest_rules_take(i, j, rode, (dx, dy), e)? {
+        if self.rest_rules_take(i, j, rode, (dx, dy), e)? {
             return Ok(());
         }
         // Riders leave the floor's grip for the collision; if it pushes a disk riding the floor
@@ -140,49 +135,29 @@ impl<F: Flight> Simulation<F> {
                 self.release_carried(k, None);
             }
         }
-        if rode == [false, false] && e == 1.0 {
-            self.settle_if_jammed(i, j);
-        }
+        self.settle_if_jammed(i, j, rode, e);
         Ok(())
     }
 
     /// The rest rules that may take a collision of disks `i` and `j` over (`rode`: whether each
-    /// rode before; `(dx, dy)` from `j` to `i`; `e` the restitution it would have): two disks at
-    /// rest that come to rest together, a jammed row on the floor, a row seated on disks at
-    /// rest, a disk coming to rest on one at rest. True if one did.
+    /// rode before; `sep` from `j` to `i`; `e` the restitution it would have), asked in turn,
+    /// each deciding whether it applies: the resting contacts (two disks at rest that come to
+    /// rest together, a disk coming to rest on one at rest), then the full rows (on the floor,
+    /// seated on a row at rest). True if one did.
     fn rest_rules_take(
         &mut self,
         i: usize,
         j: usize,
         rode: [bool; 2],
-        (dx, dy): (f64, f64),
+        sep: (f64, f64),
         e: f64,
     ) -> Result<bool> {
-        let flat = dy.abs() <= crate::engine::rest::jams::WEDGE_DROP * dx.abs();
-        if rode[0] && rode[1] && self.rest_together(i, j, dx, dy)? {
-            return Ok(true);
-        }
-        if rode[0]
-            && rode[1]
-            && self.rest.riders.on_floor(i)
-            && self.rest.riders.on_floor(j)
-            && flat
-            && self.stop_floor_row(i, j)
-        {
-            return Ok(true);
-        }
-        if !rode[0] && !rode[1] && self.rest.riders.any() && flat && self.seat_row(i, j) {
-            return Ok(true);
-        }
-        if rode[0] != rode[1] {
-            let (k, s) = if rode[0] { (j, i) } else { (i, j) };
-            return self.try_rest_on(k, s, e);
-        }
-        Ok(false)
+        Ok(self.resting_contact_takes(i, j, rode, sep, e)? || self.full_row_takes(i, j, rode, sep))
     }
 
     /// After a collision, the floor answers at once each disk that rode it and was pushed into
     /// it (sequential impulses).
+    #[inline(always)]
     fn floor_answers(&mut self, riders: [(usize, bool); 2]) {
         for (k, on_floor) in riders {
             if on_floor {
@@ -192,24 +167,6 @@ impl<F: Flight> Simulation<F> {
                     self.floor_impact(k, hd);
                 }
             }
-        }
-    }
-
-    /// Two slow flying disks meeting among disks at rest, their collision made elastic by a
-    /// cure, on a floor that never pulls away from a bed at rest: the jammed cluster they
-    /// belong to may hold as a whole.
-    fn settle_if_jammed(&mut self, i: usize, j: usize) {
-        if self.restitution.law.inelastic()
-            && self.rest.resting_contacts
-            && self
-                .bounds
-                .floor
-                .as_ref()
-                .is_some_and(|f| f.max_acceleration() < self.flight.g())
-            && self.slow(i)
-            && self.slow(j)
-        {
-            self.settle_cluster(i);
         }
     }
 

@@ -4,3 +4,13 @@
 pub(super) mod jams;
 pub(super) mod resting;
 pub mod riders;
+
+/// Of disks `i` and `j`, one riding (`rode`: whether each rode), the flying one and the one
+/// at rest.
+pub(super) fn flying_and_riding(i: usize, j: usize, rode: [bool; 2]) -> (usize, usize) {
+    if rode[0] {
+        (j, i)
+    } else {
+        (i, j)
+    }
+}

@@ -37,6 +37,7 @@
 //! The rules that end the sequences a bed at rest would otherwise ring in for ever (slots,
 //! jammed clusters and rows, pockets by a wall, Zeno wedges) are in [`jams`](crate::engine::rest::jams).
 
+use crate::engine::rest::flying_and_riding;
 use crate::engine::rest::riders::{LEFT_WALL, NO_DISK, RIGHT_WALL};
 use crate::engine::Simulation;
 use crate::error::Result;
@@ -66,6 +67,33 @@ pub const HAIR: f64 = 1e-4;
 pub const WALL_TOUCH: f64 = HAIR;
 
 impl<F: Flight> Simulation<F> {
+    /// Disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`; `rode`: whether each
+    /// rode) collide with restitution `e`. Under the resting contacts, two riding disks may rest
+    /// together ([`rest_together`](Self::rest_together)), and a flying disk may come to rest on
+    /// a riding one ([`try_rest_on`](Self::try_rest_on)). Whether one did (the collision is
+    /// then done).
+    #[inline]
+    pub(in crate::engine) fn resting_contact_takes(
+        &mut self,
+        i: usize,
+        j: usize,
+        rode: [bool; 2],
+        (dx, dy): (f64, f64),
+        e: f64,
+    ) -> Result<bool> {
+        if !self.rest.resting_contacts {
+            return Ok(false);
+        }
+        match rode {
+            [true, true] => self.rest_together(i, j, dx, dy),
+            [false, false] => Ok(false),
+            _ => {
+                let (k, s) = flying_and_riding(i, j, rode);
+                self.try_rest_on(k, s, e)
+            }
+        }
+    }
+
     /// Flying disk `k` meets riding disk `s` (both brought to now) with restitution `e`. Comes to
     /// rest (and returns `true`) if the meeting is gentle — rebound and sliding speed below the
     /// sleep speed — and the place is stable (or on the floor beside `s`); stops in a slot (see

@@ -8,6 +8,34 @@ use crate::engine::Simulation;
 use crate::physics::flight::Flight;
 
 impl<F: Flight> Simulation<F> {
+    /// Disks `i` and `j` have just collided (`rode`: whether each rode before; `e` the
+    /// restitution it had). Two slow flying disks meeting among disks at rest, their collision
+    /// made elastic by a cure, on a floor that never pulls away from a bed at rest: the jammed
+    /// cluster they belong to may hold as a whole ([`settle_cluster`](Self::settle_cluster)).
+    #[inline(always)]
+    pub(in crate::engine) fn settle_if_jammed(
+        &mut self,
+        i: usize,
+        j: usize,
+        rode: [bool; 2],
+        e: f64,
+    ) {
+        if rode == [false, false]
+            && e == 1.0
+            && self.restitution.law.inelastic()
+            && self.rest.resting_contacts
+            && self
+                .bounds
+                .floor
+                .as_ref()
+                .is_some_and(|f| f.max_acceleration() < self.flight.g())
+            && self.slow(i)
+            && self.slow(j)
+        {
+            self.settle_cluster(i);
+        }
+    }
+
     /// Gathers into `cluster` (marking `member`) disk `seed` if it flies, and the flying disks
     /// touching it, directly or through each other, that move slower than the sleep speed
     /// relative to the floor (moving at `hd`): breadth first from the seed.

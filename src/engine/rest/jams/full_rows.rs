@@ -10,6 +10,34 @@ use crate::physics::flight::Flight;
 use crate::physics::walls::SideBounds;
 
 impl<F: Flight> Simulation<F> {
+    /// Disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`; `rode`: whether each
+    /// rode) collide. Under the resting contacts, two disks riding on the floor that meet side by
+    /// side ([`side_by_side`]) may belong to a full row on the floor
+    /// ([`stop_floor_row`](Self::stop_floor_row)), and two flying disks that meet side by side
+    /// among disks at rest to a full row seated on a row at rest ([`seat_row`](Self::seat_row)).
+    /// Whether a row stopped or sat (the collision is then done).
+    #[inline]
+    pub(in crate::engine) fn full_row_takes(
+        &mut self,
+        i: usize,
+        j: usize,
+        rode: [bool; 2],
+        (dx, dy): (f64, f64),
+    ) -> bool {
+        if !(self.rest.resting_contacts && side_by_side(dx, dy)) {
+            return false;
+        }
+        match rode {
+            [true, true] => {
+                self.rest.riders.on_floor(i)
+                    && self.rest.riders.on_floor(j)
+                    && self.stop_floor_row(i, j)
+            }
+            [false, false] => self.rest.riders.any() && self.seat_row(i, j),
+            _ => false,
+        }
+    }
+
     /// Flying disks `i` and `j` (brought to now) meet side by side. If they belong to a *full
     /// row seated on a row at rest* — disks side by side from side wall to side wall (or round
     /// the periodic sides), each at rest (not sliding, on one support) or flying within [`ROOM`]

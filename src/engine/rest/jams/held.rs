@@ -3,11 +3,33 @@
 //! the flying disk comes to rest on it or bounces off it as off a fixed disk moving with the
 //! floor.
 
+use crate::engine::rest::flying_and_riding;
 use crate::engine::Simulation;
 use crate::error::Result;
 use crate::physics::flight::Flight;
 
 impl<F: Flight> Simulation<F> {
+    /// Disks `i` and `j` (brought to now, `(dx, dy)` from `j` to `i`; `rode`: whether each
+    /// rode) meet, one flying and one at rest: under the resting contacts, the one at rest does
+    /// not give if pushed gently ([`push_gently`](Self::push_gently)) or hit in a jammed row
+    /// ([`hit_jammed_row`](Self::hit_jammed_row)). Whether it held.
+    #[inline]
+    pub(in crate::engine) fn held_at_rest(
+        &mut self,
+        i: usize,
+        j: usize,
+        rode: [bool; 2],
+        (dx, dy): (f64, f64),
+    ) -> Result<bool> {
+        if !(rode[0] != rode[1] && self.rest.resting_contacts) {
+            return Ok(false);
+        }
+        let (k, s) = flying_and_riding(i, j, rode);
+        // Separation from the disk at rest to the flying one.
+        let sep = if k == i { (dx, dy) } else { (-dx, -dy) };
+        Ok(self.push_gently(k, s, sep)? || self.hit_jammed_row(k, s, sep)?)
+    }
+
     /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) meets disk `s`, which does
     /// not give. Its restitution is that of an impact on a boundary (a cure acts only through
     /// `k`'s own past, as at a wall: the row, hit over and over, does not make every impact on

@@ -76,6 +76,13 @@ fn level(sx: f64, sy: f64) -> bool {
     sy >= -WEDGE_DROP * sx.abs()
 }
 
+/// Whether two disks meeting at `(dx, dy)` from one to the other meet side by side, level
+/// within a flat angle: where a full row rings ([`full_rows`](full_rows.rs)).
+#[inline]
+fn side_by_side(dx: f64, dy: f64) -> bool {
+    dy.abs() <= WEDGE_DROP * dx.abs()
+}
+
 /// How to let a disk down onto the floor (see `room_on_floor`): move the disks `shifts` in the
 /// direction `dir` (±1 in x), each by its distance (the landing disk first, by a negative one:
 /// away from the row), and lower the landing disk by `drop`.

@@ -8,18 +8,26 @@ use crate::engine::Simulation;
 use crate::physics::flight::Flight;
 
 impl<F: Flight> Simulation<F> {
+    /// Disks `i` and `j` touch (`(dx, dy)` from `j` to `i`, both brought to now): where a disk
+    /// slides on a rough floor, the one that slides may be pressed into the other and roll
+    /// ([`roll_if_pressed`](Self::roll_if_pressed)). `true` if it did.
+    #[inline]
+    pub(in crate::engine) fn roll_pressed_slider(
+        &mut self,
+        i: usize,
+        j: usize,
+        sep: (f64, f64),
+    ) -> bool {
+        self.rest.riders.any_sliding() && self.roll_if_pressed(i, j, sep)
+    }
+
     /// Disks `i` and `j` touch (`(dx, dy)` from `j` to `i`, both brought to now) and one of them
     /// slides on a rough floor, meeting the other slower than its sleep speed: the friction
     /// under it presses it into the other, and colliding would exchange next to nothing, at one
     /// instant, for ever. The slider takes the end of its slide at once and rolls (the
     /// friction impulse left, `q/(1 + q)` of its slip, at once, as if the slide were not
     /// followed: only for a contact this gentle); both are predicted again. `true` if it did.
-    pub(in crate::engine) fn roll_pressed_slider(
-        &mut self,
-        i: usize,
-        j: usize,
-        (dx, dy): (f64, f64),
-    ) -> bool {
+    fn roll_if_pressed(&mut self, i: usize, j: usize, (dx, dy): (f64, f64)) -> bool {
         let (mi, mj) = (self.disks.motion[i], self.disks.motion[j]);
         let dist = (dx * dx + dy * dy).sqrt();
         let approach = -((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
