@@ -244,7 +244,7 @@ fn validate_orifice(s: &Scenario) -> Result<()> {
             "needs gravity: disks leave by falling through it",
         ));
     }
-    if floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some() {
+    if floor.vibrates() {
         return Err(Error::input(
             "floor.orifice",
             "needs a static floor: the corners of a vibrating orifice are not implemented",
@@ -524,10 +524,9 @@ fn validate_vibration(floor: &Floor, gravity: Option<f64>) -> Result<()> {
             ));
         }
     }
-    let vibrating = floor.amplitude.unwrap_or(0.0) > 0.0 || floor.gamma.is_some();
     match floor.frequency {
         Some(f) => positive("floor.frequency", f)?,
-        None if vibrating => {
+        None if floor.vibrates() => {
             return Err(Error::input(
                 "floor.frequency",
                 "required for a vibrating floor",
@@ -1136,11 +1135,10 @@ const FEW_GROUPS: f64 = 2.0;
 fn few_resolved_periods(s: &Scenario) -> Option<String> {
     let floor = s.floor.as_ref()?;
     s.gravity?;
-    let shaken = floor.amplitude.or(floor.gamma).is_some_and(|a| a > 0.0);
     floor.frequency.filter(|f| *f > 0.0)?;
     let period = floor.drive(s.gravity).period();
     let window = s.run.duration - s.run.warmup;
-    if !shaken || window <= 0.0 {
+    if !floor.vibrates() || window <= 0.0 {
         return None;
     }
     let bins = s.output.phase_bins;

@@ -205,6 +205,12 @@ pub struct Floor {
 }
 
 impl Floor {
+    /// Whether the file asks this floor to vibrate: an amplitude above 0, or a peak
+    /// acceleration Γ (a static floor gives neither).
+    pub fn vibrates(&self) -> bool {
+        self.amplitude.is_some_and(|a| a > 0.0) || self.gamma.is_some_and(|gamma| gamma > 0.0)
+    }
+
     /// The drive this floor asks for under gravity `gravity`: its waveform and model, with
     /// `amplitude` at `frequency` or the amplitude of peak acceleration `gamma` (which needs
     /// gravity); static without either.
@@ -945,3 +951,20 @@ impl Scenario {
 }
 
 pub mod checks;
+
+#[cfg(test)]
+mod tests {
+    use super::Floor;
+
+    /// A floor vibrates with an amplitude above 0 or a Γ; without either, or at amplitude 0, it
+    /// is static, whatever its frequency.
+    #[test]
+    fn a_floor_vibrates_only_with_an_amplitude_or_a_gamma() {
+        let floor = |json: &str| serde_json::from_str::<Floor>(json).expect("a floor");
+        assert!(!floor(r#"{}"#).vibrates());
+        assert!(!floor(r#"{"amplitude": 0, "frequency": 1}"#).vibrates());
+        assert!(!floor(r#"{"frequency": 1}"#).vibrates());
+        assert!(floor(r#"{"amplitude": 0.1, "frequency": 1}"#).vibrates());
+        assert!(floor(r#"{"gamma": 2, "frequency": 1}"#).vibrates());
+    }
+}
