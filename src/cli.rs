@@ -722,7 +722,7 @@ fn write_results(result: &Summary, files: Written) -> Result<i32> {
     if let Some(path) = profiles {
         match &result.profiles {
             Some(p) => {
-                if let Err(e) = crate::output::write_atomic(path, &p.to_csv()) {
+                if let Err(e) = crate::output::write_output("profiles", path, &p.to_csv()) {
                     eprintln!("vibrobed: {e}");
                     lost = true;
                 }
@@ -731,7 +731,7 @@ fn write_results(result: &Summary, files: Written) -> Result<i32> {
         }
     }
     let json = result.to_json();
-    match summary.map(|path| crate::output::write_atomic(path, &json)) {
+    match summary.map(|path| crate::output::write_output("summary", path, &json)) {
         None => print!("{json}"),
         Some(Ok(())) => {}
         Some(Err(e)) => {
@@ -758,7 +758,7 @@ fn ending_code(result: &Summary) -> i32 {
 fn not_measured(output: &str, path: &Path, result: &Summary) {
     eprintln!(
         "vibrobed: warning: no {output} measured (the run ended, {}, at t = {} before any \
-         sample after its warm-up): {} not written",
+         sample after its warm-up): {output} {} not written",
         result.ending.words(),
         result.sim_time,
         path.display()

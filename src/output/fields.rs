@@ -94,8 +94,8 @@ pub fn to_vti(f: &Fields) -> Result<String> {
     };
     let mut bytes = Vec::new();
     vtk.write_xml(&mut bytes)
-        .map_err(|e| Error::Runtime(format!("cannot encode the fields as VTK: {e}")))?;
-    String::from_utf8(bytes).map_err(|e| Error::Runtime(format!("VTK text: {e}")))
+        .map_err(|e| Error::Runtime(format!("cannot encode them as VTK: {e}")))?;
+    String::from_utf8(bytes).map_err(|e| Error::Runtime(format!("their VTK is not text: {e}")))
 }
 
 /// `true` when `path` asks for VTK image data (named `*.vti`).
@@ -104,12 +104,16 @@ pub fn wants_vti(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("vti"))
 }
 
-/// Writes the fields to `path` (atomically), as VTK image data for `*.vti`, else as CSV.
+/// Writes the fields to `path` (atomically), as VTK image data for `*.vti`, else as CSV; a
+/// failure, to encode or to write, names the fields and the file.
 pub fn write(path: &Path, f: &Fields) -> Result<()> {
     let text = if wants_vti(path) {
-        to_vti(f)?
+        to_vti(f).map_err(|e| match e {
+            Error::Runtime(why) => super::cannot_write("fields", path, why),
+            other => other,
+        })?
     } else {
         to_csv(f)
     };
-    super::write_atomic(path, &text)
+    super::write_output("fields", path, &text)
 }

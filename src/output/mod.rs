@@ -45,12 +45,29 @@ pub fn open_recording(
 
 /// Writes `text` to `path` through a temporary file renamed into place.
 pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    write_whole(path, text).map_err(|e| Error::Io(format!("cannot write {}: {e}", path.display())))
+}
+
+/// Writes output `what` (its name in messages: `fields`, `profiles`, `summary`) to `path` as
+/// [`write_atomic`] does; a failure names the output and its file ([`cannot_write`]).
+pub fn write_output(what: &str, path: &Path, text: &str) -> Result<()> {
+    write_whole(path, text).map_err(|e| cannot_write(what, path, e))
+}
+
+/// Output `what` could not be written to `path`, for `why`: the message names both, as every
+/// output's does (`cannot write trajectory t.xyz.partial: …`).
+pub fn cannot_write(what: &str, path: &Path, why: impl std::fmt::Display) -> Error {
+    Error::Io(format!("cannot write {what} {}: {why}", path.display()))
+}
+
+/// Writes `text` to `path` through a temporary file renamed into place; the temporary file is
+/// removed if that fails.
+fn write_whole(path: &Path, text: &str) -> std::io::Result<()> {
     let tmp = temp_name(path);
     std::fs::write(&tmp, text)
         .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| {
+        .inspect_err(|_| {
             let _ = std::fs::remove_file(&tmp);
-            Error::Io(format!("cannot write {}: {e}", path.display()))
         })
 }
 

@@ -17,7 +17,7 @@ impl Output for FieldsFile {
             Given::End(None, ending, time) => {
                 eprintln!(
                     "vibrobed: warning: no fields measured (the run ended, {}, at t = {time} \
-                     before any sample after its warm-up): {} not written",
+                     before any sample after its warm-up): fields {} not written",
                     ending.words(),
                     self.0.display()
                 );

@@ -53,8 +53,8 @@ fn read_json(path: &Path) -> Value {
 
 /// The shipped bed at Γ = 0.8, stopped by its event limit long before its warm-up (t = 50):
 /// exit 4, `"ending": "event-limit"`, and no temperature, centre of mass, profiles or state in
-/// the summary (never a 0 that reads as a measurement); the profiles asked for are not written,
-/// and stderr says why.
+/// the summary (never a 0 that reads as a measurement); the profiles and fields asked for are
+/// not written, and stderr says why, naming each output and its file.
 #[test]
 fn a_run_stopped_by_its_event_limit_before_the_warm_up_measures_nothing() {
     let dir = scratch("event-limit");
@@ -73,6 +73,8 @@ fn a_run_stopped_by_its_event_limit_before_the_warm_up_measures_nothing() {
             "s.json",
             "--profiles",
             "p.csv",
+            "--fields",
+            "f.csv",
         ],
     );
     assert_eq!(out.status.code(), Some(4), "{}", describe(&out));
@@ -84,12 +86,14 @@ fn a_run_stopped_by_its_event_limit_before_the_warm_up_measures_nothing() {
         assert!(s.get(never).is_none(), "{never} in {s:#}");
     }
     assert_eq!(s["engine"]["samples"], 0);
-    assert!(!dir.join("p.csv").exists());
-    assert!(
-        stderr(&out).contains("no profiles measured") && stderr(&out).contains("p.csv"),
-        "{}",
-        describe(&out)
-    );
+    for (output, file) in [("profiles", "p.csv"), ("fields", "f.csv")] {
+        assert!(!dir.join(file).exists());
+        let said = stderr(&out).lines().any(|l| {
+            l.contains(&format!("no {output} measured"))
+                && l.ends_with(&format!("{output} {file} not written"))
+        });
+        assert!(said, "{}", describe(&out));
+    }
 }
 
 /// A height bin no disk centre ever entered has no velocity and no temperature: the shipped

@@ -386,9 +386,7 @@ fn fields_that_cannot_be_written_exit_3() {
         let ended = run(&args, &dir, &under);
         ended.assert(3, SHORT_RUN);
         ended.says(&[
-            "warning: cannot write",
-            &path,
-            "File too large",
+            &format!("warning: cannot write fields {path}: File too large"),
             "the run ends without its fields",
         ]);
         let s = summary(&dir.join("s.json"));
@@ -824,7 +822,12 @@ fn a_directory_made_read_only_during_the_run() {
     running.signal(libc::SIGINT);
     let ended = running.wait(SHORT_RUN * 2);
     ended.assert(1, AFTER_SIGNAL);
-    ended.says(&["cannot write", "s.json", "Permission denied", "stdout"]);
+    ended.says(&[
+        "cannot write summary",
+        "s.json",
+        "Permission denied",
+        "stdout",
+    ]);
     let s: Value = serde_json::from_str(&ended.stdout).expect("the summary on stdout");
     assert_eq!(s["ending"], "interrupted");
     assert_eq!(failed_outputs(&s), ["checkpoint"]);
@@ -934,8 +937,9 @@ fn a_full_filesystem_keeps_the_summary_and_the_profiles() {
     args.extend(["--fields".into(), d.join("q.vti").display().to_string()]);
     let ended = run(&args, &dir, &Under::default());
     ended.assert(1, SHORT_RUN);
-    ended.says(&["cannot write", "q.csv", "No space left on device"]);
-    ended.says(&["cannot write", "q.vti", "No space left on device"]);
+    let named = |what: &str, file: &str| format!("cannot write {what} {}", d.join(file).display());
+    ended.says(&[&named("profiles", "q.csv"), "No space left on device"]);
+    ended.says(&[&named("fields", "q.vti"), "No space left on device"]);
     assert_eq!(summary(&dir.join("s.json"))["ending"], "completed");
     assert!(names(&d).ends_with(&["filler", "p.csv", "s.json"].map(String::from)));
     drop(disk);
