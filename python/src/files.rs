@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use vibrobed::cli::OutputArgs;
 use vibrobed::output::summary::Summary;
-use vibrobed::output::write_atomic;
+use vibrobed::output::write_output;
 use vibrobed::{Error, Result};
 
 /// The output paths asked for (each `None` when not).
@@ -74,10 +74,10 @@ impl Files {
             }
         };
         if let (Some(path), Some(p)) = (&self.profiles, &result.profiles) {
-            keep(write_atomic(path, &p.to_csv()));
+            keep(write_output("profiles", path, &p.to_csv()));
         }
         if let Some(path) = &self.summary {
-            keep(write_atomic(path, &result.to_json()));
+            keep(write_output("summary", path, &result.to_json()));
         }
         first
     }
