@@ -84,6 +84,15 @@ impl SideBounds {
         }
     }
 
+    /// The gap between a disk of radius `a` at `x` and the side wall that the direction `dir`
+    /// points to (left for `dir < 0`, else right); `None` where the sides are periodic.
+    pub fn gap_to_wall(&self, x: f64, a: f64, dir: f64) -> Option<f64> {
+        match *self {
+            SideBounds::Walls { width, .. } => Some(if dir < 0.0 { x - a } else { width - x - a }),
+            SideBounds::Periodic { .. } => None,
+        }
+    }
+
     /// Time until a disk of radius `a` at `x` moving with `vx` hits a side wall, if any.
     #[inline(always)]
     pub fn impact(&self, x: f64, vx: f64, a: f64) -> Option<(f64, Side)> {

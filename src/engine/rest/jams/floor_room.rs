@@ -6,7 +6,6 @@
 use super::*;
 use crate::engine::Simulation;
 use crate::physics::flight::Flight;
-use crate::physics::walls::SideBounds;
 
 impl<F: Flight> Simulation<F> {
     /// Whether flying disk `k` (at now) can rest on the floor's surface `h`: `Some(None)` if it
@@ -64,10 +63,10 @@ impl<F: Flight> Simulation<F> {
             blocker = Some((c, dx.signum(), need));
         }
         let (first, dir, need) = blocker?;
-        let mut free = f64::INFINITY;
-        if let SideBounds::Walls { width, .. } = self.bounds.sides {
-            free = if dir > 0.0 { xk - a } else { width - xk - a };
-        }
+        // Room behind the landing disk, to the wall away from the row.
+        let mut free = (self.bounds.sides)
+            .gap_to_wall(xk, a, -dir)
+            .unwrap_or(f64::INFINITY);
         for &c in self.map.lists.of(k) {
             let c = c as usize;
             let (xc, yc, _, _) = self.state_at(c, now);
@@ -88,12 +87,12 @@ impl<F: Flight> Simulation<F> {
             shifts.push((cur as u32, rest));
             let (x, y, _, _) = self.state_at(cur, now);
             let ac = self.disks.radius[cur];
-            if let SideBounds::Walls { width, .. } = self.bounds.sides {
-                let gap = if dir < 0.0 { x - ac } else { width - x - ac };
-                // (A row that fills the width exactly has no play but round-off.)
-                if gap < rest - TIGHT * ac {
-                    return None;
-                }
+            // (A row that fills the width exactly has no play but round-off.)
+            if (self.bounds.sides)
+                .gap_to_wall(x, ac, dir)
+                .is_some_and(|gap| gap < rest - TIGHT * ac)
+            {
+                return None;
             }
             let mut next = None;
             for &c in self.map.lists.of(cur) {

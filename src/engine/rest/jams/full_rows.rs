@@ -181,11 +181,11 @@ impl<F: Flight> Simulation<F> {
             row.push(cur as u32);
             let (x, y, _, _) = self.state_at(cur, now);
             let a = self.disks.radius[cur];
-            if let SideBounds::Walls { width, .. } = self.bounds.sides {
-                let gap = if dir < 0.0 { x - a } else { width - x - a };
-                if gap <= ROOM * a {
-                    return true;
-                }
+            if (self.bounds.sides)
+                .gap_to_wall(x, a, dir)
+                .is_some_and(|gap| gap <= ROOM * a)
+            {
+                return true;
             }
             let next = self
                 .map

@@ -8,7 +8,6 @@ use crate::engine::rest::resting::TOUCH;
 use crate::engine::Simulation;
 use crate::error::Result;
 use crate::physics::flight::Flight;
-use crate::physics::walls::SideBounds;
 
 impl<F: Flight> Simulation<F> {
     /// Flying disk `k` (brought to now, `(sx, sy)` from `s` to it) hits disk `s` of a jammed
@@ -38,16 +37,15 @@ impl<F: Flight> Simulation<F> {
             return false;
         }
         let now = self.now;
-        let width = self.bounds.sides.width();
         let mut cur = s;
         for _ in 0..self.disks.len() {
             let (x, y, _, _) = self.state_at(cur, now);
             let a = self.disks.radius[cur];
-            if let SideBounds::Walls { .. } = self.bounds.sides {
-                let gap = if push < 0.0 { x - a } else { width - x - a };
-                if gap <= TOUCH * a {
-                    return true;
-                }
+            if (self.bounds.sides)
+                .gap_to_wall(x, a, push)
+                .is_some_and(|gap| gap <= TOUCH * a)
+            {
+                return true;
             }
             let next = self
                 .map
