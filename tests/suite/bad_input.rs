@@ -22,6 +22,29 @@ fn vibrobed(dir: &Path, args: &[OsString]) -> Outcome {
     out
 }
 
+/// Runs `vibrobed WORDS` from `dir` under the guard, interrupts it (SIGINT) once `ready` holds,
+/// it has ended, or `wait` has passed, and gives it `grace` to stop.
+fn interrupted(
+    words: &[&str],
+    dir: &Path,
+    wait: Duration,
+    grace: Duration,
+    ready: impl Fn() -> bool,
+) -> Outcome {
+    let logs = dir.with_extension("logs");
+    let mut child = guarded::start(&guarded::args(words), dir, &logs);
+    while !child.ended() && !ready() && child.elapsed() < wait {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.interrupt();
+    let out = child.wait(Limits {
+        interrupt_after: Duration::ZERO,
+        kill_after: grace,
+    });
+    let _ = std::fs::remove_dir_all(&logs);
+    out
+}
+
 /// `check SCENARIO --set S...`.
 fn check(name: &str, sets: &[&str]) -> Vec<OsString> {
     let mut args: Vec<OsString> = vec!["check".into(), scenario(name).into()];
@@ -1554,17 +1577,9 @@ fn a_run_interrupted_while_its_scene_is_built_ends_at_once_writing_nothing() {
         "--set",
         "domain.width=900",
     ];
-    let logs = dir.with_extension("logs");
-    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
-    while !child.ended() && child.elapsed() < Duration::from_secs(1) {
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    child.interrupt();
-    let out = child.wait(Limits {
-        interrupt_after: Duration::ZERO,
-        kill_after: 2 * STOP_GRACE,
+    let out = interrupted(&words, &dir, Duration::from_secs(1), 2 * STOP_GRACE, || {
+        false
     });
-    let _ = std::fs::remove_dir_all(&logs);
     let what = out.describe();
     assert_eq!(out.code(), Some(130), "{what}");
     assert!(out.stderr.contains("before its first event"), "{what}");
@@ -1602,17 +1617,9 @@ fn an_accuracy_report_interrupted_as_it_runs_exits_130_writing_nothing() {
         "--set",
         "floor.amplitude=5e5",
     ];
-    let logs = dir.with_extension("logs");
-    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
-    while !child.ended() && child.elapsed() < Duration::from_secs(3) {
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    child.interrupt();
-    let out = child.wait(Limits {
-        interrupt_after: Duration::ZERO,
-        kill_after: 2 * STOP_GRACE,
+    let out = interrupted(&words, &dir, Duration::from_secs(3), 2 * STOP_GRACE, || {
+        false
     });
-    let _ = std::fs::remove_dir_all(&logs);
     let what = out.describe();
     assert_eq!(out.code(), Some(130), "{what}");
     assert!(out.stderr.contains("interrupted"), "{what}");
@@ -1651,23 +1658,17 @@ fn a_sweep_interrupted_while_its_first_run_builds_exits_130_keeping_its_inputs()
         )
     };
     let before = inputs();
-    let logs = dir.with_extension("logs");
     let words = ["sweep", "run", "big.json", "--out", "out", "--jobs", "1"];
-    let mut child = guarded::start(&guarded::args(&words), &dir, &logs);
     // The plan is written as the pool starts, just before run 0 builds its scene.
     let out = dir.join("out");
-    while !child.ended()
-        && !out.join("plan.json").exists()
-        && child.elapsed() < Duration::from_secs(60)
-    {
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    child.interrupt();
-    let got = child.wait(Limits {
-        interrupt_after: Duration::ZERO,
-        kill_after: 6 * STOP_GRACE,
-    });
-    let _ = std::fs::remove_dir_all(&logs);
+    let plan = out.join("plan.json");
+    let got = interrupted(
+        &words,
+        &dir,
+        Duration::from_secs(60),
+        6 * STOP_GRACE,
+        || plan.exists(),
+    );
     let what = got.describe();
     assert_eq!(got.code(), Some(130), "{what}");
     assert!(
