@@ -87,9 +87,9 @@ fn given_speeds(s: &Scenario) -> Vec<Given> {
             thermal,
         ));
     }
-    if let Some(f) = s.floor.as_ref().and_then(|f| f.frequency) {
-        let peak = s.floor_amplitude() * 2.0 * std::f64::consts::PI * f;
-        let field = match s.floor.as_ref().and_then(|f| f.gamma) {
+    if let Some(floor) = s.floor.as_ref().filter(|f| f.frequency.is_some()) {
+        let peak = floor.drive(s.gravity).peak_velocity();
+        let field = match floor.gamma {
             Some(_) => "floor.gamma",
             None => "floor.frequency",
         };
