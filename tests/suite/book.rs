@@ -148,6 +148,12 @@ fn describe(
     }
 }
 
+/// Every field path of the scenario file, as the schema gives them (the fuzzers' lists are
+/// checked against it too).
+pub(crate) fn scenario_field_paths() -> Vec<String> {
+    schema_fields().into_keys().collect()
+}
+
 /// Every field path of the scenario file, with what the schema says about it.
 fn schema_fields() -> BTreeMap<String, SchemaField> {
     let schema = serde_json::to_value(schemars::schema_for!(vibrobed::Scenario))

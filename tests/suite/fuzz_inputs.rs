@@ -2,8 +2,9 @@
 //! extreme numbers, "NaN" and infinities, missing and unknown fields, odd and malformed `--set`
 //! overrides), are given to `vibrobed check` and to a short `vibrobed run`. Whatever the input,
 //! the binary must end by itself, or stop on SIGINT, with an exit code of its contract:
-//! 0, or 2 with an error naming the field and nothing written; never a panic, an abort or a
-//! signal.
+//! 0, or 2 with an error naming the field and nothing written; for `run`, 4 and 5 for one
+//! stopped by its event or wall-clock limit (its summary saying so) and 6 for one whose clock
+//! stalled; never a panic, an abort or a signal.
 //!
 //! Seeded and short by default; `VIBROBED_FUZZ_CASES=N` runs N cases per command and
 //! `VIBROBED_FUZZ_SEED=S` draws another set of cases. Every case runs in a fresh temporary
@@ -30,7 +31,8 @@ const DEFAULT_SEED: u64 = 0x5eed_b0de;
 /// A case that has not ended after this long is sent SIGINT (then SIGKILL 5 s later).
 const INTERRUPT_AFTER: Duration = Duration::from_secs(20);
 
-/// Every field of a scenario (src/scenario/mod.rs), the optional ones included.
+/// Every field of a scenario (src/scenario/mod.rs), the optional ones included, with list items
+/// (`every_scenario_field_is_fuzzed` checks it against the scenario's schema).
 const FIELDS: &[&str] = &[
     "name",
     "seed",
@@ -41,6 +43,9 @@ const FIELDS: &[&str] = &[
     "domain.x_boundary",
     "domain.y_boundary",
     "domain.wall_restitution",
+    "domain.wall_friction",
+    "domain.wall_tangential_restitution",
+    "domain.exit_height",
     "floor",
     "floor.restitution",
     "floor.amplitude",
@@ -49,6 +54,11 @@ const FIELDS: &[&str] = &[
     "floor.phase",
     "floor.waveform",
     "floor.model",
+    "floor.friction",
+    "floor.tangential_restitution",
+    "floor.orifice",
+    "floor.orifice.from",
+    "floor.orifice.to",
     "particles",
     "particles.count",
     "particles.radius",
@@ -70,15 +80,20 @@ const FIELDS: &[&str] = &[
     "particles.placement.velocities",
     "particles.placement.velocities.0.0",
     "particles.temperature",
+    "particles.inertia_factor",
+    "particles.rotational_temperature",
     "collisions",
     "collisions.restitution",
     "collisions.tc",
     "collisions.speed_cutoff",
     "collisions.resting_contacts",
+    "collisions.friction",
+    "collisions.tangential_restitution",
     "run",
     "run.duration",
     "run.warmup",
     "run.max_events",
+    "run.max_wall_seconds",
     "output",
     "output.frame_interval",
     "output.sample_interval",
@@ -90,6 +105,11 @@ const FIELDS: &[&str] = &[
     "output.spin_scale",
     "output.trajectory",
     "output.trajectory_interval",
+    "output.field_bins",
+    "output.field_height",
+    "output.phase_bins",
+    "output.record_fields",
+    "output.velocity_distribution",
     "engine",
     "engine.scheme",
     "engine.mask",
@@ -100,6 +120,34 @@ const FIELDS: &[&str] = &[
     "engine.verlet_skin",
     "engine.sync_distance",
     "engine.cell_size",
+    "engine.queue",
+    "engine.remap",
+    "engine.renumber",
+    "engine.strips",
+    "engine.threads",
+    "inlets",
+    "inlets.0.count",
+    "inlets.0.density",
+    "inlets.0.end",
+    "inlets.0.mass",
+    "inlets.0.radius",
+    "inlets.0.radius.max",
+    "inlets.0.radius.min",
+    "inlets.0.radius.species",
+    "inlets.0.radius.species.0.count",
+    "inlets.0.radius.species.0.mass",
+    "inlets.0.radius.species.0.radius",
+    "inlets.0.rate",
+    "inlets.0.recycle",
+    "inlets.0.speed",
+    "inlets.0.start",
+    "inlets.0.temperature",
+    "inlets.0.x",
+    "inlets.0.x.from",
+    "inlets.0.x.to",
+    "inlets.0.y",
+    "inlets.0.y.from",
+    "inlets.0.y.to",
 ];
 
 /// The objects of a scenario, where an unknown field can be added.
@@ -197,11 +245,18 @@ const NUMERIC_FIELDS: &[&str] = &[
     "domain.width",
     "domain.height",
     "domain.wall_restitution",
+    "domain.wall_friction",
+    "domain.wall_tangential_restitution",
+    "domain.exit_height",
     "floor.restitution",
     "floor.amplitude",
     "floor.gamma",
     "floor.frequency",
     "floor.phase",
+    "floor.friction",
+    "floor.tangential_restitution",
+    "floor.orifice.from",
+    "floor.orifice.to",
     "particles.count",
     "particles.radius",
     "particles.radius.species.0.count",
@@ -213,12 +268,17 @@ const NUMERIC_FIELDS: &[&str] = &[
     "particles.placement.positions.0.1",
     "particles.placement.velocities.0.0",
     "particles.temperature",
+    "particles.inertia_factor",
+    "particles.rotational_temperature",
     "collisions.restitution",
     "collisions.tc",
     "collisions.speed_cutoff",
+    "collisions.friction",
+    "collisions.tangential_restitution",
     "run.duration",
     "run.warmup",
     "run.max_events",
+    "run.max_wall_seconds",
     "output.frame_interval",
     "output.sample_interval",
     "output.profile_bins",
@@ -226,11 +286,25 @@ const NUMERIC_FIELDS: &[&str] = &[
     "output.speed_scale",
     "output.spin_scale",
     "output.trajectory_interval",
+    "output.field_height",
+    "output.phase_bins",
     "engine.skin",
     "engine.dt",
     "engine.verlet_skin",
     "engine.sync_distance",
     "engine.cell_size",
+    "engine.strips",
+    "engine.threads",
+    "inlets.0.count",
+    "inlets.0.rate",
+    "inlets.0.speed",
+    "inlets.0.temperature",
+    "inlets.0.start",
+    "inlets.0.end",
+    "inlets.0.mass",
+    "inlets.0.radius",
+    "inlets.0.x.from",
+    "inlets.0.y.to",
 ];
 
 /// Numbers, extreme and ordinary, as JSON text.
@@ -472,6 +546,9 @@ fn judge(cmd: Subcommand, out: &Outcome, outputs: &Path) -> Verdict {
             }
         ));
     }
+    let early = (cmd == Subcommand::Run)
+        .then(|| out.ended_early(outputs))
+        .flatten();
     match (cmd, out.code()) {
         (_, Some(0)) => {
             if cmd == Subcommand::Run {
@@ -509,6 +586,9 @@ fn judge(cmd: Subcommand, out: &Outcome, outputs: &Path) -> Verdict {
                 )),
             }
         }
+        // Stopped by `run.max_events` (each case sets it) or `run.max_wall_seconds`, or by a
+        // stalled clock.
+        (_, Some(_)) if early.is_some() => problems.extend(early.and_then(Result::err)),
         (_, Some(code)) => problems.push(format!("exit code {code} is not in the contract")),
         (_, None) => {}
     }
@@ -704,4 +784,28 @@ fn mutated_scenarios_are_checked_within_the_contract() {
 #[test]
 fn mutated_scenarios_run_within_the_contract() {
     fuzz(Subcommand::Run);
+}
+
+/// A new scenario field is fuzzed as soon as it is there: `FIELDS` names every field the
+/// scenario's schema has, a list's fields by its first item (`inlets[].rate` as
+/// `inlets.0.rate`).
+#[test]
+fn every_scenario_field_is_fuzzed() {
+    let schema = crate::book::scenario_field_paths();
+    assert!(schema.len() > 50, "the schema walk found too few fields");
+    let missing: Vec<&String> = schema
+        .iter()
+        .filter(|f| !FIELDS.contains(&f.replace("[]", ".0").as_str()))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "scenario fields the fuzzer never changes (add them to FIELDS, and a number to \
+         NUMERIC_FIELDS): {missing:?}"
+    );
+    for field in NUMERIC_FIELDS {
+        assert!(
+            FIELDS.contains(field),
+            "{field} is numeric but not in FIELDS"
+        );
+    }
 }

@@ -98,6 +98,30 @@ impl Outcome {
             || self.signal() == Some(6)
     }
 
+    /// For a `run` whose outputs went to `dir`: whether it ended early within the contract
+    /// (`Some`) — 4 or 5, stopped by `run.max_events` or `run.max_wall_seconds`, with
+    /// `dir/summary.json` saying so, or 6, a clock that stopped advancing, said on stderr — and
+    /// what is wrong with it, if anything. `None` for any other ending.
+    pub fn ended_early(&self, dir: &Path) -> Option<Result<(), String>> {
+        let code = self.code()?;
+        let ending = match code {
+            4 => "event-limit",
+            5 => "wall-limit",
+            6 if self.stderr.contains("stopped advancing") => return Some(Ok(())),
+            _ => return None,
+        };
+        let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap_or_default();
+        let said = serde_json::from_str::<serde_json::Value>(&summary)
+            .ok()
+            .and_then(|v| v["ending"].as_str().map(String::from));
+        Some(match said.as_deref() == Some(ending) {
+            true => Ok(()),
+            false => Err(format!(
+                "exit {code} with a summary ending {said:?}, not {ending:?}"
+            )),
+        })
+    }
+
     /// A one-paragraph account, for assertion messages.
     pub fn describe(&self) -> String {
         format!(
