@@ -370,7 +370,9 @@ impl<F: Flight> Handover<F> {
                     self.window_end += self.window;
                     self.stayed = self.stayed.saturating_add(1);
                 }
-                Ok(None)
+                // Reached is trusted, not re-derived from the times: `t0 + (target - t0)` can
+                // fall an ulp short of `target`, and a loop on the times would never end.
+                Ok((stop >= target).then_some(Progress::Reached))
             }
             Progress::EventLimit
                 if before + Integrator::counts(&**sim).guarded() >= self.event_limit =>

@@ -82,6 +82,39 @@ fn a_gas_handed_to_contact_dynamics_comes_back_to_the_exact_engine() {
     assert!(stats.dense_time < 40.0 - 2.0, "{stats:?}");
 }
 
+/// A run asked for many targets that are no round numbers reaches each of them after the run
+/// has come back to the exact engine (the Brazil-nut bed: a window of contact dynamics, then
+/// exact): a target that the part's clock, whose zero is the hand-back's time `t0`, cannot
+/// write to the last bit (`t0 + (target - t0) < target`) ends the call too. It looped forever
+/// on such a target; the watchdog turns a hang into a failure.
+#[test]
+fn every_target_is_reached_whatever_the_hand_overs_clock() {
+    let (done, seen) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let path = format!("{}/scenarios/brazil_nut.json", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(path).expect("the Brazil-nut bed");
+        let s = Scenario::from_json(&text).expect("valid scenario");
+        let mut sim = engine(&s);
+        let mut short = 0.0f64;
+        for k in 1..=2500 {
+            let target = k as f64 * std::f64::consts::PI / 400.0;
+            assert_eq!(
+                sim.advance_to(target).unwrap(),
+                Progress::Reached,
+                "{target}"
+            );
+            short = short.max((target - sim.time()).abs());
+        }
+        let _ = done.send((short, sim.approximation().map_or(0, |a| a.handovers)));
+    });
+    let (short, handovers) = seen
+        .recv_timeout(std::time::Duration::from_secs(300))
+        .expect("a target was never reached (or the run failed)");
+    assert_eq!(handovers, 2, "exact, contact dynamics, exact");
+    // Contact dynamics stops at its last whole step before a target (at most 0.04 here).
+    assert!(short < 0.04, "{short}");
+}
+
 /// The same scene twice: the same run, hand-overs included.
 #[test]
 fn a_hybrid_run_repeats_bit_for_bit() {
