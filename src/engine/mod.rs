@@ -159,8 +159,9 @@ impl<F: Flight> Simulation<F> {
                     self.control.stall_report = Some(report);
                     return Ok(Progress::Stalled);
                 }
-                let collisions = self.tally.counts.collisions();
-                published_clock::publish_installed(|| self.time(), collisions);
+                let (t0, done) = self.control.published_origin;
+                let collisions = done + self.tally.counts.collisions();
+                published_clock::publish_installed(|| t0 + self.time(), collisions);
             }
             turns = turns.wrapping_add(1);
             if !self.turn::<POOL>(local_target)? {

@@ -159,6 +159,9 @@ pub(super) struct Control {
     pub stall_report: Option<String>,
     /// Local time of the next disk entering through an inlet (∞: none).
     pub entry: f64,
+    /// The run's time and collisions at this engine's start, added to what it publishes (not
+    /// zero where the engine is a part of the hybrid scheme).
+    pub published_origin: (f64, u64),
 }
 
 impl Control {
@@ -175,6 +178,7 @@ impl Control {
             clock_mark: ClockMark::default(),
             stall_report: None,
             entry: f64::INFINITY,
+            published_origin: (0.0, 0),
         }
     }
 }

@@ -284,6 +284,12 @@ impl<F: Flight> Simulation<F> {
         self.control.event_limit = limit;
     }
 
+    /// Publishes the run's clock as `time` plus this engine's and `collisions` plus its own (a
+    /// part of a run that began before it; see [`published_clock`](super::published_clock)).
+    pub fn set_published_origin(&mut self, time: f64, collisions: u64) {
+        self.control.published_origin = (time, collisions);
+    }
+
     /// Starts (or stops) keeping a log of every collision, for comparison with the reference.
     pub fn set_logging(&mut self, on: bool) {
         self.control.log = on.then(Vec::new);

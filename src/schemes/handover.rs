@@ -317,13 +317,23 @@ impl<F: Flight> Handover<F> {
         self.bank();
         self.part = next;
         self.t0 = t;
-        if let Some(flag) = self.interrupt {
-            self.part_set_interrupt(flag);
-        }
+        self.attach_part();
         self.window_end = t + self.window;
         self.window_from = (0, 0, 0);
         self.stayed = 0;
         Ok(())
+    }
+
+    /// Gives a new present part the run's interrupt, and the run's clock and collisions at its
+    /// start for what it publishes.
+    fn attach_part(&mut self) {
+        if let Some(flag) = self.interrupt {
+            self.part_set_interrupt(flag);
+        }
+        let collisions = self.done.counts.collisions();
+        if let Part::Exact(sim) = &mut self.part {
+            sim.set_published_origin(self.t0, collisions);
+        }
     }
 
     fn local_time(&self) -> f64 {
@@ -570,9 +580,7 @@ impl<F: Flight> Integrator for Handover<F> {
         self.stay = state.stay;
         self.stayed = state.stayed;
         self.gas_returns = state.gas_returns;
-        if let Some(flag) = self.interrupt {
-            self.part_set_interrupt(flag);
-        }
+        self.attach_part();
         Ok(())
     }
 }

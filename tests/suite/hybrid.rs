@@ -115,6 +115,26 @@ fn every_target_is_reached_whatever_the_hand_overs_clock() {
     assert!(short < 0.04, "{short}");
 }
 
+/// The clock the progress report reads is the run's, not the present part's: once the
+/// Brazil-nut bed is back on the exact engine, what that engine publishes as it runs counts
+/// time from the run's start (not from the hand-back) and the collisions of every part.
+#[test]
+fn the_published_clock_is_the_runs_across_hand_overs() {
+    use vibrobed::engine::published_clock::PublishedClock;
+    let path = format!("{}/scenarios/brazil_nut.json", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).expect("the Brazil-nut bed");
+    let s = Scenario::from_json(&text).expect("valid scenario");
+    let mut sim = engine(&s);
+    let clock = std::sync::Arc::new(PublishedClock::new(0.0, 0));
+    let _installed = PublishedClock::install(std::sync::Arc::clone(&clock));
+    assert_eq!(sim.advance_to(12.0).unwrap(), Progress::Reached);
+    assert_eq!(sim.approximation().map(|a| a.handovers), Some(2));
+    let seen = clock.read();
+    let collisions = sim.counts().collisions();
+    assert!((11.5..=12.0).contains(&seen.time), "{}", seen.time);
+    assert!(seen.collisions <= collisions && seen.collisions * 100 > 99 * collisions);
+}
+
 /// The same scene twice: the same run, hand-overs included.
 #[test]
 fn a_hybrid_run_repeats_bit_for_bit() {
