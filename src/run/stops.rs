@@ -62,17 +62,11 @@ impl Stops {
         checkpoint_every: Option<f64>,
         phase: Option<PhaseClock>,
     ) -> Stops {
-        let duration = s.run.duration;
-        let default_dt = duration / 200.0;
         Stops {
             sample_dt: s.sample_interval(),
-            frame_dt: s.output.frame_interval.unwrap_or(default_dt),
-            trajectory_dt: s
-                .output
-                .trajectory_interval
-                .or(s.output.frame_interval)
-                .unwrap_or(default_dt),
-            duration,
+            frame_dt: s.frame_interval(),
+            trajectory_dt: s.trajectory_interval(),
+            duration: s.run.duration,
             warmup: s.run.warmup,
             k_sample: 0,
             k_frame: 0,

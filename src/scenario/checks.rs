@@ -694,9 +694,9 @@ fn validate_engine(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// Frames, samples and trajectory frames: how many the run asks for (their defaults follow
-/// [`crate::scenario::Output`]: the frame interval, else `run.duration / 200`), and what the
-/// frames and samples cost, each a visit of every disk.
+/// Frames, samples and trajectory frames: how many the run asks for (at the intervals of
+/// [`Scenario::frame_interval`] and its siblings, defaults included), and what the frames and
+/// samples cost, each a visit of every disk.
 fn validate_output_counts(s: &Scenario) -> Result<()> {
     let d = s.run.duration;
     let o = &s.output;
@@ -727,7 +727,7 @@ fn validate_output_counts(s: &Scenario) -> Result<()> {
 /// them (the frame interval when neither is given).
 fn validate_output_visits(s: &Scenario) -> Result<()> {
     let d = s.run.duration;
-    let frames = d / s.output.frame_interval.unwrap_or(d / 200.0) + 1.0;
+    let frames = d / s.frame_interval() + 1.0;
     let samples = d / s.sample_interval() + 1.0;
     let disks = most_disks(s);
     let visits = disks * (frames + samples);
@@ -753,9 +753,7 @@ fn validate_output_visits(s: &Scenario) -> Result<()> {
 /// every `interval`, or the frame interval), at most [`MAX_RECORDED_DISKS`]; every disk that
 /// may enter through an inlet counted.
 pub fn validate_recorded(s: &Scenario, field: &str, interval: Option<f64>) -> Result<()> {
-    let d = s.run.duration;
-    let frame_dt = s.output.frame_interval.unwrap_or(d / 200.0);
-    let frames = d / interval.unwrap_or(frame_dt) + 1.0;
+    let frames = s.run.duration / interval.unwrap_or_else(|| s.frame_interval()) + 1.0;
     let disks = most_disks(s);
     let size = frames * disks;
     if size <= MAX_RECORDED_DISKS {

@@ -777,14 +777,31 @@ fn default_phase_bins() -> usize {
     20
 }
 
+/// Frames (and samples, and trajectory frames) a run takes when no interval is given: one every
+/// `run.duration / DEFAULT_FRAMES`.
+const DEFAULT_FRAMES: f64 = 200.0;
+
 impl Scenario {
-    /// The interval between samples: `output.sample_interval`, else the frame interval, else a
-    /// 200th of the duration.
+    /// The interval between frames: `output.frame_interval`, else a 200th of the duration.
+    pub fn frame_interval(&self) -> f64 {
+        self.output
+            .frame_interval
+            .unwrap_or(self.run.duration / DEFAULT_FRAMES)
+    }
+
+    /// The interval between samples: `output.sample_interval`, else the frame interval.
     pub fn sample_interval(&self) -> f64 {
         self.output
             .sample_interval
-            .or(self.output.frame_interval)
-            .unwrap_or(self.run.duration / 200.0)
+            .unwrap_or_else(|| self.frame_interval())
+    }
+
+    /// The interval between trajectory frames: `output.trajectory_interval`, else the frame
+    /// interval.
+    pub fn trajectory_interval(&self) -> f64 {
+        self.output
+            .trajectory_interval
+            .unwrap_or_else(|| self.frame_interval())
     }
 
     /// Parses scenario JSON text, applying `--set` overrides (`KEY=VALUE`) first, then validates.
