@@ -9,8 +9,9 @@ use crate::platform::cpu::Lanes;
 /// `len` of a list in the overflow area.
 const SPILLED: u8 = u8::MAX;
 
-/// Slots read past a row's end by [`Rows::copy_into`].
-pub const GROUP: usize = 4;
+/// Slots copied at once by [`Rows::copy_into`], which may read up to `GROUP` past a row's start
+/// (beyond a short row's end).
+pub const GROUP: usize = 8;
 
 /// Slots compared at once by [`Rows::remove`], which may read up to `LANES − 1` past a row's
 /// end: one AVX2 comparison of 32-bit numbers.
@@ -127,29 +128,37 @@ impl Rows {
         }
     }
 
-    /// Copies list `i` to `out[at..]` and returns its length. A list in its row is copied
-    /// [`GROUP`] slots at a time, at least one group (most lists are shorter: a loop that
-    /// always runs once leaves no exit to mispredict), so `out` must have a group's room past
-    /// `at` plus the list's length rounded up to a group.
+    /// Copies list `i` to `out[at..]` and returns its length. A list of at most [`GROUP`]
+    /// slots in its row (most are: a cell holds a few anchors) is copied as one whole group,
+    /// whatever its length (no loop, no exit to mispredict, one bounds check each way); a
+    /// longer or overflowing one out of line. `out` must have room for a group, or the list if
+    /// longer, past `at`.
     #[inline(always)]
     pub fn copy_into(&self, i: usize, out: &mut [u32], at: usize) -> usize {
-        let l = self.len[i];
-        if l == SPILLED {
-            let list = self.spilled(i);
-            out[at..at + list.len()].copy_from_slice(list);
-            return list.len();
+        let l = self.len[i] as usize;
+        if l > GROUP {
+            // `SPILLED` too.
+            return self.copy_long_into(i, out, at);
         }
-        let (s, l) = (i * self.room, l as usize);
-        let mut g = 0;
-        loop {
-            let from: &[u32; GROUP] = self.slots[s + g..s + g + GROUP].try_into().unwrap();
-            let to: &mut [u32; GROUP] = (&mut out[at + g..at + g + GROUP]).try_into().unwrap();
-            *to = *from;
-            g += GROUP;
-            if g >= l {
-                return l;
-            }
-        }
+        let s = i * self.room;
+        let from: &[u32; GROUP] = self.slots[s..s + GROUP].try_into().unwrap();
+        out[at..at + GROUP].copy_from_slice(from);
+        l
+    }
+
+    /// [`copy_into`](Self::copy_into) for a list longer than a group, in its row (group by
+    /// group) or in the overflow area.
+    #[cold]
+    #[inline(never)]
+    fn copy_long_into(&self, i: usize, out: &mut [u32], at: usize) -> usize {
+        let list = if self.len[i] == SPILLED {
+            self.spilled(i)
+        } else {
+            let s = i * self.room;
+            &self.slots[s..s + self.len[i] as usize]
+        };
+        out[at..at + list.len()].copy_from_slice(list);
+        list.len()
     }
 
     /// Hints that list `i` will be changed soon (its row and its length). Rows whose room is
@@ -430,5 +439,34 @@ mod tests {
             found += one.count_ones();
         }
         assert!(found > 5000, "too few found to compare: {found}");
+    }
+
+    /// Copies as a gather makes them, one after another into one buffer sized as
+    /// [`Rows::copy_into`] asks: lists of every length up to a row wider than a group, and
+    /// overflowing ones, come out whole and in order, each after the one before.
+    #[test]
+    fn copies_give_every_list_whole_and_in_order() {
+        let room = GROUP + 4;
+        let n = 3 * room;
+        // List i holds i mod (room + 3) entries: empty, within a group, beyond a group in its
+        // row, and (beyond its room) in the overflow area.
+        let length = |i: usize| i % (room + 3);
+        let mut rows = Rows::sized_for(n, |_| room);
+        assert_eq!(rows.room(), room);
+        for i in 0..n {
+            for k in 0..length(i) {
+                rows.push(i, (1000 * i + k) as u32);
+            }
+        }
+        let mut out = vec![u32::MAX; n * (room + 3 + GROUP)];
+        let mut at = 0;
+        for i in 0..n {
+            let l = rows.copy_into(i, &mut out, at);
+            assert_eq!(l, length(i), "list {i}'s length");
+            assert_eq!(&out[at..at + l], rows.of(i), "list {i}");
+            at += l;
+        }
+        let want: Vec<u32> = (0..n).flat_map(|i| rows.of(i).to_vec()).collect();
+        assert_eq!(&out[..at], &want[..], "the lists one after another");
     }
 }
