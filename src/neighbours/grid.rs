@@ -153,21 +153,21 @@ impl GridGeometry {
             if !self.x_periodic {
                 return None;
             }
-            x = x.rem_euclid(nx);
+            x = into_grid(x, nx);
         }
         let mut y = iy as i64 + dy as i64;
         if y < 0 {
             if !self.y_periodic {
                 return None;
             }
-            y = y.rem_euclid(self.ny.unwrap_or(1) as i64);
+            y = into_grid(y, self.ny.unwrap_or(1) as i64);
         }
         if let Some(ny) = self.ny {
             if y >= ny as i64 {
                 if !self.y_periodic {
                     return None;
                 }
-                y = y.rem_euclid(ny as i64);
+                y = into_grid(y, ny as i64);
             }
         }
         Some((x as u32, y as u32))
@@ -835,6 +835,19 @@ impl CellMap for SparseCells {
     }
 }
 
+/// Cell index `k` brought into `0..n` on a periodic grid of `n` cells: `k.rem_euclid(n)`, by
+/// one period's step where that suffices (a mask reaches less than a period: see
+/// [`GridGeometry::check_mask_fits`]), without the division.
+#[inline(always)]
+fn into_grid(k: i64, n: i64) -> i64 {
+    let stepped = if k < 0 { k + n } else { k - n };
+    if (0..n).contains(&stepped) {
+        stepped
+    } else {
+        k.rem_euclid(n)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -842,6 +855,17 @@ mod tests {
     use rand::seq::SliceRandom;
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256StarStar;
+
+    /// A cell index brought into the grid by a period's step is the remainder's, near the grid
+    /// and far from it.
+    #[test]
+    fn cells_come_into_the_grid_as_by_the_remainder() {
+        for n in 1..12i64 {
+            for k in -5 * n..5 * n {
+                assert_eq!(into_grid(k, n), k.rem_euclid(n), "k = {k}, n = {n}");
+            }
+        }
+    }
 
     /// Disks in four cells of ten of the lowest twelve rows of `nx` columns, and in `extra`,
     /// numbered in no particular order of the cells.
