@@ -36,7 +36,7 @@ const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// 17: the 2D fields; 18: the pool of live and dead disks, and the phase bins by place in a
 /// group of four periods; 19: the pool counts exits at the top, and its inlets bring sizes; 20: the riders keep the time
 /// every disk came to rest and the wakes; 21: the engine may be the hybrid scheme's).
-const FORMAT_VERSION: u32 = 22;
+const FORMAT_VERSION: u32 = 23;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

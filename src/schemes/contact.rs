@@ -1,5 +1,6 @@
 //! The contact-dynamics scheme (Moreau–Jean): one global step dt, every contact of a step — pairs,
-//! the floor, side walls, the lid — resolved together as one simultaneous impact.
+//! the floor, side walls, the lid — resolved together as one simultaneous impact. The step
+//! follows the fastest impact (see [`IMPACT_REACH`]).
 //!
 //! A dense bed is a network of enduring contacts. The exact engine meets it as a sequence of
 //! binary collisions that the TC model makes elastic, millions per unit time; a soft-sphere DEM
@@ -67,6 +68,17 @@ const HAIR: f64 = 1e-7;
 /// a few sweeps a step) and still removes an overlap within a few tens of steps.
 const RECOVERY: f64 = 0.1;
 
+/// The default step follows the fastest impact: the fastest contact that closes within a step
+/// closes at most this many radii of the smallest disk in it. A bed's impacts are a sequence
+/// (a landing bed meets the floor layer by layer, a caged disk its neighbours one after
+/// another); a step resolves each contact's impact at most once, so a step that lets fast
+/// impacts close far in one step meets a sequence as one simultaneous impact, which dissipates
+/// less, and the bed runs hot. The accuracy page gives this reach against LAMMPS.
+pub const IMPACT_REACH: f64 = 0.012;
+
+/// The default step's range: from the coarse step ([`default_step`]) down to this part of it.
+pub const STEP_RANGE: f64 = 8.0;
+
 /// No disk (the other side of a boundary contact).
 const NONE: u32 = u32::MAX;
 
@@ -115,6 +127,13 @@ struct Row {
     dist: f64,
 }
 
+/// A contact's bound on its normal velocity after the step.
+struct Bound {
+    target: f64,
+    /// Whether the bound is a rebound by Newton's law.
+    bounce: bool,
+}
+
 /// The contact-dynamics engine.
 #[derive(Debug)]
 pub struct Contact<F: Flight> {
@@ -126,7 +145,14 @@ pub struct Contact<F: Flight> {
     /// Pair restitution (the cures of inelastic collapse are not applied).
     e: f64,
     rough: Option<Roughness>,
+    /// The present step, and the range the step may take (`(dt, dt)`: a fixed step).
     dt: f64,
+    dt_range: (f64, f64),
+    /// Local time, and the fastest approach the next step can meet ([`Contact::fastest_approach`]).
+    t: f64,
+    fastest: f64,
+    /// The smallest radius.
+    a_min: f64,
     skin: f64,
     verlet: f64,
     cell: f64,
@@ -170,6 +196,9 @@ pub struct Contact<F: Flight> {
 pub struct ContactState {
     disks: Disks,
     dt: f64,
+    dt_range: (f64, f64),
+    t: f64,
+    fastest: f64,
     pairs: Vec<(u32, u32)>,
     warm: Vec<(f64, f64)>,
     warm_floor: Vec<(f64, f64)>,
@@ -194,15 +223,19 @@ impl<F: Flight> Contact<F> {
     pub fn new(flight: F, scene: &Scene, disks: Disks, engine: &Engine) -> Result<Contact<F>> {
         let n = disks.len();
         let (a_min, a_max) = disks.radius_range();
-        let dt = match engine.dt {
-            Some(dt) => dt,
-            None => default_step(scene, &disks).ok_or_else(|| {
-                Error::input(
-                    "engine.dt",
-                    "cannot be chosen from the scene (nothing moves): give it",
-                )
-            })?,
+        let dt_range = match engine.dt {
+            Some(dt) => (dt, dt),
+            None => {
+                let coarse = default_step(scene, &disks).ok_or_else(|| {
+                    Error::input(
+                        "engine.dt",
+                        "cannot be chosen from the scene (nothing moves): give it",
+                    )
+                })?;
+                (coarse / STEP_RANGE, coarse)
+            }
         };
+        let dt = dt_range.1;
         if matches!(
             scene.floor.as_ref().map(|f| f.drive().model),
             Some(FloorModel::FixedPosition)
@@ -236,6 +269,10 @@ impl<F: Flight> Contact<F> {
             e: scene.restitution.e,
             rough: scene.rough,
             dt,
+            dt_range,
+            t: 0.0,
+            fastest: 0.0,
+            a_min,
             skin,
             verlet,
             cell,
@@ -270,22 +307,31 @@ impl<F: Flight> Contact<F> {
         }
         wrap_positions(c.sides, c.top, &mut c.disks);
         c.rebuild();
+        c.fastest = c.fastest_approach();
         c.energy = c.total_energy();
         Ok(c)
     }
 
     fn now(&self) -> f64 {
-        self.step as f64 * self.dt
+        self.t
     }
 
-    /// The step dt.
+    /// The coarsest step.
     pub fn step(&self) -> f64 {
-        self.dt
+        self.dt_range.1
+    }
+
+    /// The next step: the fastest impact it can meet closes [`IMPACT_REACH`] radii in it, within
+    /// the step's range.
+    fn next_step(&self) -> f64 {
+        let (finest, coarsest) = self.dt_range;
+        (IMPACT_REACH * self.a_min / self.fastest).clamp(finest, coarsest)
     }
 
     /// Whether a whole step fits before local time `target`.
     pub fn can_step_to(&self, target: f64) -> bool {
-        (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt
+        let dt = self.next_step();
+        self.t + dt <= target + 1e-9 * dt
     }
 
     /// The state between steps, for a checkpoint.
@@ -293,6 +339,9 @@ impl<F: Flight> Contact<F> {
         ContactState {
             disks: self.disks.clone(),
             dt: self.dt,
+            dt_range: self.dt_range,
+            t: self.t,
+            fastest: self.fastest,
             pairs: self.pairs.clone(),
             warm: self.warm.clone(),
             warm_floor: self.warm_floor.clone(),
@@ -326,7 +375,9 @@ impl<F: Flight> Contact<F> {
                 .pairs
                 .iter()
                 .all(|&(i, j)| (i as usize) < n && (j as usize) < n)
-            && state.dt > 0.0;
+            && state.dt > 0.0
+            && state.dt_range.0 > 0.0
+            && state.dt_range.0 <= state.dt_range.1;
         if !fits {
             return Err(Error::input(
                 "checkpoint",
@@ -335,6 +386,9 @@ impl<F: Flight> Contact<F> {
         }
         self.disks = state.disks;
         self.dt = state.dt;
+        self.dt_range = state.dt_range;
+        self.t = state.t;
+        self.fastest = state.fastest;
         self.pairs = state.pairs;
         self.warm = state.warm;
         self.warm_floor = state.warm_floor;
@@ -350,7 +404,11 @@ impl<F: Flight> Contact<F> {
         self.at_rest = state.at_rest;
         self.rest_since = state.rest_since;
         self.stats = SchemeStats {
-            step: self.dt,
+            step: if self.step > 0 {
+                self.t / self.step as f64
+            } else {
+                self.dt
+            },
             steps: self.step,
             deep_overlaps: state.deep_overlaps,
             rebounds: state.rebounds,
@@ -364,6 +422,16 @@ impl<F: Flight> Contact<F> {
     /// that a stack is lifted clear in one sweep; sweeps repeat until nothing overlaps (for the
     /// exact engine, which accepts no overlap).
     pub fn separate(&mut self) {
+        let before = self.total_energy();
+        self.lift_clear();
+        // The lift's potential energy is the separation's work: booked so that the budget closes.
+        let after = self.total_energy();
+        self.flow.dissipated -= after - before;
+        self.energy = after;
+    }
+
+    /// [`Contact::separate`]'s moves.
+    fn lift_clear(&mut self) {
         const CLEAR: f64 = 1e-12;
         let t = self.now();
         let floor = self.floor.as_ref().map(|f| f.height(t));
@@ -461,7 +529,7 @@ impl<F: Flight> Contact<F> {
 
     /// Whole steps up to absolute time `target`.
     fn steps_to(&mut self, target: f64) -> Result<Progress> {
-        while (self.step + 1) as f64 * self.dt <= target + 1e-9 * self.dt {
+        while self.can_step_to(target) {
             if self.counts.popped() >= self.event_limit {
                 return Ok(Progress::EventLimit);
             }
@@ -476,20 +544,60 @@ impl<F: Flight> Contact<F> {
         Ok(Progress::Reached)
     }
 
-    /// One step of dt: gravity, the contacts solved together, the move.
+    /// One step: gravity, the contacts solved together, the move.
     fn one_step(&mut self) {
-        let (t0, dt, g) = (self.now(), self.dt, self.g());
+        let dt = self.next_step();
+        // A resting contact's impulse is a step's weight: the warm start scales with the step.
+        let warm_scale = dt / self.dt;
+        self.dt = dt;
+        let (t0, g) = (self.now(), self.g());
         let t1 = t0 + dt;
         for m in &mut self.disks.motion {
             m.vy -= g * dt;
         }
-        self.gather_rows(t0, t1);
+        self.gather_rows(t0, t1, warm_scale);
         self.solve();
         self.book(t1);
         self.count_at_rest(t1);
         self.advance(t1);
+        self.t = t1;
+        self.fastest = self.fastest_approach();
         self.step += 1;
         self.stats.steps = self.step;
+        self.stats.step = self.t / self.step as f64;
+    }
+
+    /// The fastest approach of a pair or a disk and the floor that can close within the coarsest
+    /// step, on the velocities now (a disk falling toward the floor counted with the speed the
+    /// step's gravity adds): the impact the next step must resolve (0: none). Taken before the
+    /// step, so that a bed landing from flight meets the floor at the fine step.
+    fn fastest_approach(&self) -> f64 {
+        if self.dt_range.0 == self.dt_range.1 {
+            return 0.0;
+        }
+        let (dt, t) = (self.dt_range.1, self.now());
+        let d = &self.disks;
+        let mut fastest = 0.0f64;
+        if let Some(f) = &self.floor {
+            let (h, hv) = (f.height(t), f.velocity(t));
+            for (k, m) in d.motion.iter().enumerate() {
+                let u = m.vy - self.g() * dt - hv;
+                if m.y - d.radius[k] - h + u * dt < 0.0 {
+                    fastest = fastest.max(-u);
+                }
+            }
+        }
+        for &(i, j) in &self.pairs {
+            let (mi, mj) = (d.motion[i as usize], d.motion[j as usize]);
+            let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
+            let dist = (dx * dx + dy * dy).sqrt();
+            let gap = dist - d.radius[i as usize] - d.radius[j as usize];
+            let u = ((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
+            if gap + u * dt < 0.0 {
+                fastest = fastest.max(-u);
+            }
+        }
+        fastest
     }
 
     /// The bound on the normal velocity after the step of a contact with gap `gap` (`lift`:
@@ -500,15 +608,21 @@ impl<F: Flight> Contact<F> {
     /// once by Newton's law on its approach before the step's gravity, `u_0 = u + g n_y dt`, and
     /// then flies the step: `u⁺ = −e u_0 − g n_y dt` (a disk that meets the floor within a step
     /// turns a gap's width early, at most its speed × dt). Any other contact closes at most to
-    /// touching. Returns the bound, and whether it is a rebound.
-    fn target(&self, gap: f64, lift: f64, (u, gn): (f64, f64), e: f64, rest: f64) -> (f64, bool) {
+    /// touching.
+    fn target(&self, gap: f64, lift: f64, (u, gn): (f64, f64), e: f64, rest: f64) -> Bound {
         let close = -(gap.max(RECOVERY * gap) + lift) / self.dt;
         let u0 = u + gn * self.dt;
         if u < close && -u0 > rest {
             let b = -e * u0 - gn * self.dt;
-            (close.max(b), b > close)
+            Bound {
+                target: close.max(b),
+                bounce: b > close,
+            }
         } else {
-            (close, false)
+            Bound {
+                target: close,
+                bounce: false,
+            }
         }
     }
 
@@ -524,7 +638,7 @@ impl<F: Flight> Contact<F> {
     }
 
     /// The contacts that can close within the step from `t0` to `t1`.
-    fn gather_rows(&mut self, t0: f64, t1: f64) {
+    fn gather_rows(&mut self, t0: f64, t1: f64, warm_scale: f64) {
         let dt = self.dt;
         let mut rows = std::mem::take(&mut self.rows);
         rows.clear();
@@ -566,7 +680,7 @@ impl<F: Flight> Contact<F> {
                 }
                 deepest = deepest.max(-gap);
                 let u = (m.vx - vb.0) * n.0 + (m.vy - vb.1) * n.1;
-                let (target, bounce) = self.target(
+                let bound = self.target(
                     gap,
                     lift,
                     (u, g * n.1),
@@ -574,7 +688,10 @@ impl<F: Flight> Contact<F> {
                     self.rest_speed(kind == Kind::Floor),
                 );
                 let (pn, pt, slot) = match kind {
-                    Kind::Floor => (self.warm_floor[i].0, self.warm_floor[i].1, i as u32),
+                    Kind::Floor => {
+                        let (pn, pt) = self.warm_floor[i];
+                        (pn * warm_scale, pt * warm_scale, i as u32)
+                    }
                     _ => (0.0, 0.0, NONE),
                 };
                 rows.push(Row {
@@ -589,8 +706,8 @@ impl<F: Flight> Contact<F> {
                     wt: w * (1.0 + 1.0 / q),
                     mn: 1.0 / w,
                     mt: 1.0 / (w * (1.0 + 1.0 / q)),
-                    target,
-                    bounce,
+                    target: bound.target,
+                    bounce: bound.bounce,
                     mu,
                     pn,
                     pt,
@@ -654,7 +771,8 @@ impl<F: Flight> Contact<F> {
             let (wi, wj) = (1.0 / d.mass[iu], 1.0 / d.mass[ju]);
             let w = wi + wj;
             let (pn, pt) = self.warm[k];
-            let (target, bounce) = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
+            let (pn, pt) = (pn * warm_scale, pt * warm_scale);
+            let bound = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
             rows.push(Row {
                 i,
                 j,
@@ -667,8 +785,8 @@ impl<F: Flight> Contact<F> {
                 wt: w * (1.0 + 1.0 / q),
                 mn: 1.0 / w,
                 mt: 1.0 / (w * (1.0 + 1.0 / q)),
-                target,
-                bounce,
+                target: bound.target,
+                bounce: bound.bounce,
                 mu: mu_pair,
                 pn,
                 pt,
@@ -888,28 +1006,16 @@ fn order_pairs(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
     *pairs = sorted;
 }
 
-/// Steps of the floor's period: dense beds move at about the floor's speed, and no collision is
-/// missed at any step (a contact that can close within a step is in its solve). The book's
-/// accuracy page gives what this step costs in accuracy against LAMMPS.
+/// Steps of the floor's period in the coarse step: dense beds move at about the floor's speed,
+/// and no collision is missed at any step (a contact that can close within a step is in its
+/// solve). The book's accuracy page gives what the step costs in accuracy against LAMMPS.
 pub const STEPS_PER_PERIOD: f64 = 50.0;
 
-/// Steps of the floor's period, rough disks on a floor that throws them (Γ > 1). A bed that
-/// bounces rattles in its cages: each disk rebounds between neighbours many times a period,
-/// and a step rebounds a contact at most once, so a coarse step dissipates too little and the
-/// bed runs hot (the accuracy page's hybrid section gives the temperature against the step).
-/// A bed the floor cannot throw moves with it and has no such rattling.
-pub const ROUGH_STEPS_PER_PERIOD: f64 = 400.0;
-
-/// The default step: a part of the floor's period under a vibrating floor (the scheme is for
-/// dense beds, which move with the floor), [`ROUGH_STEPS_PER_PERIOD`] for rough disks the
-/// floor can throw and [`STEPS_PER_PERIOD`] otherwise; without one, the time-step scheme's (a
-/// tenth of the smallest radius at the largest speed).
+/// The default coarse step: a part of the floor's period under a vibrating floor (the scheme is
+/// for dense beds, which move with the floor); without one, the time-step scheme's (a tenth of
+/// the smallest radius at the largest speed).
 pub fn default_step(scene: &Scene, disks: &Disks) -> Option<f64> {
-    let g = scene.gravity.unwrap_or(0.0);
     match scene.floor.as_ref().filter(|f| !f.is_static()) {
-        Some(f) if scene.rough.is_some() && f.throws(g) => {
-            Some(f.period_or_one() / ROUGH_STEPS_PER_PERIOD)
-        }
         Some(f) => Some(f.period_or_one() / STEPS_PER_PERIOD),
         None => default_dt(scene, disks),
     }

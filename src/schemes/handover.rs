@@ -8,11 +8,11 @@
 //! contact dynamics, the state at the last event is handed to contact dynamics. Contact dynamics
 //! watches its enduring contacts: when, over a window, fewer than [`CONTACTS_OUT`] push per disk
 //! and step, the bed has come apart and the state goes back to the exact engine. It also watches
-//! its rebounds: when more than [`REBOUNDS_OUT`] contacts per disk and step rebound, the bed is a
-//! dense gas, whose collisions a step resolves at most once per contact, and the state goes back
-//! too, with the exact engine's budget doubled so that such a bed stays exact. Both decisions
-//! are in the scene's own measure (steps of contact dynamics, not units of time), and both are
-//! on counts, never on the wall clock: a run repeats bit for bit.
+//! what its contacts are: when more than [`IMPACTS_OUT`] of the contacts that push are impacts
+//! (rebounds by Newton's law), the bed is a dense gas, not a network of enduring contacts, and
+//! the state goes back too, with the exact engine's budget doubled so that such a bed stays
+//! exact. The decisions are in the scene's own measure (steps of contact dynamics, not units of
+//! time), and on counts, never on the wall clock: a run repeats bit for bit.
 //!
 //! Each part is a fresh engine built at the hand-over time on the scene at that instant (its
 //! floor's phase moved on), from every disk's position, velocity and spin; a state from contact
@@ -41,11 +41,11 @@ const STEPS_PER_WINDOW: f64 = 50.0;
 /// hands back: a bed at rest has about two, a gas almost none.
 pub const CONTACTS_OUT: f64 = 0.3;
 
-/// Rebounds per disk and step of contact dynamics (averaged over a window) above which it hands
-/// back: the bed is a dense gas, not a network of enduring contacts. It lies between beds that
-/// ride or bounce on the floor and beds of many fluidized layers (the accuracy page's hybrid
-/// section gives the rates measured).
-pub const REBOUNDS_OUT: f64 = 0.2;
+/// The part of the contacts pushing in a window that are impacts (rebounds by Newton's law), above
+/// which contact dynamics hands back: the bed is a dense gas, not a network of enduring contacts.
+/// It lies between beds that ride or bounce on the floor and beds of many fluidized layers (the
+/// accuracy page's hybrid section gives the parts measured).
+pub const IMPACTS_OUT: f64 = 0.5;
 
 /// The exact part's TC where the scene sets none. Inelastic collapse is a finite-time singularity
 /// of the exact dynamics where a few disks start to ring, not a dense bed: TC removes it where it
@@ -76,7 +76,8 @@ struct Done {
 /// Contact dynamics' steps and errors, summed over its parts.
 #[derive(Debug, Default, Clone, Copy, Serialize, Deserialize)]
 struct DenseSteps {
-    step: f64,
+    /// Simulated time the steps took.
+    time: f64,
     steps: u64,
     sweeps: u64,
     rebounds: u64,
@@ -87,7 +88,7 @@ struct DenseSteps {
 impl DenseSteps {
     /// Adds a part's steps and errors.
     fn add(&mut self, part: SchemeStats) {
-        self.step = part.step;
+        self.time += part.step * part.steps as f64;
         self.steps += part.steps;
         self.sweeps += part.sweeps;
         self.rebounds += part.rebounds;
@@ -99,7 +100,7 @@ impl DenseSteps {
 
     fn stats(&self) -> SchemeStats {
         SchemeStats {
-            step: self.step,
+            step: self.time / self.steps.max(1) as f64,
             steps: self.steps,
             sweeps: self.sweeps,
             rebounds: self.rebounds,
@@ -163,7 +164,7 @@ pub struct Handover<F: Flight> {
     /// hands back within one window.
     stay: u32,
     stayed: u32,
-    /// Hand-backs of a dense gas ([`REBOUNDS_OUT`]): each doubles the exact engine's budget.
+    /// Hand-backs of a dense gas ([`IMPACTS_OUT`]): each doubles the exact engine's budget.
     gas_returns: u32,
     exact_setup: Setup,
     /// `run.max_events`, over all parts (checked at each part's window ends too).
@@ -422,11 +423,11 @@ impl<F: Flight> Handover<F> {
         let (p0, s0, r0) = self.window_from;
         let disk_steps = self.template.len().max(1) as f64 * (stats.steps - s0).max(1) as f64;
         let pushing_per = (pushing - p0) as f64 / disk_steps;
-        let rebounds_per = (stats.rebounds - r0) as f64 / disk_steps;
         self.window_from = (pushing, stats.steps, stats.rebounds);
         self.window_end += self.window;
         self.stayed = self.stayed.saturating_add(1);
-        if rebounds_per > REBOUNDS_OUT {
+        let impacts = (stats.rebounds - r0) as f64 / (pushing - p0).max(1) as f64;
+        if impacts > IMPACTS_OUT {
             self.hand_over()?;
             if matches!(self.part, Part::Exact(_)) {
                 self.gas_returns += 1;

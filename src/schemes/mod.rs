@@ -73,7 +73,8 @@ pub struct Setup {
 /// What an approximate scheme did wrong, and how it stepped (the summary's `approximation`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct SchemeStats {
-    /// `time-step`: the step dt; `space-time`: the mean synchronisation step.
+    /// `time-step`: the step dt; `space-time`: the mean synchronisation step; `contact` and
+    /// `hybrid`: contact dynamics' mean step.
     pub step: f64,
     /// Global steps (time-step) or synchronisations (space-time) taken.
     pub steps: u64,

@@ -253,8 +253,8 @@ fn the_shipped_bed_runs_to_its_end_at_every_gamma() {
 
 /// A dense gas goes back to the exact engine: the Brazil-nut bed (25 layers at Γ = 3) turns
 /// dense as it settles and goes to contact dynamics, where more than
-/// [`REBOUNDS_OUT`](vibrobed::schemes::handover::REBOUNDS_OUT) contacts per disk and step
-/// rebound; it comes back after one window (the floor's period) and stays exact.
+/// [`IMPACTS_OUT`](vibrobed::schemes::handover::IMPACTS_OUT) of the pushing contacts are impacts;
+/// it comes back within a few windows (the floor's period) and stays exact.
 #[test]
 fn a_dense_gas_goes_back_to_the_exact_engine_and_stays() {
     let path = format!("{}/scenarios/brazil_nut.json", env!("CARGO_MANIFEST_DIR"));
@@ -265,10 +265,9 @@ fn a_dense_gas_goes_back_to_the_exact_engine_and_stays() {
     let (v, _) = same_run::summary(&s, &[]);
     let a = &v["approximation"];
     assert_eq!(a["handovers"], 2, "{a}");
-    assert_eq!(a["dense_time"], 2.0, "one window of contact dynamics: {a}");
-    let per_disk_step = a["rebounds"].as_f64().unwrap() / (1000.0 * a["steps"].as_f64().unwrap());
+    let dense = a["dense_time"].as_f64().unwrap();
     assert!(
-        per_disk_step > vibrobed::schemes::handover::REBOUNDS_OUT,
-        "{per_disk_step}"
+        dense > 0.0 && dense <= 10.0 + 1e-9,
+        "at most five windows: {a}"
     );
 }
