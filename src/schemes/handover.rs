@@ -47,6 +47,10 @@ pub const CONTACTS_OUT: f64 = 0.3;
 /// accuracy page's hybrid section gives the parts measured).
 pub const IMPACTS_OUT: f64 = 0.5;
 
+/// Hand-backs of a dense gas double the exact engine's budget up to this many times (16×): a
+/// bed that turns dense later in a long run goes to contact dynamics at a bounded cost.
+const GAS_DOUBLINGS: u32 = 4;
+
 /// The exact part's TC where the scene sets none. Inelastic collapse is a finite-time singularity
 /// of the exact dynamics where a few disks start to ring, not a dense bed: TC removes it where it
 /// starts. At 10⁻⁴ the fluidized shipped bed (Γ = 3) keeps its centre of mass and temperature
@@ -164,7 +168,8 @@ pub struct Handover<F: Flight> {
     /// hands back within one window.
     stay: u32,
     stayed: u32,
-    /// Hand-backs of a dense gas ([`IMPACTS_OUT`]): each doubles the exact engine's budget.
+    /// Hand-backs of a dense gas ([`IMPACTS_OUT`]): each doubles the exact engine's budget, up to
+    /// [`GAS_DOUBLINGS`].
     gas_returns: u32,
     exact_setup: Setup,
     /// `run.max_events`, over all parts (checked at each part's window ends too).
@@ -364,7 +369,9 @@ impl<F: Flight> Handover<F> {
     /// The exact engine runs to `target` within the window's collision budget; past it, the run
     /// goes to contact dynamics.
     fn exact_to(&mut self, target: f64) -> Result<Option<Progress>> {
-        let budget = self.budget.saturating_mul(1 << self.gas_returns.min(32));
+        let budget = self
+            .budget
+            .saturating_mul(1 << self.gas_returns.min(GAS_DOUBLINGS));
         let stop = target.min(self.window_end);
         let Part::Exact(sim) = &mut self.part else {
             unreachable!()
