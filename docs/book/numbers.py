@@ -321,7 +321,7 @@ BED_STATES = {
                     lambda i: f"{two(i['undulation'])} diameters, locked to two periods "
                               f"({two(i['com_locking_two_periods'])}) and not to one "
                               f"({i['com_locking']:.1g})"),
-    "doubled": ("convection", ["domain.width=50", "particles.count=500", "floor.gamma=4.5",
+    "doubled": ("convection", ["engine.scheme=event-driven", "domain.width=50", "particles.count=500", "floor.gamma=4.5",
                                "collisions.restitution=0.7", "collisions.tc=0.001",
                                "run.duration=100", "run.warmup=40"],
                 lambda i: f"period-doubled (locking {two(i['com_locking'])}, over two periods "
