@@ -29,14 +29,8 @@ use std::path::{Path, PathBuf};
 use std::sync::LazyLock;
 
 const MAGIC: &[u8; 8] = b"VBEDCKPT";
-/// Bumped whenever the payload's layout or meaning changes (11: the calendar's current bucket
-/// is a sorted array, no longer a heap; 12: the calendar may hold an entry waiting to be linked;
-/// 13: the numbering holds its interval; 14: the calendar says whether it keeps events ahead;
-/// 15: rough disks' spins, the rotational energy and temperature; 16: slides on a rough floor;
-/// 17: the 2D fields; 18: the pool of live and dead disks, and the phase bins by place in a
-/// group of four periods; 19: the pool counts exits at the top, and its inlets bring sizes; 20: the riders keep the time
-/// every disk came to rest and the wakes; 21: the engine may be the hybrid scheme's).
-const FORMAT_VERSION: u32 = 23;
+/// Bumped whenever the payload's layout or meaning changes.
+const FORMAT_VERSION: u32 = 24;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

@@ -148,7 +148,7 @@ pub struct Contact<F: Flight> {
     /// The present step, and the range the step may take (`(dt, dt)`: a fixed step).
     dt: f64,
     dt_range: (f64, f64),
-    /// Local time, and the fastest approach the next step can meet ([`Contact::fastest_approach`]).
+    /// Local time, and the fastest approach the next step can meet ([`Contact::look_ahead`]).
     t: f64,
     fastest: f64,
     /// The smallest radius.
@@ -158,6 +158,8 @@ pub struct Contact<F: Flight> {
     cell: f64,
     cells: CellList,
     pairs: Vec<(u32, u32)>,
+    /// Each Verlet pair's separation `(dx, dy, dist)` between steps ([`Contact::look_ahead`]).
+    separations: Vec<[f64; 3]>,
     /// Each Verlet pair's impulses at the end of the last step (warm start).
     warm: Vec<(f64, f64)>,
     /// Each disk's floor impulses at the end of the last step.
@@ -198,7 +200,6 @@ pub struct ContactState {
     dt: f64,
     dt_range: (f64, f64),
     t: f64,
-    fastest: f64,
     pairs: Vec<(u32, u32)>,
     warm: Vec<(f64, f64)>,
     warm_floor: Vec<(f64, f64)>,
@@ -278,6 +279,7 @@ impl<F: Flight> Contact<F> {
             cell,
             cells: CellList::default(),
             pairs: Vec::new(),
+            separations: Vec::new(),
             warm: Vec::new(),
             warm_floor: vec![(0.0, 0.0); n],
             built_x: vec![0.0; n],
@@ -307,7 +309,7 @@ impl<F: Flight> Contact<F> {
         }
         wrap_positions(c.sides, c.top, &mut c.disks);
         c.rebuild();
-        c.fastest = c.fastest_approach();
+        c.look_ahead();
         c.energy = c.total_energy();
         Ok(c)
     }
@@ -341,7 +343,6 @@ impl<F: Flight> Contact<F> {
             dt: self.dt,
             dt_range: self.dt_range,
             t: self.t,
-            fastest: self.fastest,
             pairs: self.pairs.clone(),
             warm: self.warm.clone(),
             warm_floor: self.warm_floor.clone(),
@@ -388,7 +389,6 @@ impl<F: Flight> Contact<F> {
         self.dt = state.dt;
         self.dt_range = state.dt_range;
         self.t = state.t;
-        self.fastest = state.fastest;
         self.pairs = state.pairs;
         self.warm = state.warm;
         self.warm_floor = state.warm_floor;
@@ -414,6 +414,7 @@ impl<F: Flight> Contact<F> {
             rebounds: state.rebounds,
             ..SchemeStats::default()
         };
+        self.look_ahead();
         Ok(())
     }
 
@@ -428,6 +429,7 @@ impl<F: Flight> Contact<F> {
         let after = self.total_energy();
         self.flow.dissipated -= after - before;
         self.energy = after;
+        self.look_ahead();
     }
 
     /// [`Contact::separate`]'s moves.
@@ -561,43 +563,47 @@ impl<F: Flight> Contact<F> {
         self.count_at_rest(t1);
         self.advance(t1);
         self.t = t1;
-        self.fastest = self.fastest_approach();
+        self.look_ahead();
         self.step += 1;
         self.stats.steps = self.step;
         self.stats.step = self.t / self.step as f64;
     }
 
-    /// The fastest approach of a pair or a disk and the floor that can close within the coarsest
-    /// step, on the velocities now (a disk falling toward the floor counted with the speed the
-    /// step's gravity adds): the impact the next step must resolve (0: none). Taken before the
-    /// step, so that a bed landing from flight meets the floor at the fine step.
-    fn fastest_approach(&self) -> f64 {
-        if self.dt_range.0 == self.dt_range.1 {
-            return 0.0;
-        }
-        let (dt, t) = (self.dt_range.1, self.now());
+    /// Measures, between steps, each Verlet pair's separation (the next step's contacts are
+    /// gathered from it) and the fastest approach of a pair or a disk and the floor that can
+    /// close within the coarsest step, on the velocities now (a disk falling toward the floor
+    /// counted with the speed the step's gravity adds): the impact the next step must resolve
+    /// (0: none, or a fixed step). Taken before the step, so that a bed landing from flight
+    /// meets the floor at the fine step.
+    fn look_ahead(&mut self) {
+        let adaptive = self.dt_range.0 < self.dt_range.1;
+        let (dt, t, g) = (self.dt_range.1, self.now(), self.g());
         let d = &self.disks;
         let mut fastest = 0.0f64;
-        if let Some(f) = &self.floor {
+        if let Some(f) = self.floor.as_ref().filter(|_| adaptive) {
             let (h, hv) = (f.height(t), f.velocity(t));
             for (k, m) in d.motion.iter().enumerate() {
-                let u = m.vy - self.g() * dt - hv;
+                let u = m.vy - g * dt - hv;
                 if m.y - d.radius[k] - h + u * dt < 0.0 {
                     fastest = fastest.max(-u);
                 }
             }
         }
+        self.separations.clear();
         for &(i, j) in &self.pairs {
             let (mi, mj) = (d.motion[i as usize], d.motion[j as usize]);
             let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
             let dist = (dx * dx + dy * dy).sqrt();
-            let gap = dist - d.radius[i as usize] - d.radius[j as usize];
-            let u = ((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
-            if gap + u * dt < 0.0 {
-                fastest = fastest.max(-u);
+            self.separations.push([dx, dy, dist]);
+            if adaptive {
+                let gap = dist - d.radius[i as usize] - d.radius[j as usize];
+                let u = ((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
+                if gap + u * dt < 0.0 {
+                    fastest = fastest.max(-u);
+                }
             }
         }
-        fastest
+        self.fastest = fastest;
     }
 
     /// The bound on the normal velocity after the step of a contact with gap `gap` (`lift`:
@@ -752,11 +758,10 @@ impl<F: Flight> Contact<F> {
             }
         }
         self.max_overlap = deepest;
-        for (k, &(i, j)) in self.pairs.iter().enumerate() {
+        for (k, (&(i, j), &[dx, dy, dist])) in self.pairs.iter().zip(&self.separations).enumerate()
+        {
             let (iu, ju) = (i as usize, j as usize);
             let (mi, mj) = (d.motion[iu], d.motion[ju]);
-            let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
-            let dist = (dx * dx + dy * dy).sqrt();
             let s = d.radius[iu] + d.radius[ju];
             let gap = dist - s;
             if gap > reach {
