@@ -329,7 +329,7 @@ impl Floor {
 
     /// Whether the floor presses a disk moving with it (`g + h'' > 0`, with a relative margin
     /// of 10⁻⁹ so that a disk thrown off exactly at `g + h'' = 0` is not caught again).
-    fn presses(&self, t: f64, g: f64) -> bool {
+    pub fn presses(&self, t: f64, g: f64) -> bool {
         self.press(t, g) > 1e-9 * (g + self.max_acceleration())
     }
 

@@ -325,6 +325,8 @@ hard_cases! {
     // The exact jam's wedges: a slot a hair too narrow, a full row a hair above a row at rest.
     slot_a_hair_narrow: "slot_a_hair_narrow.json", 100.0; // [2: at rest from t = 1]
     row_ringing_on_a_row_at_rest: "row_ringing_on_a_row_at_rest.json", 100.0; // [2.6]
+    // A disk wedged a hair above the floor in a full row taking off (stalled at t = 1/6).
+    wedged_at_take_off: "wedged_at_take_off.json", 3e4; // [4.9e3: the full row rings first]
     // Resting contacts: a stack riding a slow floor, and thrown off by a fast one.
     stack_gamma_0_5: "stack_gamma_0.5.json", 50.0; // [5.7]
     stack_gamma_1_2: "stack_gamma_1.2.json", 500.0; // [57]

@@ -324,7 +324,18 @@ impl<F: Flight> Simulation<F> {
             now,
             limit,
             |t| floor.ride(t),
-            |t| floor.ride_acceleration(t),
+            // The floor presses the pair together only beyond its margin, as it presses a
+            // flyer touching it (see `Floor::presses`): at a take-off, where g + h'' is
+            // round-off, a flyer touching a rider with no normal approach is not pressed into
+            // it (the rider leaves the floor at this instant too).
+            |t| {
+                let acc = floor.ride_acceleration(t);
+                if floor.presses(t, g) {
+                    acc
+                } else {
+                    acc.min(-g)
+                }
+            },
         )
     }
 

@@ -81,3 +81,20 @@ impl<F: Flight> Simulation<F> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::run_hard_case_to;
+    use crate::engine::Progress;
+
+    /// A disk wedged a hair above the floor between two disks of a jammed row, all at rest,
+    /// takes off with them at Γ = 2: it leaves a few ulps before its neighbours, touching them
+    /// while g + h'' is round-off, and does not ring between them, held, at one instant (it
+    /// did for ever, until the event budget ran out at the first take-off, t = 1/6).
+    #[test]
+    fn a_disk_wedged_in_a_jammed_row_takes_off_with_it() {
+        let (sim, progress) = run_hard_case_to("wedged_at_take_off.json", &[]);
+        assert_eq!(progress, Progress::Reached, "at t = {}", sim.time());
+        assert_eq!(sim.counts().takeoff, 3, "the three disks take off once");
+    }
+}

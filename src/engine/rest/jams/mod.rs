@@ -107,7 +107,7 @@ pub fn instant2(g: f64, floor: Option<&Floor>) -> f64 {
 /// What the rules' tests share: a hard case run to its end.
 #[cfg(test)]
 pub(super) mod tests {
-    use crate::engine::{JamCounts, Scene, Simulation};
+    use crate::engine::{JamCounts, Progress, Scene, Simulation};
     use crate::physics::flight::Ballistic;
     use crate::scenario::Scenario;
 
@@ -123,6 +123,16 @@ pub(super) mod tests {
         file: &str,
         sets: &[&str],
     ) -> Simulation<Ballistic> {
+        run_hard_case_to(file, sets).0
+    }
+
+    /// The engine after running the hard case `scenarios/hard/{file}` (with `--set` overrides
+    /// `sets`) with the invariant checks on, and how the run ended: at its end, or on its event
+    /// budget or the stall guard.
+    pub(in crate::engine::rest) fn run_hard_case_to(
+        file: &str,
+        sets: &[&str],
+    ) -> (Simulation<Ballistic>, Progress) {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("scenarios/hard")
             .join(file);
@@ -132,9 +142,10 @@ pub(super) mod tests {
         let (scene, disks) = Scene::build(&scenario).expect("scene builds");
         let g = scene.gravity.expect("the hard cases of rest have gravity");
         let mut sim = Simulation::new(Ballistic { g }, &scene, disks).expect("engine starts");
-        sim.advance_to(scenario.run.duration)
+        let progress = sim
+            .advance_to(scenario.run.duration)
             .expect("runs with the checks on");
-        sim
+        (sim, progress)
     }
 
     /// Every jam rule but the pressed slider is one of the resting contacts: without them none
