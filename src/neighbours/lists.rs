@@ -33,6 +33,10 @@ pub struct NeighbourLists {
     /// Rows with room ([`in_rows`](Self::in_rows); `false`: compressed rows), so that single
     /// lists can change.
     in_rows: bool,
+    /// Rows with room keep the half lists of their build until
+    /// [`drop_halves`](Self::drop_halves) (see [`in_rows`](Self::in_rows)).
+    #[serde(skip)]
+    rows_keep_halves: bool,
     rows: Rows,
 }
 
@@ -43,24 +47,40 @@ impl NeighbourLists {
     /// j ∈ list(i) ⇔ i ∈ list(j). The lists are compressed rows, fixed until the next build,
     /// and the half lists ([`half_of`](Self::half_of)) are kept (their memory too, for the next
     /// build); or, if [`in_rows`](Self::in_rows) asked for them, rows
-    /// with room, filed straight from the candidates (no half lists: their memory would add to
-    /// the rows' at the peak).
+    /// with room, filed from the candidates (half lists only if asked for too: their memory
+    /// adds to the rows' at the peak).
     pub fn build(
         &mut self,
         n: usize,
-        mut half: impl FnMut(usize, &mut Vec<u32>),
+        half: impl FnMut(usize, &mut Vec<u32>),
         near: impl Fn(usize, usize) -> bool,
     ) {
         self.half.clear();
         self.half_start.clear();
+        if self.in_rows && self.rows_keep_halves {
+            let degree = self.half_lists(n, half, near);
+            self.file_halves_in_rows(n, degree);
+            return;
+        }
         if self.in_rows {
             self.half = Vec::new();
             self.half_start = Vec::new();
             self.file_in_rows(n, half, near);
             return;
         }
-        self.half_start.push(0);
         // The half lists and each disk's degree first; then the compressed rows.
+        let degree = self.half_lists(n, half, near);
+        self.compress(n, degree);
+    }
+
+    /// The half lists (`half`, `half_start`) from the candidates, and each disk's degree.
+    fn half_lists(
+        &mut self,
+        n: usize,
+        mut half: impl FnMut(usize, &mut Vec<u32>),
+        near: impl Fn(usize, usize) -> bool,
+    ) -> Vec<u32> {
+        self.half_start.push(0);
         let mut degree = vec![0u32; n];
         for i in 0..n {
             let from = self.half.len();
@@ -73,13 +93,47 @@ impl NeighbourLists {
             }
             self.half_start.push(self.half.len() as u32);
         }
-        self.compress(n, degree);
+        degree
+    }
+
+    /// Rows with room filed from the half lists and the degrees, as
+    /// [`file_in_rows`](Self::file_in_rows) files them from the candidates.
+    fn file_halves_in_rows(&mut self, n: usize, degree: Vec<u32>) {
+        self.list = Vec::new();
+        self.start = Vec::new();
+        self.rows = Rows::default();
+        // Degrees counted to 2¹⁶ − 1 at most, as `file_in_rows` counts them.
+        self.rows = Rows::sized_for(n, |i| degree[i].min(u16::MAX as u32) as usize);
+        drop(degree);
+        for i in 0..n {
+            for h in self.half_start[i] as usize..self.half_start[i + 1] as usize {
+                let j = self.half[h];
+                self.rows.push(i, j);
+                self.rows.push(j as usize, i as u32);
+            }
+        }
+        // Compressed rows are filled from the end.
+        for i in 0..n {
+            self.rows.of_mut(i).reverse();
+        }
     }
 
     /// From the next [`build`](Self::build) on, the lists are rows with room, so that one
-    /// disk's list can be rebuilt on its own with [`replace`](Self::replace).
-    pub fn in_rows(&mut self) {
+    /// disk's list can be rebuilt on its own with [`replace`](Self::replace); each build keeps
+    /// the half lists it found if `keep_halves` (for the caller's use of
+    /// [`half_of`](Self::half_of), until [`drop_halves`](Self::drop_halves)), so that the
+    /// candidates are gathered once instead of again for each use.
+    pub fn in_rows(&mut self, keep_halves: bool) {
         self.in_rows = true;
+        self.rows_keep_halves = keep_halves;
+    }
+
+    /// Frees the half lists of rows with room (compressed rows keep theirs).
+    pub fn drop_halves(&mut self) {
+        if self.in_rows {
+            self.half = Vec::new();
+            self.half_start = Vec::new();
+        }
     }
 
     /// Compressed rows from the half lists and the degrees.
@@ -163,7 +217,8 @@ impl NeighbourLists {
     }
 
     /// Each listed pair once: the partners of disk `i` found from the half mask, for
-    /// compressed rows (`None` for rows with room, which keep no half lists).
+    /// compressed rows and for rows with room built to keep them (`None` for other rows with
+    /// room, and after [`drop_halves`](Self::drop_halves)).
     #[inline]
     pub fn half_of(&self, i: usize) -> Option<&[u32]> {
         (!self.half_start.is_empty())
@@ -238,7 +293,7 @@ mod tests {
     fn line(lists: &mut NeighbourLists, x: &[f64], rows: bool, ahead: usize, reach: f64) {
         let n = x.len();
         if rows {
-            lists.in_rows();
+            lists.in_rows(false);
         }
         let half = |i: usize, out: &mut Vec<u32>| {
             out.extend((i + 1..n.min(i + 1 + ahead)).map(|j| j as u32))
@@ -263,6 +318,43 @@ mod tests {
             assert!(compressed.half_of(i).is_some());
         }
         assert_eq!(rows.entries(), compressed.entries());
+    }
+
+    /// Rows with room that keep their half lists: the same rows as without, and the half lists
+    /// of compressed rows, until dropped.
+    #[test]
+    fn rows_keep_the_half_lists_of_compressed_rows_until_dropped() {
+        let x: [f64; 10] = [0.0, 1.0, 1.5, 3.9, 4.2, 4.4, 9.0, 9.5, 9.7, 9.8];
+        let (mut kept, mut rows, mut compressed) = Default::default();
+        let build = |lists: &mut NeighbourLists| {
+            let n = x.len();
+            let half =
+                |i: usize, out: &mut Vec<u32>| out.extend((i + 1..n.min(i + 4)).map(|j| j as u32));
+            lists.build(n, half, |i, j| (x[i] - x[j]).abs() < 2.5);
+        };
+        NeighbourLists::in_rows(&mut kept, true);
+        NeighbourLists::in_rows(&mut rows, false);
+        for lists in [&mut kept, &mut rows, &mut compressed] {
+            build(lists);
+        }
+        let (kept, rows, compressed): (NeighbourLists, NeighbourLists, NeighbourLists) =
+            (kept, rows, compressed);
+        let mut pairs = 0;
+        for i in 0..x.len() {
+            assert_eq!(kept.of(i), rows.of(i), "disk {i}");
+            assert_eq!(kept.half_of(i), compressed.half_of(i), "disk {i}");
+            pairs += kept.half_of(i).map_or(0, <[u32]>::len);
+        }
+        assert!(pairs > x.len() / 2, "too few pairs to compare");
+        assert_eq!(kept.rows.room(), rows.rows.room());
+        let mut kept = kept;
+        kept.drop_halves();
+        assert!((0..x.len()).all(|i| kept.half_of(i).is_none()));
+        assert_eq!(
+            kept.of(3),
+            rows.of(3),
+            "dropping the half lists keeps the rows"
+        );
     }
 
     /// Rows sized for all but one list in fifty, the longer ones in the overflow area: the

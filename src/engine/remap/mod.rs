@@ -52,9 +52,10 @@ impl<F: Flight> Simulation<F> {
         let cell = |i: usize| geometry.cell_of(disks.motion[i].x, disks.motion[i].y);
         let (images, margin) = (self.bounds.images, self.map.margin);
         let near = |i: usize, j: usize| near_at_mapping(disks, images, margin, i, j);
-        // Under the local re-mapping the lists change one at a time from here: rows with room.
+        // Under the local re-mapping the lists change one at a time from here: rows with room,
+        // which keep the pairs found for the predictions below where memory allows.
         if self.map.shells.is_some() {
-            self.map.lists.in_rows();
+            self.map.lists.in_rows(n < shells::LEAN_LISTS_FROM);
         }
         self.map
             .cells
@@ -97,6 +98,7 @@ impl<F: Flight> Simulation<F> {
             self.map.dutc = Dutc::frozen(64.0 * self.map.dutc.deadline);
         }
         self.predict_all();
+        self.map.lists.drop_halves();
         self.tally.counts.rebuild += 1;
         Ok(())
     }

@@ -77,7 +77,8 @@ pub fn local_margin(skin: Option<f64>, a_min: f64, a: f64, phi: f64, n: usize) -
 }
 
 /// From this many disks on, the lists are sized for memory: six neighbours beyond contact at
-/// every packing (see [`beyond_contact`]).
+/// every packing (see [`beyond_contact`]), and a mapping gathers each disk's pairs again for its
+/// predictions rather than keep them beside the new lists.
 pub const LEAN_LISTS_FROM: usize = 1 << 18;
 
 /// How many neighbours beyond contact the lists of `n` disks at packing `phi` are sized for:
