@@ -294,10 +294,7 @@ impl<F: Flight> Contact<F> {
             flow: EnergyFlow::default(),
             virial: 0.0,
             max_overlap: 0.0,
-            stats: SchemeStats {
-                step: dt,
-                ..SchemeStats::default()
-            },
+            stats: SchemeStats::default(),
             at_rest: 0,
             rest_since: None,
             pushed: vec![false; n + 1],
@@ -404,12 +401,6 @@ impl<F: Flight> Contact<F> {
         self.at_rest = state.at_rest;
         self.rest_since = state.rest_since;
         self.stats = SchemeStats {
-            step: if self.step > 0 {
-                self.t / self.step as f64
-            } else {
-                self.dt
-            },
-            steps: self.step,
             deep_overlaps: state.deep_overlaps,
             rebounds: state.rebounds,
             ..SchemeStats::default()
@@ -565,8 +556,6 @@ impl<F: Flight> Contact<F> {
         self.t = t1;
         self.look_ahead();
         self.step += 1;
-        self.stats.steps = self.step;
-        self.stats.step = self.t / self.step as f64;
     }
 
     /// Measures, between steps, each Verlet pair's separation (the next step's contacts are
@@ -1084,8 +1073,14 @@ impl<F: Flight> Integrator for Contact<F> {
         }
     }
     fn approximation(&self) -> Option<SchemeStats> {
-        let mut stats = self.stats;
-        stats.sweeps = self.sweeps;
-        Some(stats)
+        Some(SchemeStats {
+            step: match self.step {
+                0 => self.dt,
+                steps => self.t / steps as f64,
+            },
+            steps: self.step,
+            sweeps: self.sweeps,
+            ..self.stats
+        })
     }
 }
