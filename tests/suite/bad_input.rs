@@ -1659,15 +1659,16 @@ fn a_sweep_interrupted_while_its_first_run_builds_exits_130_keeping_its_inputs()
     };
     let before = inputs();
     let words = ["sweep", "run", "big.json", "--out", "out", "--jobs", "1"];
-    // The plan is written as the pool starts, just before run 0 builds its scene.
+    // Run 0's folder is made just before it builds its scene. (The plan, written as the pool
+    // starts, is too early a sign: a signal before the first worker looks starts no run.)
     let out = dir.join("out");
-    let plan = out.join("plan.json");
+    let first_run = out.join("0");
     let got = interrupted(
         &words,
         &dir,
         Duration::from_secs(60),
         6 * STOP_GRACE,
-        || plan.exists(),
+        || first_run.exists(),
     );
     let what = got.describe();
     assert_eq!(got.code(), Some(130), "{what}");
