@@ -24,9 +24,12 @@
 //! (the floor's mean velocity over the step), and the energy lost beyond it is booked as
 //! dissipated.
 //!
-//! On one thread: the Gauss–Seidel sweep is sequential, and its order (the boundaries by disk
+//! On one thread: the Gauss–Seidel sweep takes the contacts in one order (the boundaries by disk
 //! number, then the pairs from the lowest up, so that a stack's weight reaches the floor within a
-//! sweep) makes runs repeat bit for bit.
+//! sweep), four at a time where four in a row share no disk ([`quads`]), and runs repeat bit for
+//! bit on any processor.
+
+mod quads;
 
 use super::cells::CellList;
 use super::time_step::{default_dt, DEEP_OVERLAP, DEFAULT_SKIN};
@@ -39,6 +42,7 @@ use crate::physics::flight::Flight;
 use crate::physics::floor::Floor;
 use crate::physics::rough::Roughness;
 use crate::physics::walls::{SideBounds, Top};
+use crate::platform::cpu::Lanes;
 use crate::scenario::Engine;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -167,6 +171,9 @@ pub struct Contact<F: Flight> {
     built_x: Vec<f64>,
     built_y: Vec<f64>,
     rows: Vec<Row>,
+    /// The rows packed for the sweep ([`quads`]), and how the sweep runs on this processor.
+    quads: Vec<quads::Quad>,
+    lanes: Lanes,
     /// The solve's copy of each disk's velocity and rim speed `ω a` (0 for smooth disks), and
     /// one more entry that stays 0: the other side of a boundary contact (whose inverse mass is
     /// 0), so that every contact reads alike.
@@ -285,6 +292,8 @@ impl<F: Flight> Contact<F> {
             built_x: vec![0.0; n],
             built_y: vec![0.0; n],
             rows: Vec::new(),
+            quads: Vec::new(),
+            lanes: Lanes::found(),
             vel: vec![[0.0; 4]; n + 1],
             spin_factor: scene.rough.map_or(0.0, |r| 1.0 / r.inertia_factor),
             step: 0,
@@ -803,69 +812,19 @@ impl<F: Flight> Contact<F> {
                 self.vel[k][2] = w * self.disks.radius[k];
             }
         }
-        let mut rows = std::mem::take(&mut self.rows);
-        for r in &rows {
-            self.apply(r, r.pn, r.pt);
-        }
+        quads::pack(&self.rows, n as u32, &mut self.quads);
+        let sf = self.spin_factor;
+        quads::apply_all(&self.quads, &mut self.vel, sf);
         let tol = TOLERANCE * (0.5 * self.rest_speed(true)).max(1e-12);
         for _ in 0..MAX_SWEEPS {
             self.sweeps += 1;
-            if self.sweep(&mut rows) <= tol {
+            if quads::sweep(self.lanes, &mut self.quads, &mut self.vel, sf) <= tol {
                 break;
             }
         }
-        self.rows = rows;
+        quads::unpack(&self.quads, &mut self.rows);
         for (m, v) in self.disks.motion.iter_mut().zip(&self.vel[..n]) {
             (m.vx, m.vy) = (v[0], v[1]);
-        }
-    }
-
-    /// One Gauss–Seidel sweep: each contact's impulses set so that it meets its bound (the
-    /// normal one at least 0, the tangential one in Coulomb's cone, 0 on smooth disks), given
-    /// the others'. Returns the largest change of a relative velocity.
-    fn sweep(&mut self, rows: &mut [Row]) -> f64 {
-        let mut change = 0.0f64;
-        for r in rows {
-            let (un, ut) = self.relative(r);
-            let pn = (r.pn + (r.target - un) * r.mn).max(0.0);
-            let cap = r.mu * pn;
-            let pt = (r.pt - ut * r.mt).clamp(-cap, cap);
-            let (dpn, dpt) = (pn - r.pn, pt - r.pt);
-            // A contact that holds as it is writes nothing: the sweep's next reads need not
-            // wait on it.
-            if dpn != 0.0 || dpt != 0.0 {
-                self.apply(r, dpn, dpt);
-                (r.pn, r.pt) = (pn, pt);
-                change = change.max((dpn * r.wn).abs()).max((dpt * r.wt).abs());
-            }
-        }
-        change
-    }
-
-    /// Normal and tangential relative velocity of a contact (the tangent `(−n_y, n_x)`).
-    #[inline(always)]
-    fn relative(&self, r: &Row) -> (f64, f64) {
-        let (vi, vj) = (self.vel[r.i as usize], self.vel[r.j as usize]);
-        let (vx, vy) = (vi[0] - vj[0] - r.vb.0, vi[1] - vj[1] - r.vb.1);
-        let un = vx * r.n.0 + vy * r.n.1;
-        let ut = -vx * r.n.1 + vy * r.n.0 - (vi[2] + vj[2]);
-        (un, ut)
-    }
-
-    /// Applies impulses `pn` along the normal and `pt` along the tangent to a contact's disks
-    /// (a tangential impulse at the rim turns each disk by `−p_t/(q m)` in rim speed; smooth
-    /// disks' `p_t` is 0).
-    #[inline(always)]
-    fn apply(&mut self, r: &Row, pn: f64, pt: f64) {
-        let (px, py) = (pn * r.n.0 - pt * r.n.1, pn * r.n.1 + pt * r.n.0);
-        let sf = self.spin_factor;
-        let vi = &mut self.vel[r.i as usize];
-        (vi[0], vi[1], vi[2]) = (vi[0] + px * r.wi, vi[1] + py * r.wi, vi[2] - pt * r.wi * sf);
-        // A boundary (j the entry past the last disk) does not move: writing it would chain
-        // every boundary contact of a sweep to the one before.
-        if r.wj != 0.0 {
-            let vj = &mut self.vel[r.j as usize];
-            (vj[0], vj[1], vj[2]) = (vj[0] - px * r.wj, vj[1] - py * r.wj, vj[2] - pt * r.wj * sf);
         }
     }
 
@@ -972,8 +931,8 @@ impl<F: Flight> Contact<F> {
 
 /// Orders the Verlet pairs for the Gauss–Seidel sweep: bottom up, by the lower disk's height,
 /// in bands `band` high, so that the weight of a stack reaches the floor within a sweep; within
-/// a band, in groups of pairs that share no disk (a greedy colouring), so that a contact's
-/// reads in a sweep seldom wait on the contact just before it.
+/// a band, in groups of pairs that share no disk (a greedy colouring), so that the sweep finds
+/// four in a row that it can solve at once ([`quads`]).
 fn order_pairs(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
     let low = |&(i, j): &(u32, u32)| motion[i as usize].y.min(motion[j as usize].y);
     pairs.sort_by(|p, q| low(p).total_cmp(&low(q)));
