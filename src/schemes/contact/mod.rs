@@ -30,6 +30,7 @@
 //! bit on any processor.
 
 mod quads;
+mod separations;
 
 use super::cells::CellList;
 use super::time_step::{default_dt, DEEP_OVERLAP, DEFAULT_SKIN};
@@ -587,21 +588,16 @@ impl<F: Flight> Contact<F> {
                 }
             }
         }
-        self.separations.clear();
-        for &(i, j) in &self.pairs {
-            let (mi, mj) = (d.motion[i as usize], d.motion[j as usize]);
-            let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
-            let dist = (dx * dx + dy * dy).sqrt();
-            self.separations.push([dx, dy, dist]);
-            if adaptive {
-                let gap = dist - d.radius[i as usize] - d.radius[j as usize];
-                let u = ((mi.vx - mj.vx) * dx + (mi.vy - mj.vy) * dy) / dist;
-                if gap + u * dt < 0.0 {
-                    fastest = fastest.max(-u);
-                }
-            }
-        }
-        self.fastest = fastest;
+        let m = separations::Measure {
+            sides: self.sides,
+            top: self.top,
+            motion: &d.motion,
+            radius: &d.radius,
+            dt,
+            adaptive,
+        };
+        let pairs = separations::measure(self.lanes, &m, &self.pairs, &mut self.separations);
+        self.fastest = fastest.max(pairs);
     }
 
     /// The bound on the normal velocity after the step of a contact with gap `gap` (`lift`:
