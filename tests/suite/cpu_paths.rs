@@ -86,21 +86,21 @@ fn vibrobed(path: Option<&str>, args: &[&str]) -> Output {
 /// The summary of the shortened gas under `VIBROBED_CPU=path`, without what measures the
 /// process.
 fn summary(path: Option<&str>, out: &std::path::Path) -> Value {
+    let gas = [
+        "scenarios/gas_periodic_phi03.json",
+        "--set",
+        "run.duration=3",
+    ];
+    summary_of(path, &gas, out)
+}
+
+/// The summary of `vibrobed run SCENE...` under `VIBROBED_CPU=path`, as [`summary`].
+fn summary_of(path: Option<&str>, scene: &[&str], out: &std::path::Path) -> Value {
     let _ = std::fs::remove_file(out);
-    let o = vibrobed(
-        path,
-        &[
-            "run",
-            "scenarios/gas_periodic_phi03.json",
-            "-q",
-            "--set",
-            "run.duration=3",
-            "--set",
-            "run.warmup=1",
-            "--summary",
-            out.to_str().expect("a path in UTF-8"),
-        ],
-    );
+    let mut args = vec!["run", "-q", "--set", "run.warmup=1"];
+    args.extend(scene);
+    args.extend(["--summary", out.to_str().expect("a path in UTF-8")]);
+    let o = vibrobed(path, &args);
     assert!(o.status.success(), "{path:?}: {o:?}");
     let mut v: Value =
         serde_json::from_str(&std::fs::read_to_string(out).expect("summary")).expect("JSON");
@@ -149,4 +149,35 @@ fn the_environment_chooses_the_path_and_the_summary_stays() {
         assert!(err.contains("VIBROBED_CPU"), "{value}: {err}");
         assert!(!out.exists(), "{value}: a summary was written");
     }
+}
+
+/// Contact dynamics' sweep and its pairs' separations (`src/schemes/contact/`) run four lanes
+/// at a time where the processor has AVX2: a rough bed the floor throws, on contact dynamics
+/// with the step following its impacts, gives the same summary on both paths.
+#[test]
+fn contact_dynamics_gives_the_same_summary_on_both_paths() {
+    if !Lanes::widest().avx2() {
+        eprintln!("no AVX2 on this processor: one path only, nothing to compare");
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cpu-paths-contact");
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    let out = dir.join("summary.json");
+    let bed = [
+        "scenarios/vibrated_bed.json",
+        "--set",
+        "floor.gamma=1.5",
+        "--set",
+        "collisions.friction=0.5",
+        "--set",
+        "floor.friction=0.5",
+        "--set",
+        "engine.scheme=contact",
+        "--set",
+        "run.duration=20",
+    ];
+    let found = summary_of(Some("avx2"), &bed, &out);
+    assert!(found["approximation"]["sweeps"].as_u64().expect("sweeps") > 1000);
+    assert!(found["events"]["pair"].as_u64().expect("pairs") > 1000);
+    assert_eq!(summary_of(Some("scalar"), &bed, &out), found);
 }
