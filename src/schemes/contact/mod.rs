@@ -808,9 +808,8 @@ impl<F: Flight> Contact<F> {
                 self.vel[k][2] = w * self.disks.radius[k];
             }
         }
-        quads::pack(&self.rows, n as u32, &mut self.quads);
         let sf = self.spin_factor;
-        quads::apply_all(&self.quads, &mut self.vel, sf);
+        quads::pack(&self.rows, n as u32, &mut self.quads, &mut self.vel, sf);
         let tol = TOLERANCE * (0.5 * self.rest_speed(true)).max(1e-12);
         for _ in 0..MAX_SWEEPS {
             self.sweeps += 1;

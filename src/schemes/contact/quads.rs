@@ -85,7 +85,15 @@ impl Quad {
 
 /// Packs `rows`, in order, into `quads`: a row that would share a disk with the quad being
 /// filled, or find it full, starts the next. `boundary`: the velocities' entry of a boundary.
-pub(super) fn pack(rows: &[Row], boundary: u32, quads: &mut Vec<Quad>) {
+/// Each row's impulses are applied as they are as it is packed (the warm start, in the rows'
+/// order; `vel` and `sf` as [`sweep`]'s).
+pub(super) fn pack(
+    rows: &[Row],
+    boundary: u32,
+    quads: &mut Vec<Quad>,
+    vel: &mut [[f64; 4]],
+    sf: f64,
+) {
     quads.clear();
     let mut lanes = 4;
     for (k, r) in rows.iter().enumerate() {
@@ -98,6 +106,7 @@ pub(super) fn pack(rows: &[Row], boundary: u32, quads: &mut Vec<Quad>) {
         }
         let q = quads.last_mut().expect("a quad to fill");
         q.set(lanes, r, k as u32);
+        apply(q, lanes, vel, sf, r.pn, r.pt);
         lanes += 1;
     }
 }
@@ -108,16 +117,6 @@ pub(super) fn unpack(quads: &[Quad], rows: &mut [Row]) {
         for l in (0..4).filter(|&l| q.row[l] != NO_ROW) {
             let r = &mut rows[q.row[l] as usize];
             (r.pn, r.pt) = (q.pn[l], q.pt[l]);
-        }
-    }
-}
-
-/// Applies every contact's impulses as they are, in the rows' order (the warm start).
-/// `vel`: each disk's `(vx, vy, ω a, _)`; `sf`: `1/q` of `I = q m a²` (0 for smooth disks).
-pub(super) fn apply_all(quads: &[Quad], vel: &mut [[f64; 4]], sf: f64) {
-    for q in quads {
-        for l in (0..4).filter(|&l| q.row[l] != NO_ROW) {
-            apply(q, l, vel, sf, q.pn[l], q.pt[l]);
         }
     }
 }
@@ -435,12 +434,11 @@ mod tests {
                 .collect();
             vel.push([0.0; 4]);
             let mut quads = Vec::new();
-            pack(&rows, n, &mut quads);
+            let mut vel_one = vel.clone();
+            pack(&rows, n, &mut quads, &mut vel_one, sf);
             assert!(quads.len() * 4 >= rows.len());
-            let (mut vel_one, mut quads_one) = (vel.clone(), quads.clone());
-            let (mut vel_four, mut quads_four) = (vel.clone(), quads.clone());
-            apply_all(&quads, &mut vel_one, sf);
-            apply_all(&quads, &mut vel_four, sf);
+            let quads_one = &mut quads.clone();
+            let (mut vel_four, mut quads_four) = (vel_one.clone(), quads.clone());
             for r in &rows {
                 let (px, py) = (r.pn * r.n.0 - r.pt * r.n.1, r.pn * r.n.1 + r.pt * r.n.0);
                 let v = &mut vel[r.i as usize];
@@ -457,7 +455,7 @@ mod tests {
                     sweep_no > 0 || want > 0.0,
                     "case {case}: the first sweep pushes"
                 );
-                let one = sweep_one_by_one(&mut quads_one, &mut vel_one, sf);
+                let one = sweep_one_by_one(quads_one, &mut vel_one, sf);
                 assert_eq!(
                     one.to_bits(),
                     want.to_bits(),
@@ -479,7 +477,7 @@ mod tests {
             };
             assert_eq!(bits(&vel_one), bits(&vel), "case {case}: velocities");
             let mut got = rows.clone();
-            unpack(&quads_one, &mut got);
+            unpack(quads_one, &mut got);
             let impulses = |rs: &[Row]| -> Vec<(u64, u64)> {
                 rs.iter()
                     .map(|r| (r.pn.to_bits(), r.pt.to_bits()))
