@@ -7,3 +7,4 @@ pub mod cpu;
 pub mod memory;
 pub mod prefetch;
 pub mod signals;
+pub mod transpose;

@@ -212,6 +212,7 @@ fn apply(q: &Quad, l: usize, vel: &mut [[f64; 4]], sf: f64, pn: f64, pt: f64) {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn sweep_avx2(quads: &mut [Quad], vel: &mut [[f64; 4]], sf: f64) -> f64 {
+    use crate::platform::transpose::transpose;
     use std::arch::x86_64::*;
     let zero = _mm256_setzero_pd();
     let sign = _mm256_set1_pd(-0.0);
@@ -219,32 +220,12 @@ unsafe fn sweep_avx2(quads: &mut [Quad], vel: &mut [[f64; 4]], sf: f64) -> f64 {
     let mut change = zero;
     let load = |a: &[f64; 4]| _mm256_load_pd(a.as_ptr());
     for q in quads.iter_mut() {
-        // Each disk's (vx, vy, ω a, _) to columns.
+        // Each disk's (vx, vy, ω a, _) to columns, and back.
         let gather = |ks: [u32; 4], vel: &[[f64; 4]]| {
-            let r = ks.map(|k| _mm256_loadu_pd(vel[k as usize].as_ptr()));
-            let lo01 = _mm256_unpacklo_pd(r[0], r[1]);
-            let hi01 = _mm256_unpackhi_pd(r[0], r[1]);
-            let lo23 = _mm256_unpacklo_pd(r[2], r[3]);
-            let hi23 = _mm256_unpackhi_pd(r[2], r[3]);
-            [
-                _mm256_permute2f128_pd::<0x20>(lo01, lo23),
-                _mm256_permute2f128_pd::<0x20>(hi01, hi23),
-                _mm256_permute2f128_pd::<0x31>(lo01, lo23),
-                _mm256_permute2f128_pd::<0x31>(hi01, hi23),
-            ]
+            transpose(ks.map(|k| _mm256_loadu_pd(vel[k as usize].as_ptr())))
         };
         let scatter = |ks: [u32; 4], c: [__m256d; 4], vel: &mut [[f64; 4]]| {
-            let lo01 = _mm256_permute2f128_pd::<0x20>(c[0], c[2]);
-            let lo23 = _mm256_permute2f128_pd::<0x31>(c[0], c[2]);
-            let hi01 = _mm256_permute2f128_pd::<0x20>(c[1], c[3]);
-            let hi23 = _mm256_permute2f128_pd::<0x31>(c[1], c[3]);
-            let r = [
-                _mm256_unpacklo_pd(lo01, hi01),
-                _mm256_unpackhi_pd(lo01, hi01),
-                _mm256_unpacklo_pd(lo23, hi23),
-                _mm256_unpackhi_pd(lo23, hi23),
-            ];
-            for (k, r) in ks.iter().zip(r) {
+            for (k, r) in ks.iter().zip(transpose(c)) {
                 _mm256_storeu_pd(vel[*k as usize].as_mut_ptr(), r);
             }
         };

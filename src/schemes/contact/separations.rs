@@ -77,6 +77,7 @@ fn larger(a: f64, b: f64) -> f64 {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn measure_avx2(m: &Measure, pairs: &[(u32, u32)], out: &mut Vec<[f64; 3]>) -> f64 {
+    use crate::platform::transpose::transpose;
     use std::arch::x86_64::*;
     let set1 = |v: f64| _mm256_set1_pd(v);
     let period = |p: Option<f64>| p.map(|p| (set1(p), set1(0.5), set1(1.5)));
@@ -111,19 +112,6 @@ unsafe fn measure_avx2(m: &Measure, pairs: &[(u32, u32)], out: &mut Vec<[f64; 3]
         ))
     };
     let state = |k: u32| _mm256_loadu_pd(&m.motion[k as usize].x as *const f64);
-    // Rows (x, y, vx, vy) of four disks to columns.
-    let columns = |r: [__m256d; 4]| {
-        let lo01 = _mm256_unpacklo_pd(r[0], r[1]);
-        let hi01 = _mm256_unpackhi_pd(r[0], r[1]);
-        let lo23 = _mm256_unpacklo_pd(r[2], r[3]);
-        let hi23 = _mm256_unpackhi_pd(r[2], r[3]);
-        [
-            _mm256_permute2f128_pd::<0x20>(lo01, lo23),
-            _mm256_permute2f128_pd::<0x20>(hi01, hi23),
-            _mm256_permute2f128_pd::<0x31>(lo01, lo23),
-            _mm256_permute2f128_pd::<0x31>(hi01, hi23),
-        ]
-    };
     let mut fastest_lanes = zero;
     let mut fastest = 0.0;
     let groups = pairs.chunks_exact(4);
@@ -131,8 +119,9 @@ unsafe fn measure_avx2(m: &Measure, pairs: &[(u32, u32)], out: &mut Vec<[f64; 3]
     for group in groups {
         let is = [0, 1, 2, 3].map(|k| group[k].0);
         let js = [0, 1, 2, 3].map(|k| group[k].1);
-        let si = columns(is.map(state));
-        let sj = columns(js.map(state));
+        // Rows (x, y, vx, vy) of four disks to columns.
+        let si = transpose(is.map(state));
+        let sj = transpose(js.map(state));
         let dx = nearest(_mm256_sub_pd(si[0], sj[0]), x_period);
         let dy = nearest(_mm256_sub_pd(si[1], sj[1]), y_period);
         let (Some(dx), Some(dy)) = (dx, dy) else {
