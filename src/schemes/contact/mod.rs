@@ -128,8 +128,37 @@ struct Row {
     /// Where the impulses are kept for the next step's warm start: the Verlet list's index for a
     /// pair, the disk's number for the floor (`NONE`: not kept).
     slot: u32,
-    /// Centre distance (pairs), for the virial.
-    dist: f64,
+}
+
+/// A contact's inverse masses and effective masses (see [`Row`]), kept for the last two masses
+/// met: a bed of equal disks divides once a step instead of six times a row.
+struct Inertia {
+    /// `1 + 1/q` (∞ for smooth disks): the tangent's inverse mass over the normal's.
+    tangent: f64,
+    masses: (f64, f64),
+    w: [f64; 6],
+}
+
+impl Inertia {
+    fn new(tangent: f64) -> Inertia {
+        Inertia {
+            tangent,
+            masses: (f64::NAN, f64::NAN),
+            w: [0.0; 6],
+        }
+    }
+
+    /// `[wi, wj, wn, wt, mn, mt]` of a contact between masses `mi` and `mj` (∞: a boundary).
+    fn of(&mut self, mi: f64, mj: f64) -> [f64; 6] {
+        if (mi, mj) != self.masses {
+            let (wi, wj) = (1.0 / mi, 1.0 / mj);
+            let wn = wi + wj;
+            let wt = wn * self.tangent;
+            self.w = [wi, wj, wn, wt, 1.0 / wn, 1.0 / wt];
+            self.masses = (mi, mj);
+        }
+        self.w
+    }
 }
 
 /// A contact's bound on its normal velocity after the step.
@@ -193,8 +222,9 @@ pub struct Contact<F: Flight> {
     /// has been.
     at_rest: usize,
     rest_since: Option<f64>,
-    /// Scratch: which disks a contact pushed in the last step.
+    /// Scratch: which disks a contact pushed in the last step, and the floor's work in it.
     pushed: Vec<bool>,
+    injected_step: f64,
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
 }
@@ -308,6 +338,7 @@ impl<F: Flight> Contact<F> {
             at_rest: 0,
             rest_since: None,
             pushed: vec![false; n + 1],
+            injected_step: 0.0,
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
         };
@@ -651,6 +682,7 @@ impl<F: Flight> Contact<F> {
             Some(r) => (r.pair.mu, r.floor.mu, r.walls.mu, r.inertia_factor),
             None => (0.0, 0.0, 0.0, f64::INFINITY),
         };
+        let mut inertia = Inertia::new(1.0 + 1.0 / q);
         let rest_pair = self.rest_speed(false);
         let n_disks = self.disks.len() as u32;
         let d = &self.disks;
@@ -673,7 +705,6 @@ impl<F: Flight> Contact<F> {
         let mut deepest = self.max_overlap;
         for (i, m) in d.motion.iter().enumerate() {
             let (a, mass) = (d.radius[i], d.mass[i]);
-            let w = 1.0 / mass;
             let mut boundary = |kind, n: (f64, f64), vb: (f64, f64), gap: f64, lift, e, mu| {
                 if gap > reach {
                     return;
@@ -694,25 +725,25 @@ impl<F: Flight> Contact<F> {
                     }
                     _ => (0.0, 0.0, NONE),
                 };
+                let [wi, wj, wn, wt, mn, mt] = inertia.of(mass, f64::INFINITY);
                 rows.push(Row {
                     i: i as u32,
                     j: n_disks,
                     kind,
                     n,
                     vb,
-                    wi: w,
-                    wj: 0.0,
-                    wn: w,
-                    wt: w * (1.0 + 1.0 / q),
-                    mn: 1.0 / w,
-                    mt: 1.0 / (w * (1.0 + 1.0 / q)),
+                    wi,
+                    wj,
+                    wn,
+                    wt,
+                    mn,
+                    mt,
                     target: bound.target,
                     bounce: bound.bounce,
                     mu,
                     pn,
                     pt,
                     slot,
-                    dist: 0.0,
                 });
             };
             if let Some((h0, hd, e)) = floor_at {
@@ -767,8 +798,7 @@ impl<F: Flight> Contact<F> {
             if -gap > DEEP_OVERLAP * s {
                 self.stats.deep_overlaps += 1;
             }
-            let (wi, wj) = (1.0 / d.mass[iu], 1.0 / d.mass[ju]);
-            let w = wi + wj;
+            let [wi, wj, wn, wt, mn, mt] = inertia.of(d.mass[iu], d.mass[ju]);
             let (pn, pt) = self.warm[k];
             let (pn, pt) = (pn * warm_scale, pt * warm_scale);
             let bound = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
@@ -780,17 +810,16 @@ impl<F: Flight> Contact<F> {
                 vb: (0.0, 0.0),
                 wi,
                 wj,
-                wn: w,
-                wt: w * (1.0 + 1.0 / q),
-                mn: 1.0 / w,
-                mt: 1.0 / (w * (1.0 + 1.0 / q)),
+                wn,
+                wt,
+                mn,
+                mt,
                 target: bound.target,
                 bounce: bound.bounce,
                 mu: mu_pair,
                 pn,
                 pt,
                 slot: k as u32,
-                dist,
             });
         }
         self.rows = rows;
@@ -823,26 +852,30 @@ impl<F: Flight> Contact<F> {
         }
     }
 
-    /// Keeps the impulses for the next step, counts the contacts that pushed, and books the
-    /// floor's work and impulse, the virial, and (at `t1`) the spins.
+    /// Keeps the impulses for the next step, counts the contacts that pushed and marks their
+    /// disks, and books the floor's work and impulse, the virial, and (at `t1`) the spins.
     fn book(&mut self, t1: f64) {
+        let n = self.disks.len();
         self.warm_floor.iter_mut().for_each(|w| *w = (0.0, 0.0));
         self.warm.iter_mut().for_each(|w| *w = (0.0, 0.0));
-        for r in &self.rows {
-            if r.pn <= 0.0 {
-                continue;
-            }
+        self.pushed.iter_mut().for_each(|p| *p = false);
+        self.injected_step = 0.0;
+        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
             self.stats.rebounds += r.bounce as u64;
+            self.pushed[r.i as usize] = true;
+            self.pushed[(r.j as usize).min(n)] = true;
             match r.kind {
                 Kind::Pair => {
                     self.warm[r.slot as usize] = (r.pn, r.pt);
                     self.counts.pair += 1;
-                    self.virial += r.dist * r.pn;
+                    self.virial += self.separations[r.slot as usize][2] * r.pn;
                 }
                 Kind::Floor => {
                     self.warm_floor[r.i as usize] = (r.pn, r.pt);
                     self.counts.floor += 1;
-                    self.flow.injected += r.pn * r.vb.1;
+                    let work = r.pn * r.vb.1;
+                    self.flow.injected += work;
+                    self.injected_step += work;
                     self.flow.floor_impulse += r.pn;
                 }
                 Kind::Wall => self.counts.wall += 1,
@@ -860,16 +893,11 @@ impl<F: Flight> Contact<F> {
     }
 
     /// Counts the disks at rest after the step ending at `t1`: held by a contact that pushed in
-    /// the step and moving with the floor (still, on a static one) slower than a step of gravity
-    /// changes a speed, `g dt`. A bed riding the floor below Γ = 1 is at rest as a whole, as the
-    /// exact engine's riders are.
+    /// the step ([`Contact::book`] marks them) and moving with the floor (still, on a static
+    /// one) slower than a step of gravity changes a speed, `g dt`. A bed riding the floor below
+    /// Γ = 1 is at rest as a whole, as the exact engine's riders are.
     fn count_at_rest(&mut self, t1: f64) {
         let n = self.disks.len();
-        self.pushed.iter_mut().for_each(|p| *p = false);
-        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
-            self.pushed[r.i as usize] = true;
-            self.pushed[(r.j as usize).min(n)] = true;
-        }
         let floor_v = self.floor.as_ref().map_or(0.0, |f| f.velocity(t1));
         let slow = self.g() * self.dt;
         self.at_rest = (self.disks.motion.iter().zip(&self.pushed))
@@ -898,19 +926,11 @@ impl<F: Flight> Contact<F> {
             far |= dx * dx + dy * dy > half * half;
         }
         let energy = self.total_energy();
-        self.flow.dissipated += self.energy + self.flow_injected_step() - energy;
+        self.flow.dissipated += self.energy + self.injected_step - energy;
         self.energy = energy;
         if far {
             self.rebuild();
         }
-    }
-
-    /// The floor's work in the step just solved.
-    fn flow_injected_step(&self) -> f64 {
-        (self.rows.iter())
-            .filter(|r| r.kind == Kind::Floor)
-            .map(|r| r.pn * r.vb.1)
-            .sum()
     }
 
     /// Kinetic (translation and spin) plus potential energy.
