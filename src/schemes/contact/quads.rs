@@ -40,10 +40,9 @@ pub(super) struct Quad {
 }
 
 impl Quad {
-    /// Four empty lanes: contacts of the boundary's entry with itself, without mass or bound,
-    /// which never push.
+    /// Four empty lanes ([`Quad::clear`]).
     fn empty(boundary: u32) -> Quad {
-        Quad {
+        let mut q = Quad {
             nx: [0.0; 4],
             ny: [0.0; 4],
             vbx: [0.0; 4],
@@ -58,10 +57,36 @@ impl Quad {
             mu: [0.0; 4],
             pn: [0.0; 4],
             pt: [0.0; 4],
-            i: [boundary; 4],
-            j: [boundary; 4],
-            row: [NO_ROW; 4],
+            i: [0; 4],
+            j: [0; 4],
+            row: [0; 4],
+        };
+        (0..4).for_each(|l| q.clear(l, boundary));
+        q
+    }
+
+    /// Empties lane `l`: a contact of the boundary's entry with itself, without mass or bound,
+    /// which never pushes.
+    fn clear(&mut self, l: usize, boundary: u32) {
+        for field in [
+            &mut self.nx,
+            &mut self.ny,
+            &mut self.vbx,
+            &mut self.vby,
+            &mut self.wi,
+            &mut self.wj,
+            &mut self.wn,
+            &mut self.wt,
+            &mut self.mn,
+            &mut self.mt,
+            &mut self.target,
+            &mut self.mu,
+            &mut self.pn,
+            &mut self.pt,
+        ] {
+            field[l] = 0.0;
         }
+        (self.i[l], self.j[l], self.row[l]) = (boundary, boundary, NO_ROW);
     }
 
     fn set(&mut self, l: usize, r: &Row, row: u32) {
@@ -94,21 +119,30 @@ pub(super) fn pack(
     vel: &mut [[f64; 4]],
     sf: f64,
 ) {
-    quads.clear();
+    // The quads are filled in place (a new one copied in only when the last step had fewer),
+    // and a quad's lanes left over are emptied when the next one starts.
+    let mut used = 0;
     let mut lanes = 4;
     for (k, r) in rows.iter().enumerate() {
-        match quads.last_mut() {
-            Some(q) if lanes < 4 && !q.touches(lanes, r, boundary) => {}
-            _ => {
-                quads.push(Quad::empty(boundary));
-                lanes = 0;
+        if lanes == 4 || quads[used - 1].touches(lanes, r, boundary) {
+            if used > 0 {
+                (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
             }
+            if used == quads.len() {
+                quads.push(Quad::empty(boundary));
+            }
+            used += 1;
+            lanes = 0;
         }
-        let q = quads.last_mut().expect("a quad to fill");
+        let q = &mut quads[used - 1];
         q.set(lanes, r, k as u32);
         apply(q, lanes, vel, sf, r.pn, r.pt);
         lanes += 1;
     }
+    if used > 0 {
+        (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
+    }
+    quads.truncate(used);
 }
 
 /// The quads' impulses back to their rows.
@@ -368,7 +402,6 @@ mod tests {
                     0.0
                 },
                 slot: 0,
-                dist: 1.0,
             }
         };
         for i in 0..n {
@@ -385,7 +418,8 @@ mod tests {
     }
 
     /// The quads' sweep, one lane at a time and four at a time, gives the rows' sweep bit for
-    /// bit: the same velocities, impulses and largest change, sweep after sweep.
+    /// bit: the same velocities, impulses and largest change, sweep after sweep; the quads are
+    /// packed in place over the last case's, as from step to step.
     #[test]
     fn quads_sweep_as_the_rows_in_order() {
         let avx2 = Lanes::found().avx2();
@@ -393,6 +427,7 @@ mod tests {
             eprintln!("no AVX2 here: only the one-lane path is compared");
         }
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        let mut quads = Vec::new();
         for case in 0..40 {
             let n = rng.random_range(3..60);
             let rough = case % 2 == 1;
@@ -414,7 +449,6 @@ mod tests {
                 })
                 .collect();
             vel.push([0.0; 4]);
-            let mut quads = Vec::new();
             let mut vel_one = vel.clone();
             pack(&rows, n, &mut quads, &mut vel_one, sf);
             assert!(quads.len() * 4 >= rows.len());
