@@ -531,8 +531,8 @@ pub enum ColorChoice {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Engine {
-    /// `auto` (the default: `hybrid` for an inelastic bed on a vibrating floor,
-    /// else `event-driven`), `event-driven` (exact), `time-step` or `space-time` (approximate, for
+    /// `auto` (the default: `hybrid` for an inelastic bed on a vibrating floor, or on a static
+    /// one with no cure of inelastic collapse, else `event-driven`), `event-driven` (exact), `time-step` or `space-time` (approximate, for
     /// comparison), `contact` (contact dynamics, for dense beds) or `hybrid` (the exact engine
     /// while the bed is a gas, contact dynamics while it is dense).
     #[serde(default)]
@@ -875,18 +875,21 @@ impl Scenario {
 
     /// The scheme the run uses: `engine.scheme`, with `auto` chosen from the scene. An inelastic
     /// bed on a vibrating floor, smooth or rough, may turn dense (bouncing, riding, at rest below
-    /// Γ = 1), where the exact engine alone meets inelastic collapse at a cost without bound:
-    /// `auto` runs it on the hybrid scheme, unless disks enter or leave or the floor is a cheaper
-    /// model, which only the exact engine has. Every other scene runs on the exact engine.
+    /// Γ = 1), where the exact engine alone meets inelastic collapse at a cost without bound: so
+    /// does one settling on a static floor with no cure of the collapse set (with TC or the
+    /// speed cutoff it settles on the exact engine's rest rules). `auto` runs such a bed on the
+    /// hybrid scheme, unless disks enter or leave or the floor is a cheaper model, which only the
+    /// exact engine has. Every other scene runs on the exact engine.
     pub fn scheme(&self) -> Scheme {
-        let vibrated = self.floor.as_ref().is_some_and(|f| {
+        let law = self.collisions.law();
+        let settles = self.floor.as_ref().is_some_and(|f| {
             f.orifice.is_none()
                 && f.model == FloorModel::Exact
-                && !f.drive(self.gravity).is_static()
+                && (!f.drive(self.gravity).is_static() || !law.cured())
         });
-        let dense_bed = vibrated
+        let dense_bed = settles
             && self.gravity.is_some()
-            && self.collisions.law().inelastic()
+            && law.inelastic()
             && self.inlets.is_empty()
             && self.domain.exit_height.is_none();
         match self.engine.scheme {

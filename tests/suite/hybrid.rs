@@ -271,3 +271,35 @@ fn a_dense_gas_goes_back_to_the_exact_engine_and_stays() {
         "at most five windows: {a}"
     );
 }
+
+/// A bed settling on a static floor with no cure set runs on the hybrid under `auto` and reaches
+/// its end in contact dynamics, its energy budget closed (the exact engine alone meets inelastic
+/// collapse there); with TC set it stays on the exact engine and its rest rules.
+#[test]
+fn an_uncured_bed_on_a_static_floor_runs_to_its_end_on_auto() {
+    use vibrobed::run::{run, RunOptions};
+    use vibrobed::scenario::Scheme;
+    let static_floor = r#"floor={"restitution": 0.9}"#;
+    let s = scenario(&[
+        "engine.scheme=auto",
+        static_floor,
+        "particles.temperature=0.1",
+    ]);
+    assert_eq!(s.scheme(), Scheme::Hybrid);
+    let sum = run(&s, RunOptions::default()).expect("run");
+    let v = serde_json::to_value(&sum).expect("summary serializes");
+    assert_eq!(v["ending"], "completed", "{v}");
+    assert_eq!(v["engine"]["scheme"], "hybrid");
+    let dense = v["approximation"]["dense_time"]
+        .as_f64()
+        .expect("dense time");
+    assert!(dense > 0.5 * s.run.duration, "{dense}");
+    assert!(
+        sum.energy.balance_error < 1e-9,
+        "{}",
+        sum.energy.balance_error
+    );
+    assert!(sum.max_overlap < 0.05, "{}", sum.max_overlap);
+    let cured = scenario(&["engine.scheme=auto", static_floor, "collisions.tc=0.001"]);
+    assert_eq!(cured.scheme(), Scheme::EventDriven);
+}
