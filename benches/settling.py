@@ -15,6 +15,8 @@ built vibrobed:
   sides, on a static floor or a sine floor at Γ = 0.5 and 0.8; 100 time units; 18 runs.
 
 With --friction MU every run has rough disks: Coulomb friction MU on pairs, floor and side walls.
+With --scheme NAME every run takes that `engine.scheme` (the beds otherwise run the exact engine
+alone, the piles and the jam `auto`, which is the exact engine for them).
 
 The target: every disk at rest (the summary's `at_rest_since`), and at most one event per disk
 per unit time after that time. Each run goes to half its duration, writes a checkpoint and is
@@ -29,6 +31,7 @@ Usage, from the project root (builds the engine without the recorder first):
     benches/settling.py beds --jobs 1   # the real beds (about 15 minutes on one core)
     benches/settling.py --bin PATH jam  # another build
     benches/settling.py --friction 0.5 piles
+    benches/settling.py --scheme auto beds   # the beds as `auto` runs them (hybrid where they shake)
     benches/settling.py --only "cutoff poly" piles   # the runs whose label holds these words
 """
 import argparse
@@ -172,6 +175,7 @@ def main():
     p.add_argument("--bin", help="vibrobed binary (default: build and use target/release/vibrobed)")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--friction", type=float, help="Coulomb friction on pairs, floor and walls")
+    p.add_argument("--scheme", help="engine.scheme for every run (e.g. auto)")
     p.add_argument("--only", metavar="WORDS",
                    help="only the runs whose label holds every word (e.g. 'cutoff poly')")
     args = p.parse_args()
@@ -192,7 +196,11 @@ def main():
             runs = [(label, s) for label, s in runs if all(w in label for w in args.only.split())]
         if args.friction is not None:
             runs = [(label, roughen(s, args.friction)) for label, s in runs]
+        for _, s in runs:
+            if args.scheme:
+                s.setdefault("engine", {})["scheme"] = args.scheme
         rough = "" if args.friction is None else f" (mu = {args.friction:g} on pairs, floor, walls)"
+        rough += "" if args.scheme is None else f" (engine.scheme = {args.scheme})"
         print(f"\n{name}{rough}: at rest from (first sample time after which every disk stays at rest), "
               f"events per disk per unit time over t = {duration / 2:g}-{duration:g}")
         print(f"{'run':34}{'ending':>13}{'t':>7}{'at rest':>9}{'events':>12}{'last half':>11}"
