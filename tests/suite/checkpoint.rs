@@ -275,11 +275,21 @@ const RIDING: [&str; 5] = [
 ];
 
 /// The hybrid scheme (`auto` for this bed): riding the floor, the bed goes to contact dynamics
-/// near t = 12. Cut before the hand-over and after it, the resumed run is the uninterrupted one.
+/// near t = 12 and falls asleep there near t = 24. Cut before the hand-over, after it, while the
+/// bed grows quiet and while it sleeps, the resumed run is the uninterrupted one.
 #[test]
 fn a_resumed_hybrid_bed_is_the_uninterrupted_bed() {
     resumed_equals_uninterrupted("hybrid-exact", "vibrated_bed.json", &RIDING, 8.7, 20.0);
     resumed_equals_uninterrupted("hybrid-dense", "vibrated_bed.json", &RIDING, 15.3, 20.0);
+    resumed_equals_uninterrupted("hybrid-quiet", "vibrated_bed.json", &RIDING, 22.7, 30.0);
+    resumed_equals_uninterrupted("hybrid-asleep", "vibrated_bed.json", &RIDING, 26.3, 30.0);
+    let asleep = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-asleep");
+    let cut = physics(&asleep.join("first.json"));
+    let since = cut["at_rest_since"].as_f64();
+    assert!(
+        since < Some(26.3),
+        "the bed was not asleep at the cut: {since:?}"
+    );
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-hybrid-dense");
     let whole = physics(&dir.join("full.json"));
     let dense = &whole["approximation"];

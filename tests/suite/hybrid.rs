@@ -68,6 +68,38 @@ fn a_riding_bed_goes_to_contact_dynamics_and_keeps_its_momentum() {
     assert!(off.abs() < 1e-9 * weight, "floor {floor}, off by {off}");
 }
 
+/// A bed riding the floor below Γ = 1 falls asleep in contact dynamics: it is at rest from a
+/// time on, every disk moving with the floor (between periodic sides on a smooth floor, with
+/// the bed's mean horizontal velocity, here round-off), and the floor's impulse is still the
+/// change of momentum plus the weight's.
+#[test]
+fn a_riding_bed_falls_asleep_and_rides_the_floor_as_one_body() {
+    use vibrobed::run::{run, RunOptions};
+    let s = scenario(&["floor.gamma=0.5", "particles.temperature=0.01"]);
+    let sum = run(&s, RunOptions::default()).expect("run");
+    let since = sum.at_rest_since.expect("the riding bed comes to rest");
+    assert!(since < 0.75 * s.run.duration, "at rest only from {since}");
+    let mut sim = engine(&s);
+    let p0 = momentum_y(&sim);
+    assert_eq!(sim.advance_to(40.0).unwrap(), Progress::Reached);
+    assert_eq!(sim.disks_at_rest(), 150);
+    let mut speeds = Vec::new();
+    let floor_v = {
+        let t = sim.time();
+        let h = |t: f64| sim.floor_height_at(t).expect("a floor");
+        (h(t + 1e-6) - h(t - 1e-6)) / 2e-6
+    };
+    sim.visit_states(sim.time(), |_, [_, _, vx, vy]| {
+        speeds.push((vx, vy - floor_v))
+    });
+    for (vx, dv) in speeds {
+        assert!(vx.abs() < 1e-12 && dv.abs() < 1e-6, "({vx}, {dv})");
+    }
+    let t = sim.time();
+    let off = sim.energy_flow_at(t).floor_impulse - (momentum_y(&sim) - p0 + 150.0 * t);
+    assert!(off.abs() < 1e-9 * 150.0 * t, "off by {off}");
+}
+
 /// With the hand-over to contact dynamics made cheap (one event per disk in 25 steps), a
 /// fluidized bed (Γ = 3) goes to contact dynamics, is seen there as a gas, and comes back to
 /// the exact engine, which accepts the state handed back (no overlap): back and forth.

@@ -67,6 +67,12 @@ const SEPARATION_SWEEPS: u32 = 1000;
 /// Contacts are gathered a hair beyond how far disks can close in a step: this many radii.
 const HAIR: f64 = 1e-7;
 
+/// Steps in a row with every disk at rest after which a bed the floor cannot throw (Γ < 1, or a
+/// static floor) falls asleep: it then rides the floor as one rigid body, every disk moving with
+/// it, and no contact is solved (nothing else acts on a closed bed; the exact engine's riders do
+/// the same). At the coarse step, a fiftieth of the floor's period, this is a period at rest.
+const SLEEP_STEPS: u64 = 50;
+
 /// The fraction of an overlap a step removes. Removing it all at once pushes the disks apart at
 /// overlap/dt, a speed the bed keeps as jitter (a bed of 150 disks on a static floor never came
 /// to rest: mean v_x² 10⁻⁴, every step at the sweep cap); a tenth lets it rest (v_x² below 10⁻⁷,
@@ -161,6 +167,15 @@ impl Inertia {
     }
 }
 
+/// A sleeping bed: the contacts that held it when it fell asleep (pairs, floor, walls, lid), and
+/// the horizontal velocity it keeps (its mean where nothing can stop it sliding: periodic sides
+/// and a smooth floor; else 0).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+struct Asleep {
+    held: [u64; 4],
+    slide: f64,
+}
+
 /// A contact's bound on its normal velocity after the step.
 struct Bound {
     target: f64,
@@ -225,6 +240,10 @@ pub struct Contact<F: Flight> {
     /// Scratch: which disks a contact pushed in the last step, and the floor's work in it.
     pushed: Vec<bool>,
     injected_step: f64,
+    /// Steps in a row with every disk at rest, and whether the bed sleeps
+    /// ([`Contact::fall_asleep`]).
+    quiet_steps: u64,
+    asleep: Option<Asleep>,
     event_limit: u64,
     interrupt: Option<&'static AtomicBool>,
 }
@@ -254,6 +273,10 @@ pub struct ContactState {
     rebounds: u64,
     at_rest: usize,
     rest_since: Option<f64>,
+    #[serde(default)]
+    quiet_steps: u64,
+    #[serde(default)]
+    asleep: Option<Asleep>,
 }
 
 impl<F: Flight> Contact<F> {
@@ -339,6 +362,8 @@ impl<F: Flight> Contact<F> {
             rest_since: None,
             pushed: vec![false; n + 1],
             injected_step: 0.0,
+            quiet_steps: 0,
+            asleep: None,
             event_limit: scene.max_events.unwrap_or(u64::MAX),
             interrupt: None,
         };
@@ -397,6 +422,8 @@ impl<F: Flight> Contact<F> {
             rebounds: self.stats.rebounds,
             at_rest: self.at_rest,
             rest_since: self.rest_since,
+            quiet_steps: self.quiet_steps,
+            asleep: self.asleep,
         }
     }
 
@@ -441,6 +468,8 @@ impl<F: Flight> Contact<F> {
         self.max_overlap = state.max_overlap;
         self.at_rest = state.at_rest;
         self.rest_since = state.rest_since;
+        self.quiet_steps = state.quiet_steps;
+        self.asleep = state.asleep;
         self.stats = SchemeStats {
             deep_overlaps: state.deep_overlaps,
             rebounds: state.rebounds,
@@ -580,6 +609,10 @@ impl<F: Flight> Contact<F> {
 
     /// One step: gravity, the contacts solved together, the move.
     fn one_step(&mut self) {
+        if let Some(asleep) = self.asleep {
+            self.sleep_step(asleep);
+            return;
+        }
         let dt = self.next_step();
         // A resting contact's impulse is a step's weight: the warm start scales with the step.
         let warm_scale = dt / self.dt;
@@ -593,9 +626,99 @@ impl<F: Flight> Contact<F> {
         self.solve();
         self.book(t1);
         self.count_at_rest(t1);
+        self.fall_asleep(t1);
         self.advance(t1);
         self.t = t1;
         self.look_ahead();
+        self.step += 1;
+    }
+
+    /// After [`SLEEP_STEPS`] quiet steps in a row on a floor that cannot throw the bed, the bed
+    /// falls asleep: every disk takes the floor's velocity at `t1` (the spins stop), it is at
+    /// rest from then on, and from the next step on it rides the floor as one body
+    /// ([`Contact::sleep_step`]). A step is quiet when a contact pushed every disk and the disks'
+    /// root-mean-square speed against the floor is below a step of gravity, `g dt`: the bed as a
+    /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
+    /// where the floor pulls the bed down fastest) stray past that speed now and then.
+    fn fall_asleep(&mut self, t1: f64) {
+        let n = self.disks.len();
+        let Some(f) = self.floor.as_ref() else {
+            return;
+        };
+        let (v, slow) = (f.velocity(t1), self.g() * self.dt);
+        let pushed = self.pushed[..n].iter().all(|&p| p);
+        let square: f64 = (self.disks.motion.iter())
+            .map(|m| m.vx * m.vx + (m.vy - v) * (m.vy - v))
+            .sum();
+        let quiet = pushed && square < n as f64 * slow * slow;
+        self.quiet_steps = if quiet { self.quiet_steps + 1 } else { 0 };
+        if self.quiet_steps < SLEEP_STEPS || f.max_acceleration() >= self.g() {
+            return;
+        }
+        // The floor takes every disk along: its impulse is the change of momentum. Horizontal
+        // momentum is kept where nothing can change it.
+        let smooth_floor = self.rough.as_ref().is_none_or(|r| r.floor.mu == 0.0);
+        let slide = match self.sides {
+            SideBounds::Periodic { .. } if smooth_floor => {
+                let d = &self.disks;
+                let n = d.len();
+                let p: f64 = (0..n).map(|k| d.mass[k] * d.motion[k].vx).sum();
+                p / (0..n).map(|k| d.mass[k]).sum::<f64>()
+            }
+            _ => 0.0,
+        };
+        let d = &mut self.disks;
+        for (k, m) in d.motion.iter_mut().enumerate() {
+            self.flow.floor_impulse += d.mass[k] * (v - m.vy);
+            (m.vx, m.vy) = (slide, v);
+        }
+        if let Some(spins) = &mut self.disks.spins {
+            for k in 0..spins.omega.len() {
+                let w = spins.omega[k];
+                if w != 0.0 {
+                    spins.spin(k, t1, -w);
+                }
+            }
+        }
+        let mut held = [0u64; 4];
+        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
+            held[r.kind as usize] += 1;
+        }
+        self.asleep = Some(Asleep { held, slide });
+        self.at_rest = n;
+        self.rest_since = self.rest_since.or(Some(t1));
+    }
+
+    /// A step of a sleeping bed: every disk moves with the floor, the contacts that held the bed
+    /// when it fell asleep hold it still (counted as pushing), and the floor's impulse and work
+    /// are what moving the bed with it takes: the change of momentum plus the weight's impulse,
+    /// and the change of energy.
+    fn sleep_step(&mut self, Asleep { held, slide }: Asleep) {
+        let dt = self.next_step();
+        self.dt = dt;
+        let (t0, g) = (self.now(), self.g());
+        let t1 = t0 + dt;
+        let f = self.floor.as_ref().expect("a sleeping bed rides a floor");
+        let (dh, v) = (f.height(t1) - f.height(t0), f.velocity(t1));
+        let d = &mut self.disks;
+        let mut impulse = 0.0;
+        for (k, m) in d.motion.iter_mut().enumerate() {
+            impulse += d.mass[k] * (v - m.vy + g * dt);
+            (m.x, m.y) = wrap(self.sides, self.top, m.x + slide * dt, m.y + dh);
+            (m.vy, m.t) = (v, t1);
+            (self.built_x[k], self.built_y[k]) =
+                (self.built_x[k] + slide * dt, self.built_y[k] + dh);
+        }
+        let [pair, floor, wall, lid] = held;
+        self.counts.pair += pair;
+        self.counts.floor += floor;
+        self.counts.wall += wall;
+        self.counts.lid += lid;
+        let energy = self.total_energy();
+        self.flow.injected += energy - self.energy;
+        self.flow.floor_impulse += impulse;
+        self.energy = energy;
+        self.t = t1;
         self.step += 1;
     }
 
