@@ -640,9 +640,14 @@ impl<F: Flight> Contact<F> {
     /// root-mean-square speed against the floor is below a step of gravity, `g dt`: the bed as a
     /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
     /// where the floor pulls the bed down fastest) stray past that speed now and then.
+    #[inline(never)]
     fn fall_asleep(&mut self, t1: f64) {
         let n = self.disks.len();
-        let Some(f) = self.floor.as_ref() else {
+        let Some(f) = self
+            .floor
+            .as_ref()
+            .filter(|f| f.max_acceleration() < self.g())
+        else {
             return;
         };
         let (v, slow) = (f.velocity(t1), self.g() * self.dt);
@@ -652,7 +657,7 @@ impl<F: Flight> Contact<F> {
             .sum();
         let quiet = pushed && square < n as f64 * slow * slow;
         self.quiet_steps = if quiet { self.quiet_steps + 1 } else { 0 };
-        if self.quiet_steps < SLEEP_STEPS || f.max_acceleration() >= self.g() {
+        if self.quiet_steps < SLEEP_STEPS {
             return;
         }
         // The floor takes every disk along: its impulse is the change of momentum. Horizontal
@@ -693,6 +698,7 @@ impl<F: Flight> Contact<F> {
     /// when it fell asleep hold it still (counted as pushing), and the floor's impulse and work
     /// are what moving the bed with it takes: the change of momentum plus the weight's impulse,
     /// and the change of energy.
+    #[inline(never)]
     fn sleep_step(&mut self, Asleep { held, slide }: Asleep) {
         let dt = self.next_step();
         self.dt = dt;
