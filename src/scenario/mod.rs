@@ -532,9 +532,10 @@ pub enum ColorChoice {
 #[serde(deny_unknown_fields)]
 pub struct Engine {
     /// `auto` (the default: `hybrid` for an inelastic bed on a vibrating floor, or on a static
-    /// one with no cure of inelastic collapse, else `event-driven`), `event-driven` (exact), `time-step` or `space-time` (approximate, for
-    /// comparison), `contact` (contact dynamics, for dense beds) or `hybrid` (the exact engine
-    /// while the bed is a gas, contact dynamics while it is dense).
+    /// one with no cure of inelastic collapse, else `event-driven`), `event-driven` (exact),
+    /// `time-step` or `space-time` (approximate, for comparison), `contact` (contact dynamics,
+    /// for dense beds) or `hybrid` (the exact engine while the bed is a gas, contact dynamics
+    /// while it is dense).
     #[serde(default)]
     pub scheme: Scheme,
     /// Neighbour mask: `auto`, `min`, `r3` … `r10`.

@@ -67,10 +67,11 @@ const SEPARATION_SWEEPS: u32 = 1000;
 /// Contacts are gathered a hair beyond how far disks can close in a step: this many radii.
 const HAIR: f64 = 1e-7;
 
-/// Steps in a row with every disk at rest after which a bed the floor cannot throw (Γ < 1, or a
-/// static floor) falls asleep: it then rides the floor as one rigid body, every disk moving with
-/// it, and no contact is solved (nothing else acts on a closed bed; the exact engine's riders do
-/// the same). At the coarse step, a fiftieth of the floor's period, this is a period at rest.
+/// Quiet steps in a row ([`Contact::fall_asleep`]) after which a bed the floor cannot throw
+/// (Γ < 1, or a static floor) falls asleep: it then rides the floor as one rigid body, every disk
+/// moving with it, and no contact is solved (nothing else acts on a closed bed; the exact
+/// engine's riders do the same). At the coarse step, a fiftieth of the floor's period, this is a
+/// period at rest.
 const SLEEP_STEPS: u64 = 50;
 
 /// The fraction of an overlap a step removes. Removing it all at once pushes the disks apart at
