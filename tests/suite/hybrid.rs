@@ -305,8 +305,8 @@ fn a_dense_gas_goes_back_to_the_exact_engine_and_stays() {
 }
 
 /// A bed settling on a static floor with no cure set runs on the hybrid under `auto` and reaches
-/// its end in contact dynamics, its energy budget closed (the exact engine alone meets inelastic
-/// collapse there); with TC set it stays on the exact engine and its rest rules.
+/// its end in contact dynamics, at rest, its energy budget closed (the exact engine alone meets
+/// inelastic collapse there); with TC set it stays on the exact engine and its rest rules.
 #[test]
 fn an_uncured_bed_on_a_static_floor_runs_to_its_end_on_auto() {
     use vibrobed::run::{run, RunOptions};
@@ -332,6 +332,7 @@ fn an_uncured_bed_on_a_static_floor_runs_to_its_end_on_auto() {
         sum.energy.balance_error
     );
     assert!(sum.max_overlap < 0.05, "{}", sum.max_overlap);
+    assert!(sum.at_rest_since.is_some(), "the bed did not come to rest");
     let cured = scenario(&["engine.scheme=auto", static_floor, "collisions.tc=0.001"]);
     assert_eq!(cured.scheme(), Scheme::EventDriven);
 }
