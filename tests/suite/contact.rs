@@ -174,6 +174,40 @@ fn a_bed_on_a_static_floor_rests_without_sinking() {
     );
 }
 
+/// An overlap is opened by moving the disks, not by giving them speed: two disks resting on a
+/// static floor side by side, overlapping by a fifth of a radius, are pushed apart to within the
+/// slop and keep no speed (opening the overlap through their velocities, a tenth a step, would
+/// have left them flying apart at 0.01/dt each): no energy is made.
+#[test]
+fn an_overlap_is_opened_by_position_without_making_energy() {
+    let s = scenario(
+        r#"{"name": "overlap", "gravity": 1.0, "domain": {"width": 20},
+            "floor": {"restitution": 0.5},
+            "particles": {"count": 2, "radius": 0.5,
+                "placement": {"positions": [[9, 0.5], [11, 0.5]], "velocities": [[0, 0], [0, 0]]}},
+            "collisions": {"restitution": 0.5},
+            "engine": {"scheme": "contact", "dt": 0.01},
+            "run": {"duration": 2}}"#,
+        &[],
+    );
+    let (scene, mut disks) = Scene::build(&s).expect("scene");
+    disks.motion[0].x = 9.95;
+    disks.motion[1].x = 10.85;
+    let mut sim = Contact::new(Ballistic { g: 1.0 }, &scene, disks, &s.engine).expect("engine");
+    sim.advance_to(2.0).unwrap();
+    let mut states = Vec::new();
+    sim.visit_states(sim.time(), |_, s| states.push(s));
+    let gap = (states[1][0] - states[0][0]).abs() - 1.0;
+    assert!(gap > -2e-3 && gap < 1e-9, "gap {gap}");
+    for s in &states {
+        assert_eq!(s[2], 0.0, "horizontal speed {s:?}");
+        assert!(
+            s[3].abs() < 1e-12 && (s[1] - 0.5).abs() < 1e-4,
+            "vertical {s:?}"
+        );
+    }
+}
+
 /// The same scenario gives the same run, bit for bit.
 #[test]
 fn a_contact_run_repeats_bit_for_bit() {

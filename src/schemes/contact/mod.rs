@@ -11,16 +11,17 @@
 //!
 //! - no contact has closed past touching: `gap + dt·u⁺ ≥ 0` (the *speculative* condition, `u` the
 //!   normal relative velocity), which also holds a resting contact shut; an overlap left by an
-//!   unconverged step is removed a tenth a step;
+//!   unconverged step stops closing, and is opened by moving the disks apart, not by giving
+//!   them speed ([`recovery`]);
 //! - a contact that would close within the step, met faster than the rest speed (`2 g dt`,
 //!   on the floor `2 (g + Aω²) dt`), rebounds at once by Newton's law, `u⁺ ≥ −e u⁻` (slower
 //!   impacts are plastic: a step cannot resolve a rebound that rises less than a few g dt²);
 //! - on rough disks, the tangential impulse of each contact lies in Coulomb's cone
 //!   `|p_t| ≤ μ p` and sticks the contact (`u_t⁺ = 0`) where the cone allows;
 //!
-//! then moves each disk on the exact parabola of its new velocity (`x += dt·v⁺ + ½ g dt²`). There
-//! is no inelastic collapse to cure: TC and the speed cutoff are not applied (the restitution `e`
-//! is used as it is). Energy changes only through the impulses: the floor's work is `Σ p·h'`
+//! then moves each disk on the exact parabola of its new velocity (`x += dt·v⁺ + ½ g dt²`, plus
+//! the overlaps' opening). There is no inelastic collapse to cure: TC and the speed cutoff are
+//! not applied (the restitution `e` is used as it is). Energy changes only through the impulses: the floor's work is `Σ p·h'`
 //! (the floor's mean velocity over the step), and the energy lost beyond it is booked as
 //! dissipated.
 //!
@@ -30,6 +31,7 @@
 //! bit on any processor.
 
 mod quads;
+mod recovery;
 mod separations;
 
 use super::cells::CellList;
@@ -73,12 +75,6 @@ const HAIR: f64 = 1e-7;
 /// engine's riders do the same). At the coarse step, a fiftieth of the floor's period, this is a
 /// period at rest.
 const SLEEP_STEPS: u64 = 50;
-
-/// The fraction of an overlap a step removes. Removing it all at once pushes the disks apart at
-/// overlap/dt, a speed the bed keeps as jitter (a bed of 150 disks on a static floor never came
-/// to rest: mean v_x² 10⁻⁴, every step at the sweep cap); a tenth lets it rest (v_x² below 10⁻⁷,
-/// a few sweeps a step) and still removes an overlap within a few tens of steps.
-const RECOVERY: f64 = 0.1;
 
 /// The default step follows the fastest impact: the fastest contact that closes within a step
 /// closes at most this many radii of the smallest disk in it. A bed's impacts are a sequence
@@ -220,6 +216,8 @@ pub struct Contact<F: Flight> {
     /// The rows packed for the sweep ([`quads`]), and how the sweep runs on this processor.
     quads: Vec<quads::Quad>,
     lanes: Lanes,
+    /// The step's overlaps and their pseudo-velocities ([`recovery`]).
+    recovery: recovery::Recovery,
     /// The solve's copy of each disk's velocity and rim speed `ω a` (0 for smooth disks), and
     /// one more entry that stays 0: the other side of a boundary contact (whose inverse mass is
     /// 0), so that every contact reads alike.
@@ -349,6 +347,7 @@ impl<F: Flight> Contact<F> {
             rows: Vec::new(),
             quads: Vec::new(),
             lanes: Lanes::found(),
+            recovery: recovery::Recovery::new(n, a_min),
             vel: vec![[0.0; 4]; n + 1],
             spin_factor: scene.rough.map_or(0.0, |r| 1.0 / r.inertia_factor),
             step: 0,
@@ -625,6 +624,7 @@ impl<F: Flight> Contact<F> {
         }
         self.gather_rows(t0, t1, warm_scale);
         self.solve();
+        self.recovery.solve();
         self.book(t1);
         self.count_at_rest(t1);
         self.fall_asleep(t1);
@@ -769,9 +769,9 @@ impl<F: Flight> Contact<F> {
     /// once by Newton's law on its approach before the step's gravity, `u_0 = u + g n_y dt`, and
     /// then flies the step: `u⁺ = −e u_0 − g n_y dt` (a disk that meets the floor within a step
     /// turns a gap's width early, at most its speed × dt). Any other contact closes at most to
-    /// touching.
+    /// touching, or does not close further where it overlaps.
     fn target(&self, gap: f64, lift: f64, (u, gn): (f64, f64), e: f64, rest: f64) -> Bound {
-        let close = -(gap.max(RECOVERY * gap) + lift) / self.dt;
+        let close = -(gap.max(0.0) + lift) / self.dt;
         let u0 = u + gn * self.dt;
         if u < close && -u0 > rest {
             let b = -e * u0 - gn * self.dt;
@@ -803,6 +803,8 @@ impl<F: Flight> Contact<F> {
         let dt = self.dt;
         let mut rows = std::mem::take(&mut self.rows);
         rows.clear();
+        let mut recovery = std::mem::take(&mut self.recovery);
+        recovery.clear();
         let vmax = (self.disks.motion.iter())
             .map(|m| m.vx.abs().max(m.vy.abs()))
             .fold(0.0f64, f64::max);
@@ -856,6 +858,7 @@ impl<F: Flight> Contact<F> {
                     _ => (0.0, 0.0, NONE),
                 };
                 let [wi, wj, wn, wt, mn, mt] = inertia.of(mass, f64::INFINITY);
+                recovery.add((i as u32, n_disks), n, (wi, wj, mn), gap, dt);
                 rows.push(Row {
                     i: i as u32,
                     j: n_disks,
@@ -932,6 +935,7 @@ impl<F: Flight> Contact<F> {
             let (pn, pt) = self.warm[k];
             let (pn, pt) = (pn * warm_scale, pt * warm_scale);
             let bound = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
+            recovery.add((i, j), n, (wi, wj, mn), gap, dt);
             rows.push(Row {
                 i,
                 j,
@@ -953,6 +957,7 @@ impl<F: Flight> Contact<F> {
             });
         }
         self.rows = rows;
+        self.recovery = recovery;
     }
 
     /// Projected Gauss–Seidel over the step's contacts, from their warm-start impulses, on the
@@ -1048,8 +1053,9 @@ impl<F: Flight> Contact<F> {
         let half = 0.5 * self.skin;
         let mut far = false;
         for (k, m) in self.disks.motion.iter_mut().enumerate() {
-            let x = m.x + dt * m.vx;
-            let y = m.y + dt * m.vy + 0.5 * g * dt * dt;
+            let [wx, wy] = self.recovery.push(k);
+            let x = m.x + dt * (m.vx + wx);
+            let y = m.y + dt * (m.vy + wy) + 0.5 * g * dt * dt;
             (m.x, m.y) = wrap(sides, top, x, y);
             m.t = t1;
             let (dx, dy) = min_image(sides, top, m.x - self.built_x[k], m.y - self.built_y[k]);
