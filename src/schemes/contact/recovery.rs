@@ -1,27 +1,25 @@
 //! Overlap recovery by position only (the *split impulse* of rigid-body engines): an overlap
-//! left by an unconverged step is removed by moving the disks apart, not by giving them a
-//! speed. Pushing overlapping disks apart through their velocities (`u⁺ ≥ overlap/dt`) leaves
-//! that speed in the bed after the overlap is gone: energy made from nothing, which a dense bed
-//! keeps as jitter (a walled bed at Γ = 0.8 gained 432 energy units in 1156 steps and never
-//! came to rest). Here the step's velocity solve only stops overlapping contacts from closing
-//! further, and a second projected Gauss–Seidel solve over the overlapping contacts alone finds
-//! *pseudo-velocities* `w` that open each overlap by [`RECOVERY`] of itself within the step;
-//! the step moves each disk by `dt·(v⁺ + w)` and then forgets `w`.
+//! left by an unconverged step is removed by moving the disks apart, not by giving them speed.
+//! Pushing overlapping disks apart through their velocities (`u⁺ ≥ overlap/dt`) leaves that
+//! speed in the bed after the overlap is gone: energy made from nothing, which a dense bed keeps
+//! as jitter, and with which a bed the floor cannot throw never comes to rest. Here the step's
+//! velocity solve only stops overlapping contacts from closing further, and a second projected
+//! Gauss–Seidel solve over the overlapping contacts alone finds *pseudo-velocities* `w` that
+//! open each overlap by [`RECOVERY`] of itself within the step; the step moves each disk by
+//! `dt·(v⁺ + w)` and then forgets `w`.
 
 /// The fraction of an overlap a step removes.
-pub const RECOVERY: f64 = 0.1;
+const RECOVERY: f64 = 0.1;
 
 /// Overlaps up to this many radii of the smallest disk are left alone (the *slop*): an
 /// unconverged solve leaves nearly every contact of a resting bed overlapping by a hair, and
 /// removing those hairs cost as much as the step's solve; a deeper overlap is opened down to
 /// the slop.
-pub const SLOP: f64 = 1e-3;
+const SLOP: f64 = 1e-3;
 
 /// Gauss–Seidel sweeps of the pseudo-velocity solve, at most: what a sweep leaves is removed in
 /// the next step.
 const SWEEPS: u32 = 2;
-
-/// Gauss–Seidel sweeps of the pseudo-velocity solve, at most.
 
 /// One overlapping contact: disk `i` against disk `j` (or a boundary, an entry whose inverse mass
 /// is 0), unit normal `n` from `j` to `i`.
