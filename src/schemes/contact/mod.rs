@@ -387,9 +387,12 @@ impl<F: Flight> Contact<F> {
     }
 
     /// The next step: the fastest impact it can meet closes [`IMPACT_REACH`] radii in it, within
-    /// the step's range.
+    /// the step's range; the coarsest where none can (a `fastest` of −0.0 would divide to −∞).
     fn next_step(&self) -> f64 {
         let (finest, coarsest) = self.dt_range;
+        if self.fastest <= 0.0 {
+            return coarsest;
+        }
         (IMPACT_REACH * self.a_min / self.fastest).clamp(finest, coarsest)
     }
 
