@@ -21,9 +21,9 @@
 //!
 //! then moves each disk on the exact parabola of its new velocity (`x += dt·v⁺ + ½ g dt²`, plus
 //! the overlaps' opening). There is no inelastic collapse to cure: TC and the speed cutoff are
-//! not applied (the restitution `e` is used as it is). Energy changes only through the impulses: the floor's work is `Σ p·h'`
-//! (the floor's mean velocity over the step), and the energy lost beyond it is booked as
-//! dissipated.
+//! not applied (the restitution `e` is used as it is). Energy changes only through the impulses
+//! (and the overlaps' opening, which lifts disks): the floor's work is `Σ p·h'` (the floor's mean
+//! velocity over the step), and the energy lost beyond it is booked as dissipated.
 //!
 //! On one thread: the Gauss–Seidel sweep takes the contacts in one order (the boundaries by disk
 //! number, then the pairs from the lowest up, so that a stack's weight reaches the floor within a
@@ -1048,9 +1048,9 @@ impl<F: Flight> Contact<F> {
         };
     }
 
-    /// Every disk moves on its new velocity's parabola to `t1`; the energy lost beyond the
-    /// floor's work is booked as dissipated; the Verlet list is rebuilt when a disk has moved
-    /// half the skin.
+    /// Every disk moves on its new velocity's parabola to `t1`, and by its overlaps' opening
+    /// ([`recovery`]); the energy lost beyond the floor's work is booked as dissipated; the
+    /// Verlet list is rebuilt when a disk has moved half the skin.
     fn advance(&mut self, t1: f64) {
         let (dt, g, sides, top) = (self.dt, self.g(), self.sides, self.top);
         let half = 0.5 * self.skin;
