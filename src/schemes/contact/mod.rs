@@ -670,7 +670,6 @@ impl<F: Flight> Contact<F> {
         let slide = match self.sides {
             SideBounds::Periodic { .. } if smooth_floor => {
                 let d = &self.disks;
-                let n = d.len();
                 let p: f64 = (0..n).map(|k| d.mass[k] * d.motion[k].vx).sum();
                 p / (0..n).map(|k| d.mass[k]).sum::<f64>()
             }
