@@ -178,7 +178,8 @@ fn a_bed_on_a_static_floor_rests_without_sinking() {
 /// static floor side by side, overlapping by a fifth of a radius, are pushed apart while their
 /// horizontal speeds stay exactly 0 (opening the overlap through their velocities, a tenth a
 /// step, would have left them flying apart at 0.01/dt): no energy is made. Once quiet for 50
-/// steps the pair falls asleep on the floor, its overlap opened to within twice the slop.
+/// steps the pair falls asleep on the floor, its overlap opened to within twice the slop, and
+/// it is at rest from the last push on: nothing moves after its time of rest.
 #[test]
 fn an_overlap_is_opened_by_position_without_making_energy() {
     let s = scenario(
@@ -210,8 +211,24 @@ fn an_overlap_is_opened_by_position_without_making_energy() {
         assert!(now.iter().all(|s| s[2] == 0.0), "t = {t}: {now:?}");
         last = gap(&now);
     }
-    sim.advance_to(2.0).unwrap();
+    // Step by step to the end: from the pair's time of rest on, nothing moves (an overlap
+    // still being opened is motion).
+    let mut seen = Vec::new();
+    for k in 31..=200 {
+        sim.advance_to(k as f64 * 0.01).unwrap();
+        seen.push((sim.time(), states(&sim)));
+    }
     let end = states(&sim);
+    let since = sim.at_rest_since().expect("the pair comes to rest");
+    // Between steps a state is on its parabola, g dt²/2 below the step's end at most.
+    for (t, s) in seen.iter().filter(|(t, _)| *t >= since) {
+        let moved =
+            (s.iter().zip(&end)).any(|(a, b)| (a[0] - b[0]).abs() + (a[1] - b[1]).abs() > 1e-4);
+        assert!(
+            !moved,
+            "moved at t = {t} after rest from {since}: {s:?}, at the end {end:?}"
+        );
+    }
     assert!(gap(&end) > -2e-3 && gap(&end) < 1e-9, "gap {}", gap(&end));
     for s in &end {
         assert!(

@@ -641,8 +641,8 @@ impl<F: Flight> Contact<F> {
     /// falls asleep: every disk takes the floor's velocity at `t1` (the spins stop), it is at
     /// rest from then on, and from the next step on it rides the floor as one body
     /// ([`Contact::sleep_step`]). A step is quiet when a contact pushed every disk and the disks'
-    /// root-mean-square speed against the floor is below a step of gravity, `g dt`: the bed as a
-    /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
+    /// root-mean-square speed against the floor, the overlaps' opening counted as a speed, is
+    /// below a step of gravity, `g dt`: the bed as a whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
     /// where the floor pulls the bed down fastest) stray past that speed now and then.
     #[inline(never)]
     fn fall_asleep(&mut self, t1: f64) {
@@ -656,8 +656,11 @@ impl<F: Flight> Contact<F> {
         };
         let (v, slow) = (f.velocity(t1), self.g() * self.dt);
         let pushed = self.pushed[..n].iter().all(|&p| p);
-        let square: f64 = (self.disks.motion.iter())
-            .map(|m| m.vx * m.vx + (m.vy - v) * (m.vy - v))
+        let square: f64 = (self.disks.motion.iter().enumerate())
+            .map(|(k, m)| {
+                let [wx, wy] = self.recovery.push(k);
+                m.vx * m.vx + (m.vy - v) * (m.vy - v) + wx * wx + wy * wy
+            })
             .sum();
         let quiet = pushed && square < n as f64 * slow * slow;
         self.quiet_steps = if quiet { self.quiet_steps + 1 } else { 0 };
@@ -1031,14 +1034,19 @@ impl<F: Flight> Contact<F> {
 
     /// Counts the disks at rest after the step ending at `t1`: held by a contact that pushed in
     /// the step ([`Contact::book`] marks them) and moving with the floor (still, on a static
-    /// one) slower than a step of gravity changes a speed, `g dt`. A bed riding the floor below
+    /// one) slower than a step of gravity changes a speed, `g dt`, and not pushed by an
+    /// overlap's opening ([`recovery`]: a disk pushed apart moves). A bed riding the floor below
     /// Γ = 1 is at rest as a whole, as the exact engine's riders are.
     fn count_at_rest(&mut self, t1: f64) {
         let n = self.disks.len();
         let floor_v = self.floor.as_ref().map_or(0.0, |f| f.velocity(t1));
         let slow = self.g() * self.dt;
-        self.at_rest = (self.disks.motion.iter().zip(&self.pushed))
-            .filter(|&(m, &pushed)| pushed && m.vx.abs() < slow && (m.vy - floor_v).abs() < slow)
+        let recovery = &self.recovery;
+        self.at_rest = (self.disks.motion.iter().zip(&self.pushed).enumerate())
+            .filter(|&(k, (m, &pushed))| {
+                let still = recovery.push(k) == [0.0; 2];
+                pushed && still && m.vx.abs() < slow && (m.vy - floor_v).abs() < slow
+            })
             .count();
         self.rest_since = match self.rest_since {
             _ if self.at_rest < n => None,

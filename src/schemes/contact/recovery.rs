@@ -8,7 +8,8 @@
 //! open each overlap by [`RECOVERY`] of itself within the step; the step moves each disk by
 //! `dt·(v⁺ + w)` and then forgets `w`.
 
-/// The fraction of an overlap a step removes.
+/// The fraction of an overlap a step removes (the whole of it once it is within twice the
+/// slop).
 const RECOVERY: f64 = 0.1;
 
 /// Overlaps up to this many radii of the smallest disk are left alone (the *slop*): an
@@ -81,6 +82,8 @@ impl Recovery {
         if overlap <= 0.0 {
             return;
         }
+        // The last of an overlap goes at once: the opening ends, and the disks can be at rest.
+        let share = if overlap <= self.slop { 1.0 } else { RECOVERY };
         self.overlaps.push(Overlap {
             i,
             j,
@@ -88,7 +91,7 @@ impl Recovery {
             wi,
             wj,
             mn,
-            target: RECOVERY * overlap / dt,
+            target: share * overlap / dt,
             p: 0.0,
         });
     }
