@@ -178,8 +178,8 @@ fn a_bed_on_a_static_floor_rests_without_sinking() {
 /// static floor side by side, overlapping by a fifth of a radius, are pushed apart while their
 /// horizontal speeds stay exactly 0 (opening the overlap through their velocities, a tenth a
 /// step, would have left them flying apart at 0.01/dt): no energy is made. Once quiet for 50
-/// steps the pair falls asleep on the floor, its overlap opened to within twice the slop, and
-/// it is at rest from the last push on: nothing moves after its time of rest.
+/// steps the pair falls asleep on the floor, its overlap opened to within twice the slop; a
+/// disk still pushed apart is moving, so nothing moves after the pair's time of rest.
 #[test]
 fn an_overlap_is_opened_by_position_without_making_energy() {
     let s = scenario(

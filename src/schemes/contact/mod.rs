@@ -641,8 +641,8 @@ impl<F: Flight> Contact<F> {
     /// falls asleep: every disk takes the floor's velocity at `t1` (the spins stop), it is at
     /// rest from then on, and from the next step on it rides the floor as one body
     /// ([`Contact::sleep_step`]). A step is quiet when a contact pushed every disk and the disks'
-    /// root-mean-square speed against the floor, the overlaps' opening counted as a speed, is
-    /// below a step of gravity, `g dt`: the bed as a whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
+    /// root-mean-square speed against the floor is below a step of gravity, `g dt`: the bed as a
+    /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
     /// where the floor pulls the bed down fastest) stray past that speed now and then.
     #[inline(never)]
     fn fall_asleep(&mut self, t1: f64) {
@@ -656,11 +656,8 @@ impl<F: Flight> Contact<F> {
         };
         let (v, slow) = (f.velocity(t1), self.g() * self.dt);
         let pushed = self.pushed[..n].iter().all(|&p| p);
-        let square: f64 = (self.disks.motion.iter().enumerate())
-            .map(|(k, m)| {
-                let [wx, wy] = self.recovery.push(k);
-                m.vx * m.vx + (m.vy - v) * (m.vy - v) + wx * wx + wy * wy
-            })
+        let square: f64 = (self.disks.motion.iter())
+            .map(|m| m.vx * m.vx + (m.vy - v) * (m.vy - v))
             .sum();
         let quiet = pushed && square < n as f64 * slow * slow;
         self.quiet_steps = if quiet { self.quiet_steps + 1 } else { 0 };

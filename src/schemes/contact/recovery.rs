@@ -8,8 +8,7 @@
 //! open each overlap by [`RECOVERY`] of itself within the step; the step moves each disk by
 //! `dt·(v⁺ + w)` and then forgets `w`.
 
-/// The fraction of an overlap a step removes (the whole of it once it is within twice the
-/// slop).
+/// The fraction of an overlap a step removes.
 const RECOVERY: f64 = 0.1;
 
 /// Overlaps up to this many radii of the smallest disk are left alone (the *slop*): an
@@ -82,8 +81,6 @@ impl Recovery {
         if overlap <= 0.0 {
             return;
         }
-        // The last of an overlap goes at once: the opening ends, and the disks can be at rest.
-        let share = if overlap <= self.slop { 1.0 } else { RECOVERY };
         self.overlaps.push(Overlap {
             i,
             j,
@@ -91,7 +88,7 @@ impl Recovery {
             wi,
             wj,
             mn,
-            target: share * overlap / dt,
+            target: RECOVERY * overlap / dt,
             p: 0.0,
         });
     }
