@@ -557,7 +557,7 @@ impl<F: Flight> Contact<F> {
     /// Rebuilds the cell list and the Verlet list, carrying each kept pair's impulses over.
     fn rebuild(&mut self) {
         let n = self.disks.len();
-        let old: HashMap<(u32, u32), (f64, f64)> = (self.pairs.iter().copied())
+        let old: HashMap<(u32, u32), (f64, f64), ahash::RandomState> = (self.pairs.iter().copied())
             .zip(self.warm.iter().copied())
             .filter(|(_, p)| p.0 > 0.0)
             .collect();
