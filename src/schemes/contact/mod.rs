@@ -641,7 +641,8 @@ impl<F: Flight> Contact<F> {
     /// falls asleep: every disk takes the floor's velocity at `t1` (the spins stop), it is at
     /// rest from then on, and from the next step on it rides the floor as one body
     /// ([`Contact::sleep_step`]). A step is quiet when a contact pushed every disk and the disks'
-    /// root-mean-square speed against the floor is below a step of gravity, `g dt`: the bed as a
+    /// root-mean-square speed against the floor (sliding with the bed where it keeps its slide,
+    /// [`Contact::slide`]) is below a step of gravity, `g dt`: the bed as a
     /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
     /// where the floor pulls the bed down fastest) stray past that speed now and then.
     #[inline(never)]
@@ -656,25 +657,16 @@ impl<F: Flight> Contact<F> {
         };
         let (v, slow) = (f.velocity(t1), self.g() * self.dt);
         let pushed = self.pushed[..n].iter().all(|&p| p);
+        let (slide, rest) = (self.slide(), self.resting_vy(t1));
         let square: f64 = (self.disks.motion.iter())
-            .map(|m| m.vx * m.vx + (m.vy - v) * (m.vy - v))
+            .map(|m| (m.vx - slide) * (m.vx - slide) + (m.vy - rest) * (m.vy - rest))
             .sum();
         let quiet = pushed && square < n as f64 * slow * slow;
         self.quiet_steps = if quiet { self.quiet_steps + 1 } else { 0 };
         if self.quiet_steps < SLEEP_STEPS {
             return;
         }
-        // The floor takes every disk along: its impulse is the change of momentum. Horizontal
-        // momentum is kept where nothing can change it.
-        let smooth_floor = self.rough.as_ref().is_none_or(|r| r.floor.mu == 0.0);
-        let slide = match self.sides {
-            SideBounds::Periodic { .. } if smooth_floor => {
-                let d = &self.disks;
-                let p: f64 = (0..n).map(|k| d.mass[k] * d.motion[k].vx).sum();
-                p / (0..n).map(|k| d.mass[k]).sum::<f64>()
-            }
-            _ => 0.0,
-        };
+        // The floor takes every disk along: its impulse is the change of momentum.
         let d = &mut self.disks;
         for (k, m) in d.motion.iter_mut().enumerate() {
             self.flow.floor_impulse += d.mass[k] * (v - m.vy);
@@ -695,6 +687,33 @@ impl<F: Flight> Contact<F> {
         self.asleep = Some(Asleep { held, slide });
         self.at_rest = n;
         self.rest_since = self.rest_since.or(Some(t1));
+    }
+
+    /// The vertical velocity of a disk resting on the floor (or on a fixed support) at the end
+    /// of the step to `t1`: the floor's mean velocity over the step less `g dt/2`, which the
+    /// move's `g dt²/2` makes up, so that the disk moves with the floor. (Against the floor's
+    /// velocity at `t1` a resting disk is `(g + h'') dt/2` off, up to three quarters of the
+    /// rest speed `g dt` at Γ = 0.5, and a resting bed's noise crossed it once a period.)
+    fn resting_vy(&self, t1: f64) -> f64 {
+        let dt = self.dt;
+        let floor = (self.floor.as_ref()).map_or(0.0, |f| (f.height(t1) - f.height(t1 - dt)) / dt);
+        floor - 0.5 * self.g() * dt
+    }
+
+    /// The horizontal velocity a bed keeps where nothing can change it (periodic sides, a smooth
+    /// floor): its momentum over its mass; 0 elsewhere. A bed sliding on a smooth floor rests
+    /// on it as it slides, and is quiet against that speed.
+    fn slide(&self) -> f64 {
+        let smooth_floor = self.rough.as_ref().is_none_or(|r| r.floor.mu == 0.0);
+        match self.sides {
+            SideBounds::Periodic { .. } if smooth_floor => {
+                let d = &self.disks;
+                let n = d.len();
+                let p: f64 = (0..n).map(|k| d.mass[k] * d.motion[k].vx).sum();
+                p / (0..n).map(|k| d.mass[k]).sum::<f64>()
+            }
+            _ => 0.0,
+        }
     }
 
     /// A step of a sleeping bed: every disk moves with the floor, the contacts that held the bed
@@ -1031,18 +1050,18 @@ impl<F: Flight> Contact<F> {
 
     /// Counts the disks at rest after the step ending at `t1`: held by a contact that pushed in
     /// the step ([`Contact::book`] marks them) and moving with the floor (still, on a static
-    /// one) slower than a step of gravity changes a speed, `g dt`, and not pushed by an
+    /// one: [`Contact::resting_vy`]) to within a step of gravity, `g dt`, and not pushed by an
     /// overlap's opening ([`recovery`]: a disk pushed apart moves). A bed riding the floor below
     /// Γ = 1 is at rest as a whole, as the exact engine's riders are.
     fn count_at_rest(&mut self, t1: f64) {
         let n = self.disks.len();
-        let floor_v = self.floor.as_ref().map_or(0.0, |f| f.velocity(t1));
+        let rest_vy = self.resting_vy(t1);
         let slow = self.g() * self.dt;
         let recovery = &self.recovery;
         self.at_rest = (self.disks.motion.iter().zip(&self.pushed).enumerate())
             .filter(|&(k, (m, &pushed))| {
                 let still = recovery.push(k) == [0.0; 2];
-                pushed && still && m.vx.abs() < slow && (m.vy - floor_v).abs() < slow
+                pushed && still && m.vx.abs() < slow && (m.vy - rest_vy).abs() < slow
             })
             .count();
         self.rest_since = match self.rest_since {
