@@ -641,10 +641,11 @@ impl<F: Flight> Contact<F> {
     /// falls asleep: every disk takes the floor's velocity at `t1` (the spins stop), it is at
     /// rest from then on, and from the next step on it rides the floor as one body
     /// ([`Contact::sleep_step`]). A step is quiet when a contact pushed every disk and the disks'
-    /// root-mean-square speed against the floor (sliding with the bed where it keeps its slide,
-    /// [`Contact::slide`]) is below a step of gravity, `g dt`: the bed as a
-    /// whole rests, while the unconverged solve lets a few lightly loaded disks (the top layer,
-    /// where the floor pulls the bed down fastest) stray past that speed now and then.
+    /// root-mean-square speed against a disk resting on the floor ([`Contact::resting_vy`],
+    /// sliding with the bed where it keeps its slide, [`Contact::slide`]) is below a step of
+    /// gravity, `g dt`: the bed as a whole rests, while the unconverged solve lets a few lightly
+    /// loaded disks (the top layer, where the floor pulls the bed down fastest) stray past that
+    /// speed now and then.
     #[inline(never)]
     fn fall_asleep(&mut self, t1: f64) {
         let n = self.disks.len();
