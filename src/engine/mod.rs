@@ -243,19 +243,36 @@ impl<F: Flight> Simulation<F> {
                 prefetch(&self.disks.motion, j as usize);
             }
         }
+        // Under the global re-mapping, the next event's list and its partner's: the rows a
+        // collision's predictions read first.
+        if let Some(k) = likely[0].filter(|_| !local) {
+            self.map.lists.prefetch_list(k);
+            if let Some(&j) = self
+                .events
+                .code
+                .get(k)
+                .filter(|&&j| (j as usize) < self.disks.len())
+            {
+                self.map.lists.prefetch_list(j as usize);
+                self.restitution.prefetch(j as usize);
+            }
+        }
         for k in likely.into_iter().flatten() {
             self.prefetch_entries(k);
         }
     }
 
-    /// Hints at disk `k`'s state and event entries (and under the local re-mapping its anchor
-    /// and list row).
+    /// Hints at disk `k`'s state and event entries, its record of same-instant events and of
+    /// its last collision (where the scene keeps them), and under the local re-mapping its
+    /// anchor and list row.
     #[inline(always)]
     fn prefetch_entries(&self, k: usize) {
         prefetch(&self.disks.motion, k);
         prefetch(&self.events.time, k);
         prefetch(&self.events.code, k);
         prefetch(&self.events.counter, k);
+        prefetch(&self.rest.same_instant, k);
+        self.restitution.prefetch(k);
         if let Some(shells) = &self.map.shells {
             shells.prefetch(k);
             self.map.lists.prefetch_list(k);

@@ -234,11 +234,15 @@ impl NeighbourLists {
         self.rows.of(i)
     }
 
-    /// Hints that disk `i`'s list will be read soon (rows only).
+    /// Hints that disk `i`'s list will be read soon: its row, or the first and last lines of
+    /// its stretch of the compressed lists (whose bounds should be cached by then).
     #[inline]
     pub fn prefetch_list(&self, i: usize) {
         if self.in_rows {
             self.rows.prefetch(i);
+        } else if let (Some(&a), Some(&b)) = (self.start.get(i + 1), self.start.get(i + 2)) {
+            crate::platform::prefetch::prefetch(&self.list, a as usize);
+            crate::platform::prefetch::prefetch(&self.list, (b as usize).saturating_sub(1));
         }
     }
 

@@ -71,6 +71,12 @@ impl CollisionLaw {
         }
     }
 
+    /// Hints that disk `i`'s last collision will be read soon (where TC keeps it).
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        crate::platform::prefetch::prefetch(&self.last, i);
+    }
+
     /// A disk enters as the last one, with no collision yet.
     pub fn push(&mut self) {
         if self.law.tc.is_some() {
