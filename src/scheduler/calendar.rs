@@ -26,6 +26,8 @@
 //! for a future bucket is linked into its list only at the next change, once the list's head,
 //! asked for ahead, has arrived.
 
+use super::places::places;
+use crate::platform::cpu::Lanes;
 use serde::{Deserialize, Serialize};
 
 /// End of a list.
@@ -56,7 +58,7 @@ const PREFETCH_HEADS_FROM: usize = 1 << 17;
 
 /// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
 /// bisection and a library sort: a bucket of many events at one time stays O(h log h)).
-const SHORT: usize = 16;
+pub(super) const SHORT: usize = 16;
 
 /// Where an event belongs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,17 +119,17 @@ struct Node {
 
 /// One event of the current bucket: its time, the disk's place in the tree's order, the disk.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
-struct Entry {
-    t: f64,
-    rank: u32,
-    disk: u32,
+pub(super) struct Entry {
+    pub(super) t: f64,
+    pub(super) rank: u32,
+    pub(super) disk: u32,
 }
 
 impl Entry {
     /// Earlier time first; equal times in the tree's order. Without a branch (`|`, `&`): which
     /// of two events is earlier is a toss-up, and a branch on each half of it mispredicts.
     #[inline(always)]
-    fn before(&self, other: &Entry) -> bool {
+    pub(super) fn before(&self, other: &Entry) -> bool {
         (self.t < other.t) | ((self.t == other.t) & (self.rank < other.rank))
     }
 }
@@ -728,21 +730,10 @@ impl CalendarQueue {
     fn sort_current(&mut self) {
         let len = self.current.len();
         if let Some(&first) = self.current.first().filter(|_| len <= SHORT) {
-            // Each entry's place is the number of entries later than it (the keys differ):
-            // each pair is compared once, and its outcome counts for one of the two; every
-            // comparison is made, none decides a branch.
-            let mut place = [0usize; SHORT];
-            for k in 0..len {
-                let e = self.current[k];
-                for m in k + 1..len {
-                    let later = e.before(&self.current[m]) as usize;
-                    place[k] += later;
-                    place[m] += 1 - later;
-                }
-            }
+            let place = places(&self.current, Lanes::found());
             let mut sorted = [first; SHORT];
             for (&e, &p) in self.current.iter().zip(&place) {
-                sorted[p] = e;
+                sorted[p as usize] = e;
             }
             self.current.copy_from_slice(&sorted[..len]);
             return;

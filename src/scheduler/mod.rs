@@ -6,6 +6,7 @@
 
 pub mod calendar;
 pub mod cbt;
+mod places;
 
 pub use calendar::CalendarQueue;
 pub use cbt::CompleteBinaryTree;
