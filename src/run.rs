@@ -64,7 +64,7 @@ pub struct RunOptions {
     /// `progress_every` seconds and an end line otherwise.
     pub progress: bool,
     /// Wall seconds between progress lines off a terminal (default
-    /// [`DEFAULT_EVERY`](crate::output::progress::DEFAULT_EVERY)).
+    /// [`DEFAULT_EVERY`]).
     pub progress_every: Option<f64>,
     /// The name of a sweep's run: with `progress`, only its lines every `progress_every` seconds
     /// off a terminal, named so (the sweep tells when each run starts and ends), none on one.

@@ -85,7 +85,7 @@ impl EventCounts {
     }
 }
 
-/// How often each rule that ends a jam engaged (see [`rest::jams`](super::rest::jams)): what
+/// How often each rule that ends a jam engaged (see `engine::rest::jams`): what
 /// the rules' own tests look at. Not in the summary, not kept across a resume.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct JamCounts {

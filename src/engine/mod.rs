@@ -11,14 +11,14 @@
 //! - [`event`](event.rs): every kind of event, and the code it is filed under;
 //! - `predict`: each disk's earliest event, asked of each event source and filed in the queue;
 //! - `fire`: the event that is due, handed to its source;
-//! - the event sources, each with its prediction and its firing side by side: [`pair`](pair)
+//! - the event sources, each with its prediction and its firing side by side: `pair`
 //!   (pair collisions), [`walls`](walls.rs) (side walls and lid), [`floor`](floor.rs) (impacts,
 //!   ride ends, lost supports), and the shells of the local re-mapping ([`remap::shells`]);
 //! - [`remap`]: re-mapping when the DUTC deadline comes ([`remap::dutc`]), the local
 //!   re-mapping ([`remap::shells`]: each disk rebuilds its own list when it leaves its shell)
 //!   and the renumbering of disks along a space-filling curve ([`remap::numbering`]);
 //! - `motion`: where a disk is at a time (lazy flight, riding the floor);
-//! - [`images`]: the periodic images, and which candidate neighbours lie within reach of a disk
+//! - `images`: the periodic images, and which candidate neighbours lie within reach of a disk
 //!   across them (shared by the pair search's kernel and the shells);
 //! - [`rest`]: disks at rest on the floor or on disks at rest, and the rules that end bursts
 //!   of events at one instant;

@@ -21,7 +21,7 @@ thread_local! {
 }
 
 /// Runs `f` (a scene's build) with the Monte Carlo that melts a `random` placement watching
-/// `flag`: once it is set, the melt ends within [`STOP_POLL`] trial moves, its disks where they
+/// `flag`: once it is set, the melt ends within `STOP_POLL` trial moves, its disks where they
 /// are (every trial kept overlaps nothing, so they are placed, only less melted). A run asked
 /// to stop while 2·10⁷ disks are being melted (two minutes on one core) stops at once instead.
 pub fn interruptible<T>(flag: Option<&'static AtomicBool>, f: impl FnOnce() -> T) -> T {

@@ -184,7 +184,7 @@ pub struct PhaseTable {
     /// width while in that bin (their exposure-weighted mean is `floor_pressure.measured`).
     pub pressure: Vec<f64>,
     /// Share of the centre of mass's variance (over all phase samples) explained by the phase,
-    /// corrected for the bins' finite samples (see [`locking`]); 1 for a bed locked to the
+    /// corrected for the bins' finite samples (see `locking`); 1 for a bed locked to the
     /// floor's period, near 0 for one whose height does not follow the floor. Absent with no
     /// more samples than bins.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -10,7 +10,7 @@
 //!
 //! Each band keeps, per axis, the exact power sums of its velocities (the kurtosis comes from
 //! them, unbinned) and a histogram of the raw velocities that coarsens itself (merging
-//! neighbours) to stay within [`RAW_BINS`] bins while the values spread: its resolution is
+//! neighbours) to stay within `RAW_BINS` bins while the values spread: its resolution is
 //! about a 300th of the range seen. At the end each raw bin is spread over the bins of `c`
 //! it overlaps, with the band's final `u` and `T`.
 

@@ -72,7 +72,7 @@ const TICK: Duration = Duration::from_millis(50);
 
 /// Watches a run's wall time per unit of simulated time, reading by reading: the first
 /// reading that saw simulated time advance gives the start's; the first later one above
-/// [`COST_GROWTH`] times it, or one over which simulated time did not advance at all, gives the
+/// `COST_GROWTH` times it, or one over which simulated time did not advance at all, gives the
 /// note (once) on a bed freezing into a collapse, naming the cures.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CostWatch {

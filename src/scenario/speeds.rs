@@ -20,7 +20,7 @@ pub fn validate_speeds(s: &Scenario) -> Result<()> {
 }
 
 /// The scene's own speed and the field that sets it: the fastest speed it gives a disk
-/// ([`given_speeds`]), or √(g a_min), the speed of a disk that fell its smallest radius, when
+/// (`given_speeds`), or √(g a_min), the speed of a disk that fell its smallest radius, when
 /// that is faster (no field then; 0 when nothing moves: no speed, no gravity, no moving
 /// floor). The time-step scheme's default step is a tenth of the time a disk takes to cross
 /// its smallest radius at this speed.

@@ -12,7 +12,7 @@
 //! - no contact has closed past touching: `gap + dt·u⁺ ≥ 0` (the *speculative* condition, `u` the
 //!   normal relative velocity), which also holds a resting contact shut; an overlap left by an
 //!   unconverged step stops closing, and is opened by moving the disks apart, not by giving
-//!   them speed ([`recovery`]);
+//!   them speed (`recovery`);
 //! - a contact that would close within the step, met faster than the rest speed (`2 g dt`,
 //!   on the floor `2 (g + Aω²) dt`), rebounds at once by Newton's law, `u⁺ ≥ −e u⁻` (slower
 //!   impacts are plastic: a step cannot resolve a rebound that rises less than a few g dt²);
@@ -27,7 +27,7 @@
 //!
 //! On one thread: the Gauss–Seidel sweep takes the contacts in one order (the boundaries by disk
 //! number, then the pairs from the lowest up, so that a stack's weight reaches the floor within a
-//! sweep), four at a time where four in a row share no disk ([`quads`]), and runs repeat bit for
+//! sweep), four at a time where four in a row share no disk (`quads`), and runs repeat bit for
 //! bit on any processor.
 
 mod quads;
