@@ -36,27 +36,24 @@ pub struct Snapshot {
 }
 
 impl Snapshot {
-    /// Fills the snapshot of `n` disks at time `t` from a visit of their states (see
-    /// [`Simulation::visit_states`]).
-    pub fn fill(
-        &mut self,
-        n: usize,
-        t: f64,
-        floor_height: Option<f64>,
-        visit: impl FnOnce(&mut dyn FnMut(usize, [f64; 4])),
-    ) {
+    /// Makes room for the states of `n` disks at time `t`, to be set one by one with
+    /// [`set`](Self::set) (from a visit of their states: see [`Simulation::visit_states`]).
+    pub fn start(&mut self, n: usize, t: f64, floor_height: Option<f64>) {
         self.time = t;
         self.x.resize(n, 0.0);
         self.y.resize(n, 0.0);
         self.vx.resize(n, 0.0);
         self.vy.resize(n, 0.0);
-        visit(&mut |i, [x, y, vx, vy]| {
-            self.x[i] = x;
-            self.y[i] = y;
-            self.vx[i] = vx;
-            self.vy[i] = vy;
-        });
         self.floor_height = floor_height;
+    }
+
+    /// Entry `i`'s state `[x, y, vx, vy]`. Called once per disk by a visit, inlined into it.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, [x, y, vx, vy]: [f64; 4]) {
+        self.x[i] = x;
+        self.y[i] = y;
+        self.vx[i] = vx;
+        self.vy[i] = vy;
     }
 }
 
@@ -351,9 +348,8 @@ impl<F: Flight> Simulation<F> {
     /// Every disk's state at absolute time `t ≥` [`time`](Self::time) into `out` (see
     /// [`visit_states`](Self::visit_states)).
     pub fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        out.fill(self.disks.len(), t, self.floor_height_at(t), |f| {
-            self.visit_states(t, f)
-        });
+        out.start(self.disks.len(), t, self.floor_height_at(t));
+        self.visit_states(t, |i, state| out.set(i, state));
         if let Some(pool) = &self.pool {
             out.ids.clear();
             out.ids.extend_from_slice(pool.ids());
@@ -369,6 +365,7 @@ impl<F: Flight> Simulation<F> {
 
     /// Disk `k`'s state `[x, y, vx, vy]` at local time `local`, its position wrapped into a
     /// periodic box (what [`visit_states`](Self::visit_states) gives).
+    #[inline(always)]
     fn wrapped_state_at(&self, k: usize, local: f64) -> [f64; 4] {
         let (mut x, mut y, vx, vy) = self.state_at(k, local);
         if let SideBounds::Periodic { width } = self.bounds.sides {

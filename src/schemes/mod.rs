@@ -145,9 +145,8 @@ pub trait Integrator {
     fn floor_height_at(&self, t: f64) -> Option<f64>;
     /// Every disk's state at absolute time `t ≥ time()`, in the scenario's numbering.
     fn snapshot_into(&self, t: f64, out: &mut Snapshot) {
-        out.fill(self.disks().len(), t, self.floor_height_at(t), |f| {
-            self.visit_states(t, f)
-        });
+        out.start(self.disks().len(), t, self.floor_height_at(t));
+        self.visit_states(t, |i, state| out.set(i, state));
     }
     /// `Σ ½ I ω²` of rough disks at absolute time `t ≥ time()` (by default the spins now: the
     /// approximate schemes' spins are constant between steps); `None` for smooth disks.
