@@ -278,8 +278,9 @@ impl<F: Flight> Simulation<F> {
         self.control.interrupt = Some(flag);
     }
 
-    /// Stops [`advance_to`](Self::advance_to) with [`Progress::EventLimit`](crate::engine::Progress::EventLimit) once `limit` events
-    /// (as `run.max_events` counts them) have been done since the start.
+    /// Stops [`advance_to`](Self::advance_to) with
+    /// [`Progress::EventLimit`](super::Progress::EventLimit) once `limit` events (as
+    /// `run.max_events` counts them) have been done since the start.
     pub fn set_event_limit(&mut self, limit: u64) {
         self.control.event_limit = limit;
     }

@@ -38,7 +38,8 @@ fn places_one_by_one(current: &[Entry]) -> [u8; SHORT] {
 /// [`places`] four entries at a time: each entry against all (itself included: never before
 /// itself), as [`Entry::before`] compares them — the time, then the tree's rank, exact as an
 /// `f64` — and the later ones counted from the lanes' mask. The lanes past the bucket hold
-/// +∞, which every entry is before; they are taken off the count.
+/// +∞, which every entry is before (a filed event's time is finite); they are taken off the
+/// count.
 ///
 /// # Safety
 ///
