@@ -13,8 +13,8 @@ use std::sync::OnceLock;
 pub const OVERRIDE: &str = "VIBROBED_CPU";
 
 /// How the engine's short hot loops run (the pair search, the shells' filter, the rows' slot
-/// search, the calendar's sort of a short bucket). The four lanes are only ever chosen where the processor has them: the value is made
-/// by this module alone, on what it finds.
+/// search, the calendar's sort of a short bucket). The four lanes are only ever chosen where the
+/// processor has them: the value is made by this module alone, on what it finds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lanes(Width);
 
