@@ -26,7 +26,7 @@
 //! for a future bucket is linked into its list only at the next change, once the list's head,
 //! asked for ahead, has arrived.
 
-use super::places::places;
+use super::bucket::{places, Entry, SHORT};
 use crate::platform::cpu::Lanes;
 use serde::{Deserialize, Serialize};
 
@@ -55,10 +55,6 @@ const LOOKAHEAD: usize = 4;
 /// N ≈ 2.6·10⁵ disks). Fewer heads stay cached anyway and the hint would only cost time
 /// (chosen by measurement: the book's performance history has the figures).
 const PREFETCH_HEADS_FROM: usize = 1 << 17;
-
-/// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
-/// bisection and a library sort: a bucket of many events at one time stays O(h log h)).
-pub(super) const SHORT: usize = 16;
 
 /// Where an event belongs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -115,23 +111,6 @@ impl Params {
 struct Node {
     next: u32,
     prev: u32,
-}
-
-/// One event of the current bucket: its time, the disk's place in the tree's order, the disk.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
-pub(super) struct Entry {
-    pub(super) t: f64,
-    pub(super) rank: u32,
-    pub(super) disk: u32,
-}
-
-impl Entry {
-    /// Earlier time first; equal times in the tree's order. Without a branch (`|`, `&`): which
-    /// of two events is earlier is a toss-up, and a branch on each half of it mispredicts.
-    #[inline(always)]
-    pub(super) fn before(&self, other: &Entry) -> bool {
-        (self.t < other.t) | ((self.t == other.t) & (self.rank < other.rank))
-    }
 }
 
 /// A calendar of unsorted linked lists plus a sorted array for the current bucket, over

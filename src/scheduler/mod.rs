@@ -4,9 +4,9 @@
 //! (Paul 2007), chosen by `engine.queue`. Both yield the same disk at every step, so the choice
 //! changes only speed.
 
+mod bucket;
 pub mod calendar;
 pub mod cbt;
-mod places;
 
 pub use calendar::CalendarQueue;
 pub use cbt::CompleteBinaryTree;

@@ -1,11 +1,32 @@
-//! Where each event of a short current bucket goes when the calendar sorts it: its place is
-//! the number of events later than it (the keys differ), counted without a branch — one
-//! comparison at a time, or four lanes at a time where the processor has AVX2 (chosen at run
-//! time, [`Lanes`]). Both count the same comparisons, so the order is the same on either path
-//! (a test compares them).
+//! The calendar's current bucket: its entries, and where each goes when a short bucket is
+//! sorted — its place is the number of entries later than it (the keys differ), counted without
+//! a branch, one comparison at a time or four lanes at a time where the processor has AVX2
+//! (chosen at run time, [`Lanes`]). Both count the same comparisons, so the order is the same on
+//! either path (a test compares them).
 
-use super::calendar::{Entry, SHORT};
 use crate::platform::cpu::Lanes;
+use serde::{Deserialize, Serialize};
+
+/// Length up to which the current bucket is searched and sorted entry by entry (beyond, by
+/// bisection and a library sort: a bucket of many events at one time stays O(h log h)).
+pub(super) const SHORT: usize = 16;
+
+/// One event of the current bucket: its time, the disk's place in the tree's order, the disk.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub(super) struct Entry {
+    pub(super) t: f64,
+    pub(super) rank: u32,
+    pub(super) disk: u32,
+}
+
+impl Entry {
+    /// Earlier time first; equal times in the tree's order. Without a branch (`|`, `&`): which
+    /// of two events is earlier is a toss-up, and a branch on each half of it mispredicts.
+    #[inline(always)]
+    pub(super) fn before(&self, other: &Entry) -> bool {
+        (self.t < other.t) | ((self.t == other.t) & (self.rank < other.rank))
+    }
+}
 
 /// Each entry's place in the order latest first (`current.len() <= SHORT`, keys distinct):
 /// the number of entries later than it.
