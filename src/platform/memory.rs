@@ -165,3 +165,63 @@ mod tests {
         );
     }
 }
+
+/// Bytes mapped beside each thread's stack (its guard page, signal stack and thread-local
+/// storage), with room to spare.
+const THREAD_EXTRA: u64 = 1 << 20;
+
+/// Address space kept free for the runs themselves while threads start.
+const RUN_ROOM: u64 = 512 << 20;
+
+/// Checks that `threads` new threads with stacks of `stack` bytes fit in this process's address
+/// space: under its limit (`RLIMIT_AS`, as `ulimit -v` sets it) beside what it maps now, with
+/// room for the runs. A thread started near the limit can have its stack mapped and then fail
+/// to map its signal stack, and the runtime aborts the whole process (a refusal is not
+/// possible then): so none is started where they would not all fit. `Err` gives the limit in
+/// bytes. Without a limit (or off Linux), always `Ok`.
+pub fn threads_fit(threads: usize, stack: usize) -> Result<(), u64> {
+    #[cfg(target_os = "linux")]
+    {
+        let mut limit = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit writes the one struct it is given.
+        if unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } != 0
+            || limit.rlim_cur == libc::RLIM_INFINITY
+        {
+            return Ok(());
+        }
+        let limit = limit.rlim_cur;
+        let need = (threads as u64).saturating_mul(stack as u64 + THREAD_EXTRA);
+        if mapped_bytes().saturating_add(need).saturating_add(RUN_ROOM) > limit {
+            return Err(limit);
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (threads, stack);
+    Ok(())
+}
+
+/// Bytes of address space this process maps now (`/proc/self/statm`'s first field, in pages);
+/// 0 where it cannot be read.
+#[cfg(target_os = "linux")]
+fn mapped_bytes() -> u64 {
+    let pages = std::fs::read_to_string("/proc/self/statm")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .unwrap_or(0);
+    // SAFETY: sysconf only reads a system constant.
+    let page = unsafe { libc::sysconf(libc::_SC_PAGESIZE) };
+    pages.saturating_mul(page.max(4096) as u64)
+}
+
+/// The message of a refusal to start `threads` threads (`what`, e.g. "runs at once, a thread
+/// each") under an address-space limit of `limit` bytes.
+pub fn threads_refused(threads: usize, what: &str, limit: u64) -> String {
+    format!(
+        "cannot start {threads} {what} under this process's address-space limit of {:.1} GiB \
+         (ulimit -v): give fewer",
+        limit as f64 / (1u64 << 30) as f64
+    )
+}

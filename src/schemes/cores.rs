@@ -17,6 +17,10 @@ use std::sync::{Arc, OnceLock};
 /// cost more to hand to another thread than to do (a scene of 10³ disks runs on one thread).
 pub const MIN_PIECE: usize = 1024;
 
+/// Stack of each thread of a scheme's pool (the standard library's default, set here so that
+/// the room the threads take is known before they start).
+pub const POOL_STACK: usize = 2 << 20;
+
 /// The threads of one scheme.
 #[derive(Debug, Clone)]
 pub struct Cores {
@@ -27,8 +31,15 @@ impl Cores {
     /// A pool of `requested` threads (absent: [`available`]).
     pub fn new(requested: Option<u64>) -> Result<Cores> {
         let threads = requested.map_or_else(available, |t| t as usize);
+        crate::platform::memory::threads_fit(threads, POOL_STACK).map_err(|limit| {
+            Error::input(
+                "engine.threads",
+                crate::platform::memory::threads_refused(threads, "threads", limit),
+            )
+        })?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
+            .stack_size(POOL_STACK)
             .thread_name(|i| format!("vibrobed-scheme-{i}"))
             .build()
             .map_err(|e| {

@@ -50,6 +50,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use variants::Variant;
 
+/// Stack of each seed's thread where seeds run side by side (as a command's main thread has).
+const RUN_STACK: usize = 16 << 20;
+
 /// How to run the report.
 #[derive(Debug, Clone, Default)]
 pub struct Options {
@@ -226,6 +229,21 @@ fn measure_and_write(scenario: &Scenario, opts: &Options) -> Result<Report> {
         .cores
         .unwrap_or_else(crate::schemes::cores::available)
         .max(1);
+    // Before any run: the seeds side by side (a thread each) and the schemes' threads.
+    for (stack, what) in [
+        (RUN_STACK, "runs at once, a thread each"),
+        (
+            crate::schemes::cores::POOL_STACK,
+            "threads for the approximate schemes",
+        ),
+    ] {
+        crate::platform::memory::threads_fit(cores, stack).map_err(|limit| {
+            Error::input(
+                "--cores",
+                crate::platform::memory::threads_refused(cores, what, limit),
+            )
+        })?;
+    }
     let exact = runner.ensemble(&Variant::new("reference", "exact event-driven", &[]))?;
     runner.cap_events(&exact);
     let (a_min, _) = disks.radius_range();
@@ -364,7 +382,7 @@ impl<'a> Runner<'a> {
             for i in 0..k as u64 {
                 let seed = self.seeds[0].wrapping_add(i);
                 let started = std::thread::Builder::new()
-                    .stack_size(16 << 20)
+                    .stack_size(RUN_STACK)
                     .spawn_scoped(scope, move || self.measure(v, seed));
                 handles.push(started.map_err(|e| {
                     Error::input(

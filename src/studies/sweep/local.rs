@@ -19,6 +19,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+/// Stack of each worker thread that runs a sweep's runs (as a command's main thread has).
+const WORKER_STACK: usize = 16 << 20;
+
 /// Output folder of run `index`.
 pub fn run_dir(out: &Path, index: usize) -> PathBuf {
     out.join(index.to_string())
@@ -236,6 +239,12 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
     let next = AtomicUsize::new(0);
     let outcomes: Mutex<Vec<(usize, Result<Ending>)>> = Mutex::new(Vec::new());
     let jobs = jobs.clamp(1, pending.len().max(1));
+    crate::platform::memory::threads_fit(jobs, WORKER_STACK).map_err(|limit| {
+        Error::input(
+            "--jobs",
+            crate::platform::memory::threads_refused(jobs, "runs at once", limit),
+        )
+    })?;
     let cores = crate::schemes::cores::available();
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -274,7 +283,7 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
                     .push((i, outcome));
             };
             std::thread::Builder::new()
-                .stack_size(16 << 20)
+                .stack_size(WORKER_STACK)
                 .spawn_scoped(scope, worker)
                 .expect("a worker thread starts");
         }
