@@ -235,7 +235,7 @@ impl NeighbourLists {
     }
 
     /// Hints that disk `i`'s list will be read soon: its row, or the first and last lines of
-    /// its stretch of the compressed lists (whose bounds should be cached by then).
+    /// its stretch of the compressed lists (read from its bounds, which may themselves miss).
     #[inline]
     pub fn prefetch_list(&self, i: usize) {
         if self.in_rows {

@@ -166,6 +166,10 @@ mod tests {
     }
 }
 
+/// Stack of a thread that runs a whole run (a local sweep's worker, an accuracy report's seed
+/// run side by side with others): what a command's main thread runs one on.
+pub const RUN_THREAD_STACK: usize = 16 << 20;
+
 /// Bytes mapped beside each thread's stack (its guard page, signal stack and thread-local
 /// storage), with room to spare.
 const THREAD_EXTRA: u64 = 1 << 20;

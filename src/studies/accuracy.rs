@@ -40,6 +40,7 @@ mod variants;
 use crate::engine::Scene;
 use crate::error::{Error, Result};
 use crate::output::summary::{Ending, Summary};
+use crate::platform::memory::{threads_fit, threads_refused, RUN_THREAD_STACK};
 use crate::run::{run, RunOptions};
 use crate::scenario::{overrides, Scenario, Scheme};
 use crate::schemes::SchemeStats;
@@ -49,9 +50,6 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use variants::Variant;
-
-/// Stack of each seed's thread where seeds run side by side (as a command's main thread has).
-const RUN_STACK: usize = 16 << 20;
 
 /// How to run the report.
 #[derive(Debug, Clone, Default)]
@@ -231,18 +229,14 @@ fn measure_and_write(scenario: &Scenario, opts: &Options) -> Result<Report> {
         .max(1);
     // Before any run: the seeds side by side (a thread each) and the schemes' threads.
     for (stack, what) in [
-        (RUN_STACK, "runs at once, a thread each"),
+        (RUN_THREAD_STACK, "runs at once, a thread each"),
         (
             crate::schemes::cores::POOL_STACK,
             "threads for the approximate schemes",
         ),
     ] {
-        crate::platform::memory::threads_fit(cores, stack).map_err(|limit| {
-            Error::input(
-                "--cores",
-                crate::platform::memory::threads_refused(cores, what, limit),
-            )
-        })?;
+        threads_fit(cores, stack)
+            .map_err(|limit| Error::input("--cores", threads_refused(cores, what, limit)))?;
     }
     let exact = runner.ensemble(&Variant::new("reference", "exact event-driven", &[]))?;
     runner.cap_events(&exact);
@@ -382,7 +376,7 @@ impl<'a> Runner<'a> {
             for i in 0..k as u64 {
                 let seed = self.seeds[0].wrapping_add(i);
                 let started = std::thread::Builder::new()
-                    .stack_size(RUN_STACK)
+                    .stack_size(RUN_THREAD_STACK)
                     .spawn_scoped(scope, move || self.measure(v, seed));
                 handles.push(started.map_err(|e| {
                     Error::input(

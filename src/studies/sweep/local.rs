@@ -11,6 +11,7 @@
 use crate::error::{Error, Result};
 use crate::output::summary::Ending;
 pub use crate::output::write_atomic;
+use crate::platform::memory::{threads_fit, threads_refused, RUN_THREAD_STACK};
 use crate::run::{run, RunOptions};
 use crate::scenario::Scenario;
 use crate::schemes::cores::share;
@@ -18,9 +19,6 @@ use crate::studies::sweep::plan::{Expanded, Plan, RunSpec};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-
-/// Stack of each worker thread that runs a sweep's runs (as a command's main thread has).
-const WORKER_STACK: usize = 16 << 20;
 
 /// Output folder of run `index`.
 pub fn run_dir(out: &Path, index: usize) -> PathBuf {
@@ -239,12 +237,8 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
     let next = AtomicUsize::new(0);
     let outcomes: Mutex<Vec<(usize, Result<Ending>)>> = Mutex::new(Vec::new());
     let jobs = jobs.clamp(1, pending.len().max(1));
-    crate::platform::memory::threads_fit(jobs, WORKER_STACK).map_err(|limit| {
-        Error::input(
-            "--jobs",
-            crate::platform::memory::threads_refused(jobs, "runs at once", limit),
-        )
-    })?;
+    threads_fit(jobs, RUN_THREAD_STACK)
+        .map_err(|limit| Error::input("--jobs", threads_refused(jobs, "runs at once", limit)))?;
     let cores = crate::schemes::cores::available();
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -283,7 +277,7 @@ pub fn run_pool(exp: &Expanded, out: &Path, options: PoolOptions) -> Result<Pool
                     .push((i, outcome));
             };
             std::thread::Builder::new()
-                .stack_size(WORKER_STACK)
+                .stack_size(RUN_THREAD_STACK)
                 .spawn_scoped(scope, worker)
                 .expect("a worker thread starts");
         }
