@@ -336,3 +336,29 @@ fn an_uncured_bed_on_a_static_floor_runs_to_its_end_on_auto() {
     let cured = scenario(&["engine.scheme=auto", static_floor, "collisions.tc=0.001"]);
     assert_eq!(cured.scheme(), Scheme::EventDriven);
 }
+
+/// A hand-back refused in a tall bed leaves no deep overlap: the deep bed's 100 layers, 30 wide,
+/// thrown at Γ = 4, go to contact dynamics as they settle; the separation before a hand-back
+/// lifts the upper disks layer on layer, past neighbours the Verlet list did not hold when it
+/// moved them more than half a skin (overlaps of half a diameter where the list was kept), and
+/// contact dynamics carries on from there when the exact engine refuses.
+#[test]
+fn a_refused_hand_back_in_a_tall_bed_leaves_no_deep_overlap() {
+    let path = format!("{}/scenarios/deep_bed.json", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).expect("the deep bed");
+    let sets = [
+        "engine.scheme=auto",
+        "domain.width=30",
+        "particles.count=3000",
+        "run.duration=16",
+        "run.warmup=5",
+    ]
+    .map(String::from);
+    let s = Scenario::from_json_with_overrides(&text, &sets).expect("valid scenario");
+    let (v, _) = same_run::summary(&s, &[]);
+    let a = &v["approximation"];
+    assert!(a["dense_time"].as_f64().unwrap() > 1.0, "{a}");
+    assert_eq!(a["deep_overlaps"], 0, "{a}");
+    let overlap = v["max_overlap"].as_f64().unwrap();
+    assert!(overlap < 0.05, "{overlap}");
+}

@@ -547,7 +547,26 @@ impl<F: Flight> Contact<F> {
             if !moved {
                 return;
             }
+            // A disk lifted half a skin may now overlap one the list does not hold: deep in a
+            // tall bed the lifts add up layer on layer.
+            if self.moved_half_skin() {
+                self.rebuild();
+            }
         }
+    }
+
+    /// Whether a disk has moved half the skin from where the Verlet list was built.
+    fn moved_half_skin(&self) -> bool {
+        let half = 0.5 * self.skin;
+        (self.disks.motion.iter().enumerate()).any(|(k, m)| {
+            let (dx, dy) = min_image(
+                self.sides,
+                self.top,
+                m.x - self.built_x[k],
+                m.y - self.built_y[k],
+            );
+            dx * dx + dy * dy > half * half
+        })
     }
 
     fn g(&self) -> f64 {
