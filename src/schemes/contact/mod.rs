@@ -66,6 +66,11 @@ const TOLERANCE: f64 = 1e-2;
 /// Sweeps of [`Contact::separate`], at most.
 const SEPARATION_SWEEPS: u32 = 1000;
 
+/// [`Contact::separate`] gives up when its deepest push has not halved in this many sweeps: a
+/// row pressed together across a periodic width, or a jam deep in a tall bed, that pushing
+/// upper disks along the normals does not open (the exact engine then refuses the state).
+const SEPARATION_STALL: u32 = 50;
+
 /// Contacts are gathered a hair beyond how far disks can close in a step: this many radii.
 const HAIR: f64 = 1e-7;
 
@@ -485,7 +490,7 @@ impl<F: Flight> Contact<F> {
     /// Removes every overlap (pairs, floor, walls, lid) by moving disks apart, positions only: the
     /// floor and walls first, then the pairs from the lowest up, each moving its upper disk, so
     /// that a stack is lifted clear in one sweep; sweeps repeat until nothing overlaps (for the
-    /// exact engine, which accepts no overlap).
+    /// exact engine, which accepts no overlap), or until they stall ([`SEPARATION_STALL`]).
     pub fn separate(&mut self) {
         let before = self.total_energy();
         self.lift_clear();
@@ -501,8 +506,10 @@ impl<F: Flight> Contact<F> {
         const CLEAR: f64 = 1e-12;
         let t = self.now();
         let floor = self.floor.as_ref().map(|f| f.height(t));
-        for _ in 0..SEPARATION_SWEEPS {
+        let mut mark = f64::INFINITY;
+        for sweep in 0..SEPARATION_SWEEPS {
             let mut moved = false;
+            let mut deepest = 0.0f64;
             let d = &mut self.disks;
             for (k, m) in d.motion.iter_mut().enumerate() {
                 let a = d.radius[k] * (1.0 + CLEAR);
@@ -526,13 +533,17 @@ impl<F: Flight> Contact<F> {
                 let (iu, ju) = (i as usize, j as usize);
                 let (mi, mj) = (d.motion[iu], d.motion[ju]);
                 let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
-                let s = (d.radius[iu] + d.radius[ju]) * (1.0 + 2.0 * CLEAR);
+                // Clear at a hair beyond contact, pushed to two: a pair pushed apart stays
+                // clear whatever round-off its disks' new places carry.
+                let contact = d.radius[iu] + d.radius[ju];
+                let (clear, s) = (contact * (1.0 + CLEAR), contact * (1.0 + 2.0 * CLEAR));
                 let dist2 = dx * dx + dy * dy;
-                if dist2 >= s * s {
+                if dist2 >= clear * clear {
                     continue;
                 }
                 let dist = dist2.sqrt().max(1e-300);
                 let push = s - dist;
+                deepest = deepest.max(push);
                 // The upper disk moves, along the normal from the lower one.
                 let (up, sign) = if mi.y >= mj.y { (iu, 1.0) } else { (ju, -1.0) };
                 let m = &mut d.motion[up];
@@ -546,6 +557,12 @@ impl<F: Flight> Contact<F> {
             }
             if !moved {
                 return;
+            }
+            if sweep % SEPARATION_STALL == 0 {
+                if deepest > 0.5 * mark {
+                    return;
+                }
+                mark = deepest;
             }
             // A disk lifted half a skin may now overlap one the list does not hold: deep in a
             // tall bed the lifts add up layer on layer.
