@@ -66,6 +66,10 @@ const TOLERANCE: f64 = 1e-2;
 /// Sweeps of [`Contact::separate`], at most.
 const SEPARATION_SWEEPS: u32 = 1000;
 
+/// How far beyond contact [`Contact::separate`] leaves a disk: this part of the contact
+/// distance (a hair, twice that between disks).
+const CLEAR: f64 = 1e-12;
+
 /// [`Contact::separate`] gives up when its deepest push has not halved in this many sweeps: a
 /// row pressed together across a periodic width, or a jam deep in a tall bed, that pushing
 /// upper disks along the normals does not open (the exact engine then refuses the state).
@@ -501,63 +505,18 @@ impl<F: Flight> Contact<F> {
         self.look_ahead();
     }
 
-    /// [`Contact::separate`]'s moves.
+    /// [`Contact::separate`]'s moves: sweeps of the boundaries and the pairs.
     fn lift_clear(&mut self) {
-        const CLEAR: f64 = 1e-12;
         let t = self.now();
         let floor = self.floor.as_ref().map(|f| f.height(t));
         let mut mark = f64::INFINITY;
         for sweep in 0..SEPARATION_SWEEPS {
-            let mut moved = false;
-            let mut deepest = 0.0f64;
-            let d = &mut self.disks;
-            for (k, m) in d.motion.iter_mut().enumerate() {
-                let a = d.radius[k] * (1.0 + CLEAR);
-                if let Some(h) = floor {
-                    if m.y < h + a {
-                        (m.y, moved) = (h + a, true);
-                    }
-                }
-                if let SideBounds::Walls { width, .. } = self.sides {
-                    if m.x < a || m.x > width - a {
-                        (m.x, moved) = (m.x.clamp(a, width - a), true);
-                    }
-                }
-                if let Top::Lid { height, .. } = self.top {
-                    if m.y > height - a {
-                        (m.y, moved) = (height - a, true);
-                    }
-                }
-            }
-            for &(i, j) in &self.pairs {
-                let (iu, ju) = (i as usize, j as usize);
-                let (mi, mj) = (d.motion[iu], d.motion[ju]);
-                let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
-                // Clear at a hair beyond contact, pushed to two: a pair pushed apart stays
-                // clear whatever round-off its disks' new places carry.
-                let contact = d.radius[iu] + d.radius[ju];
-                let (clear, s) = (contact * (1.0 + CLEAR), contact * (1.0 + 2.0 * CLEAR));
-                let dist2 = dx * dx + dy * dy;
-                if dist2 >= clear * clear {
-                    continue;
-                }
-                let dist = dist2.sqrt().max(1e-300);
-                let push = s - dist;
-                deepest = deepest.max(push);
-                // The upper disk moves, along the normal from the lower one.
-                let (up, sign) = if mi.y >= mj.y { (iu, 1.0) } else { (ju, -1.0) };
-                let m = &mut d.motion[up];
-                (m.x, m.y) = wrap(
-                    self.sides,
-                    self.top,
-                    m.x + sign * push * dx / dist,
-                    m.y + sign * push * dy / dist,
-                );
-                moved = true;
-            }
-            if !moved {
+            let onto_bounds = self.clear_boundaries(floor);
+            let deepest = self.clear_pairs();
+            if !onto_bounds && deepest.is_none() {
                 return;
             }
+            let deepest = deepest.unwrap_or(0.0);
             if sweep % SEPARATION_STALL == 0 {
                 if deepest > 0.5 * mark {
                     return;
@@ -570,6 +529,64 @@ impl<F: Flight> Contact<F> {
                 self.rebuild();
             }
         }
+    }
+
+    /// Puts every disk a hair inside the floor (at height `floor`), the walls and the lid; true
+    /// if one moved.
+    fn clear_boundaries(&mut self, floor: Option<f64>) -> bool {
+        let mut moved = false;
+        let d = &mut self.disks;
+        for (k, m) in d.motion.iter_mut().enumerate() {
+            let a = d.radius[k] * (1.0 + CLEAR);
+            if let Some(h) = floor {
+                if m.y < h + a {
+                    (m.y, moved) = (h + a, true);
+                }
+            }
+            if let SideBounds::Walls { width, .. } = self.sides {
+                if m.x < a || m.x > width - a {
+                    (m.x, moved) = (m.x.clamp(a, width - a), true);
+                }
+            }
+            if let Top::Lid { height, .. } = self.top {
+                if m.y > height - a {
+                    (m.y, moved) = (height - a, true);
+                }
+            }
+        }
+        moved
+    }
+
+    /// One sweep over the Verlet pairs from the lowest up, moving each overlapping pair's upper
+    /// disk along the normal: the deepest push, `None` if no pair overlapped. A pair counts as
+    /// clear a hair beyond contact and is pushed to two, so that it stays clear whatever
+    /// round-off its disk's new place carries.
+    fn clear_pairs(&mut self) -> Option<f64> {
+        let mut deepest = None;
+        let d = &mut self.disks;
+        for &(i, j) in &self.pairs {
+            let (iu, ju) = (i as usize, j as usize);
+            let (mi, mj) = (d.motion[iu], d.motion[ju]);
+            let (dx, dy) = min_image(self.sides, self.top, mi.x - mj.x, mi.y - mj.y);
+            let contact = d.radius[iu] + d.radius[ju];
+            let (clear, s) = (contact * (1.0 + CLEAR), contact * (1.0 + 2.0 * CLEAR));
+            let dist2 = dx * dx + dy * dy;
+            if dist2 >= clear * clear {
+                continue;
+            }
+            let dist = dist2.sqrt().max(1e-300);
+            let push = s - dist;
+            deepest = Some(push.max(deepest.unwrap_or(0.0)));
+            let (up, sign) = if mi.y >= mj.y { (iu, 1.0) } else { (ju, -1.0) };
+            let m = &mut d.motion[up];
+            (m.x, m.y) = wrap(
+                self.sides,
+                self.top,
+                m.x + sign * push * dx / dist,
+                m.y + sign * push * dy / dist,
+            );
+        }
+        deepest
     }
 
     /// Whether a disk has moved half the skin from where the Verlet list was built.
@@ -1113,21 +1130,17 @@ impl<F: Flight> Contact<F> {
     /// Verlet list is rebuilt when a disk has moved half the skin.
     fn advance(&mut self, t1: f64) {
         let (dt, g, sides, top) = (self.dt, self.g(), self.sides, self.top);
-        let half = 0.5 * self.skin;
-        let mut far = false;
         for (k, m) in self.disks.motion.iter_mut().enumerate() {
             let [wx, wy] = self.recovery.push(k);
             let x = m.x + dt * (m.vx + wx);
             let y = m.y + dt * (m.vy + wy) + 0.5 * g * dt * dt;
             (m.x, m.y) = wrap(sides, top, x, y);
             m.t = t1;
-            let (dx, dy) = min_image(sides, top, m.x - self.built_x[k], m.y - self.built_y[k]);
-            far |= dx * dx + dy * dy > half * half;
         }
         let energy = self.total_energy();
         self.flow.dissipated += self.energy + self.injected_step - energy;
         self.energy = energy;
-        if far {
+        if self.moved_half_skin() {
             self.rebuild();
         }
     }
