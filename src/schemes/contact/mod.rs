@@ -1162,12 +1162,18 @@ impl<F: Flight> Contact<F> {
 /// four in a row that it can solve at once ([`quads`]).
 fn order_pairs(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
     let low = |&(i, j): &(u32, u32)| motion[i as usize].y.min(motion[j as usize].y);
-    pairs.sort_by(|p, q| low(p).total_cmp(&low(q)));
+    // By the lower disk's height, ties in list order (a stable sort), each key made once.
+    let mut by_low: Vec<(i64, u32)> = (pairs.iter().enumerate())
+        .map(|(k, p)| (ordered(low(p)), k as u32))
+        .collect();
+    by_low.sort_unstable();
+    let sorted: Vec<(u32, u32)> = by_low.iter().map(|&(_, k)| pairs[k as usize]).collect();
+    *pairs = sorted;
     // Each disk's colours taken in the band `seen[k]`.
     let mut taken = vec![0u32; motion.len()];
     let mut seen = vec![i64::MIN; motion.len()];
-    let mut keyed: Vec<(i64, u32, u32)> = Vec::with_capacity(pairs.len());
-    for (k, &(i, j)) in pairs.iter().enumerate() {
+    let mut keyed: Vec<(i64, u32)> = Vec::with_capacity(pairs.len());
+    for &(i, j) in pairs.iter() {
         let b = (low(&(i, j)) / band).floor() as i64;
         for d in [i as usize, j as usize] {
             if seen[d] != b {
@@ -1179,11 +1185,48 @@ fn order_pairs(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
             .min(31);
         taken[i as usize] |= 1 << colour;
         taken[j as usize] |= 1 << colour;
-        keyed.push((b, colour, k as u32));
+        keyed.push((b, colour));
     }
-    keyed.sort_unstable();
-    let sorted: Vec<(u32, u32)> = keyed.iter().map(|&(_, _, k)| pairs[k as usize]).collect();
-    *pairs = sorted;
+    *pairs = by_band_and_colour(pairs, &keyed);
+}
+
+/// `pairs` ordered by (band, colour) of `keyed`, in list order within each: the bands come in
+/// rising runs (the pairs are ordered by height), so each run is sorted by counting its colours.
+/// A run out of order (a height that is not a number) falls back to a sort.
+fn by_band_and_colour(pairs: &[(u32, u32)], keyed: &[(i64, u32)]) -> Vec<(u32, u32)> {
+    if keyed.windows(2).any(|w| w[1].0 < w[0].0) {
+        let mut order: Vec<(i64, u32, u32)> = (keyed.iter().enumerate())
+            .map(|(k, &(b, colour))| (b, colour, k as u32))
+            .collect();
+        order.sort_unstable();
+        return order.iter().map(|&(_, _, k)| pairs[k as usize]).collect();
+    }
+    let mut out = Vec::with_capacity(pairs.len());
+    let mut start = 0;
+    while start < keyed.len() {
+        let b = keyed[start].0;
+        let end = start + keyed[start..].iter().take_while(|k| k.0 == b).count();
+        let mut at = [0usize; 33];
+        for &(_, colour) in &keyed[start..end] {
+            at[colour as usize + 1] += 1;
+        }
+        for c in 1..33 {
+            at[c] += at[c - 1];
+        }
+        out.resize(end, (0, 0));
+        for (k, &(_, colour)) in keyed[start..end].iter().enumerate() {
+            out[start + at[colour as usize]] = pairs[start + k];
+            at[colour as usize] += 1;
+        }
+        start = end;
+    }
+    out
+}
+
+/// An `f64` as an `i64` that orders as [`f64::total_cmp`] does.
+fn ordered(x: f64) -> i64 {
+    let bits = x.to_bits() as i64;
+    bits ^ ((((bits >> 63) as u64) >> 1) as i64)
 }
 
 /// Steps of the floor's period in the coarse step: dense beds move at about the floor's speed,
@@ -1268,5 +1311,76 @@ impl<F: Flight> Integrator for Contact<F> {
             sweeps: self.sweeps,
             ..self.stats
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ordering as first written: a stable sort by height, then a sort by (band, colour,
+    /// place).
+    fn order_pairs_by_sorts(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
+        let low = |&(i, j): &(u32, u32)| motion[i as usize].y.min(motion[j as usize].y);
+        pairs.sort_by(|p, q| low(p).total_cmp(&low(q)));
+        let mut taken = vec![0u32; motion.len()];
+        let mut seen = vec![i64::MIN; motion.len()];
+        let mut keyed: Vec<(i64, u32, u32)> = Vec::with_capacity(pairs.len());
+        for (k, &(i, j)) in pairs.iter().enumerate() {
+            let b = (low(&(i, j)) / band).floor() as i64;
+            for d in [i as usize, j as usize] {
+                if seen[d] != b {
+                    (seen[d], taken[d]) = (b, 0);
+                }
+            }
+            let colour = (!(taken[i as usize] | taken[j as usize]))
+                .trailing_zeros()
+                .min(31);
+            taken[i as usize] |= 1 << colour;
+            taken[j as usize] |= 1 << colour;
+            keyed.push((b, colour, k as u32));
+        }
+        keyed.sort_unstable();
+        *pairs = keyed.iter().map(|&(_, _, k)| pairs[k as usize]).collect();
+    }
+
+    /// The counting order gives the sorts' order on random beds: heights with ties, negative
+    /// heights (a floor below zero), a disk in many pairs (colours up to 31), and a pair of
+    /// disks whose heights are not numbers (the bands out of order).
+    #[test]
+    fn pairs_are_ordered_as_the_sorts_order_them() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        for case in 0..200 {
+            let n = rng.random_range(2..300usize);
+            let motion: Vec<Motion> = (0..n)
+                .map(|_| Motion {
+                    y: match rng.random_range(0..4) {
+                        0 => rng.random_range(-2..20) as f64 * 0.5,
+                        _ => rng.random_range(-1.0..10.0),
+                    },
+                    ..Motion::default()
+                })
+                .collect();
+            let mut motion = motion;
+            let mut pairs = Vec::new();
+            if case % 50 == 49 {
+                (motion[0].y, motion[1].y) = (f64::NAN, f64::NAN);
+                pairs.push((0, 1));
+            }
+            pairs.extend((0..rng.random_range(0..4 * n)).map(|k| {
+                let i = if k % 7 == 0 {
+                    1
+                } else {
+                    rng.random_range(0..n)
+                };
+                let j = (i + rng.random_range(1..n)) % n;
+                (i as u32, j as u32)
+            }));
+            let (mut fast, mut reference) = (pairs.clone(), pairs);
+            order_pairs(&mut fast, &motion, 1.0);
+            order_pairs_by_sorts(&mut reference, &motion, 1.0);
+            assert_eq!(fast, reference, "case {case}");
+        }
     }
 }
