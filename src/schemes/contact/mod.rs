@@ -494,7 +494,8 @@ impl<F: Flight> Contact<F> {
     /// Removes every overlap (pairs, floor, walls, lid) by moving disks apart, positions only: the
     /// floor and walls first, then the pairs from the lowest up, each moving its upper disk, so
     /// that a stack is lifted clear in one sweep; sweeps repeat until nothing overlaps (for the
-    /// exact engine, which accepts no overlap), or until they stall (their deepest push not halved in 50 sweeps).
+    /// exact engine, which accepts no overlap), or until they stall (their deepest push not
+    /// halved in 50 sweeps).
     pub fn separate(&mut self) {
         let before = self.total_energy();
         self.lift_clear();
