@@ -1170,25 +1170,31 @@ fn order_pairs(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
     by_low.sort_unstable();
     let sorted: Vec<(u32, u32)> = by_low.iter().map(|&(_, k)| pairs[k as usize]).collect();
     *pairs = sorted;
+    let keyed = bands_and_colours(pairs, motion, band);
+    *pairs = by_band_and_colour(pairs, &keyed);
+}
+
+/// Each pair's band (of its lower disk's height, `band` high) and colour: the first that
+/// neither disk has taken in that band (a greedy colouring, in list order; at most 31).
+fn bands_and_colours(pairs: &[(u32, u32)], motion: &[Motion], band: f64) -> Vec<(i64, u32)> {
     // Each disk's colours taken in the band `seen[k]`.
     let mut taken = vec![0u32; motion.len()];
     let mut seen = vec![i64::MIN; motion.len()];
-    let mut keyed: Vec<(i64, u32)> = Vec::with_capacity(pairs.len());
-    for &(i, j) in pairs.iter() {
-        let b = (low(&(i, j)) / band).floor() as i64;
-        for d in [i as usize, j as usize] {
+    let mut keyed = Vec::with_capacity(pairs.len());
+    for &(i, j) in pairs {
+        let (iu, ju) = (i as usize, j as usize);
+        let b = (motion[iu].y.min(motion[ju].y) / band).floor() as i64;
+        for d in [iu, ju] {
             if seen[d] != b {
                 (seen[d], taken[d]) = (b, 0);
             }
         }
-        let colour = (!(taken[i as usize] | taken[j as usize]))
-            .trailing_zeros()
-            .min(31);
-        taken[i as usize] |= 1 << colour;
-        taken[j as usize] |= 1 << colour;
+        let colour = (!(taken[iu] | taken[ju])).trailing_zeros().min(31);
+        taken[iu] |= 1 << colour;
+        taken[ju] |= 1 << colour;
         keyed.push((b, colour));
     }
-    *pairs = by_band_and_colour(pairs, &keyed);
+    keyed
 }
 
 /// `pairs` ordered by (band, colour) of `keyed`, in list order within each: the bands come in
@@ -1324,23 +1330,10 @@ mod tests {
     fn order_pairs_by_sorts(pairs: &mut Vec<(u32, u32)>, motion: &[Motion], band: f64) {
         let low = |&(i, j): &(u32, u32)| motion[i as usize].y.min(motion[j as usize].y);
         pairs.sort_by(|p, q| low(p).total_cmp(&low(q)));
-        let mut taken = vec![0u32; motion.len()];
-        let mut seen = vec![i64::MIN; motion.len()];
-        let mut keyed: Vec<(i64, u32, u32)> = Vec::with_capacity(pairs.len());
-        for (k, &(i, j)) in pairs.iter().enumerate() {
-            let b = (low(&(i, j)) / band).floor() as i64;
-            for d in [i as usize, j as usize] {
-                if seen[d] != b {
-                    (seen[d], taken[d]) = (b, 0);
-                }
-            }
-            let colour = (!(taken[i as usize] | taken[j as usize]))
-                .trailing_zeros()
-                .min(31);
-            taken[i as usize] |= 1 << colour;
-            taken[j as usize] |= 1 << colour;
-            keyed.push((b, colour, k as u32));
-        }
+        let mut keyed: Vec<(i64, u32, u32)> = (bands_and_colours(pairs, motion, band).iter())
+            .enumerate()
+            .map(|(k, &(b, colour))| (b, colour, k as u32))
+            .collect();
         keyed.sort_unstable();
         *pairs = keyed.iter().map(|&(_, _, k)| pairs[k as usize]).collect();
     }
