@@ -311,12 +311,20 @@ impl<F: Flight> Handover<F> {
                 )?))
             }
             Part::Dense(c) => {
+                // The separation's lifts are made for the exact engine: in a tall bed they add
+                // up to a push of the whole bed. A refused hand-back undoes them.
+                let before = c.state();
                 c.separate();
                 let disks = self.disks_at(tau);
                 match Simulation::new(self.flight, &scene, disks) {
                     Ok(sim) => Part::Exact(Box::new(sim)),
-                    // Not separable now (a deep overlap): contact dynamics carries on.
-                    Err(_) => return Ok(()),
+                    // Not separable now (a deep overlap): contact dynamics carries on as it was.
+                    Err(_) => {
+                        if let Part::Dense(c) = &mut self.part {
+                            c.restore(before)?;
+                        }
+                        return Ok(());
+                    }
                 }
             }
         };

@@ -439,7 +439,9 @@ impl<F: Flight> Contact<F> {
         }
     }
 
-    /// Puts a saved state into an engine built for the same scene; refuses one of another shape.
+    /// Puts a saved state into an engine built for the same scene (a checkpoint's, or the one
+    /// before a separation whose hand-back was refused); refuses one of another shape. The run
+    /// then goes on bit for bit as from the saved state.
     pub fn restore(&mut self, state: ContactState) -> Result<()> {
         let n = self.disks.len();
         let d = &state.disks;
