@@ -2,7 +2,7 @@
 //! in closed form: the floor's impulse balances weight and momentum to round-off, a dropped disk
 //! rebounds to e² of its height as the step shrinks (Newton's law), a disk sliding on a rough
 //! floor slows at μg and rolls on at v₀/(1 + q) (Coulomb), a bed on a static floor rests on it
-//! without sinking, and a run repeats bit for bit.
+//! without sinking, a separation undone leaves the run as it was, and a run repeats bit for bit.
 
 use crate::common::{momentum_y, same_run};
 use vibrobed::engine::Scene;
