@@ -108,14 +108,14 @@ enum Kind {
     Lid,
 }
 
-/// One contact of a step: disk `i` against disk `j`, or against a boundary (`j` is then one past
-/// the last disk, an entry of the solve that never moves); unit normal `n` from `j` (or the
-/// boundary) to `i`.
+/// One contact of a step, as the solve reads it: disk `i` against disk `j`, or against a
+/// boundary (`j` is then one past the last disk, an entry of the solve that never moves); unit
+/// normal `n` from `j` (or the boundary) to `i`. A row goes straight into the quads
+/// ([`quads::Packer`]); what the booking needs besides is its [`Tag`].
 #[derive(Debug, Clone, Copy)]
 struct Row {
     i: u32,
     j: u32,
-    kind: Kind,
     n: (f64, f64),
     /// The boundary's velocity (0 for pairs and fixed boundaries).
     vb: (f64, f64),
@@ -130,15 +130,21 @@ struct Row {
     mt: f64,
     /// Lower bound on the normal relative velocity after the step.
     target: f64,
-    /// Whether the bound is a rebound by Newton's law (not closing to touching).
-    bounce: bool,
     /// Coulomb's coefficient (0: smooth).
     mu: f64,
-    /// Accumulated impulses along the normal and the tangent.
+    /// Accumulated impulses along the normal and the tangent (the warm start).
     pn: f64,
     pt: f64,
-    /// Where the impulses are kept for the next step's warm start: the Verlet list's index for a
-    /// pair, the disk's number for the floor (`NONE`: not kept).
+}
+
+/// What the booking needs of a step's row beyond its impulses: what it touches, whether its
+/// bound is a rebound by Newton's law (not closing to touching), and where its impulses are kept
+/// for the next step's warm start (the Verlet list's index for a pair, the disk's number for the
+/// floor; `NONE`: not kept).
+#[derive(Debug, Clone, Copy)]
+struct Tag {
+    kind: Kind,
+    bounce: bool,
     slot: u32,
 }
 
@@ -221,9 +227,10 @@ pub struct Contact<F: Flight> {
     warm_floor: Vec<(f64, f64)>,
     built_x: Vec<f64>,
     built_y: Vec<f64>,
-    rows: Vec<Row>,
-    /// The rows packed for the sweep ([`quads`]), and how the sweep runs on this processor.
+    /// The step's rows packed for the sweep ([`quads`]), each row's tag, and how the sweep runs
+    /// on this processor.
     quads: Vec<quads::Quad>,
+    tags: Vec<Tag>,
     lanes: Lanes,
     /// The step's overlaps and their pseudo-velocities ([`recovery`]).
     recovery: recovery::Recovery,
@@ -353,8 +360,8 @@ impl<F: Flight> Contact<F> {
             warm_floor: vec![(0.0, 0.0); n],
             built_x: vec![0.0; n],
             built_y: vec![0.0; n],
-            rows: Vec::new(),
             quads: Vec::new(),
+            tags: Vec::new(),
             lanes: Lanes::found(),
             recovery: recovery::Recovery::new(n, a_min),
             vel: vec![[0.0; 4]; n + 1],
@@ -681,6 +688,7 @@ impl<F: Flight> Contact<F> {
         for m in &mut self.disks.motion {
             m.vy -= g * dt;
         }
+        self.load_velocities();
         self.gather_rows(t0, t1, warm_scale);
         self.solve();
         self.recovery.solve();
@@ -738,8 +746,8 @@ impl<F: Flight> Contact<F> {
             }
         }
         let mut held = [0u64; 4];
-        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
-            held[r.kind as usize] += 1;
+        for p in quads::pushing(&self.quads) {
+            held[self.tags[p.row as usize].kind as usize] += 1;
         }
         self.asleep = Some(Asleep { held, slide });
         self.at_rest = n;
@@ -876,11 +884,22 @@ impl<F: Flight> Contact<F> {
         2.0 * (self.g() + shake) * self.dt
     }
 
-    /// The contacts that can close within the step from `t0` to `t1`.
+    /// The contacts that can close within the step from `t0` to `t1`, packed for the sweep as
+    /// they are gathered (their warm starts applied to the solve's velocities).
     fn gather_rows(&mut self, t0: f64, t1: f64, warm_scale: f64) {
         let dt = self.dt;
-        let mut rows = std::mem::take(&mut self.rows);
-        rows.clear();
+        let (mut quads, mut vel) = (
+            std::mem::take(&mut self.quads),
+            std::mem::take(&mut self.vel),
+        );
+        let mut tags = std::mem::take(&mut self.tags);
+        tags.clear();
+        let mut rows = quads::Packer::new(
+            &mut quads,
+            &mut vel,
+            self.disks.len() as u32,
+            self.spin_factor,
+        );
         let mut recovery = std::mem::take(&mut self.recovery);
         recovery.clear();
         let vmax = (self.disks.motion.iter())
@@ -937,10 +956,9 @@ impl<F: Flight> Contact<F> {
                 };
                 let [wi, wj, wn, wt, mn, mt] = inertia.of(mass, f64::INFINITY);
                 recovery.add((i as u32, n_disks), n, (wi, wj, mn), gap, dt);
-                rows.push(Row {
+                rows.push(&Row {
                     i: i as u32,
                     j: n_disks,
-                    kind,
                     n,
                     vb,
                     wi,
@@ -950,10 +968,13 @@ impl<F: Flight> Contact<F> {
                     mn,
                     mt,
                     target: bound.target,
-                    bounce: bound.bounce,
                     mu,
                     pn,
                     pt,
+                });
+                tags.push(Tag {
+                    kind,
+                    bounce: bound.bounce,
                     slot,
                 });
             };
@@ -1014,10 +1035,9 @@ impl<F: Flight> Contact<F> {
             let (pn, pt) = (pn * warm_scale, pt * warm_scale);
             let bound = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
             recovery.add((i, j), n, (wi, wj, mn), gap, dt);
-            rows.push(Row {
+            rows.push(&Row {
                 i,
                 j,
-                kind: Kind::Pair,
                 n,
                 vb: (0.0, 0.0),
                 wi,
@@ -1027,21 +1047,23 @@ impl<F: Flight> Contact<F> {
                 mn,
                 mt,
                 target: bound.target,
-                bounce: bound.bounce,
                 mu: mu_pair,
                 pn,
                 pt,
+            });
+            tags.push(Tag {
+                kind: Kind::Pair,
+                bounce: bound.bounce,
                 slot: k as u32,
             });
         }
-        self.rows = rows;
+        rows.finish();
+        (self.quads, self.vel, self.tags) = (quads, vel, tags);
         self.recovery = recovery;
     }
 
-    /// Projected Gauss–Seidel over the step's contacts, from their warm-start impulses, on the
-    /// solve's copy of the velocities and rim speeds, written back at the end.
-    fn solve(&mut self) {
-        let n = self.disks.len();
+    /// The solve's copy of the disks' velocities and rim speeds.
+    fn load_velocities(&mut self) {
         for (v, m) in self.vel.iter_mut().zip(&self.disks.motion) {
             (v[0], v[1]) = (m.vx, m.vy);
         }
@@ -1050,8 +1072,13 @@ impl<F: Flight> Contact<F> {
                 self.vel[k][2] = w * self.disks.radius[k];
             }
         }
+    }
+
+    /// Projected Gauss–Seidel over the step's contacts, from their warm-start impulses, on the
+    /// solve's copy of the velocities and rim speeds, written back at the end.
+    fn solve(&mut self) {
+        let n = self.disks.len();
         let sf = self.spin_factor;
-        quads::pack(&self.rows, n as u32, &mut self.quads, &mut self.vel, sf);
         let tol = TOLERANCE * (0.5 * self.rest_speed(true)).max(1e-12);
         for _ in 0..MAX_SWEEPS {
             self.sweeps += 1;
@@ -1059,7 +1086,6 @@ impl<F: Flight> Contact<F> {
                 break;
             }
         }
-        quads::unpack(&self.quads, &mut self.rows);
         for (m, v) in self.disks.motion.iter_mut().zip(&self.vel[..n]) {
             (m.vx, m.vy) = (v[0], v[1]);
         }
@@ -1073,20 +1099,21 @@ impl<F: Flight> Contact<F> {
         self.warm.iter_mut().for_each(|w| *w = (0.0, 0.0));
         self.pushed.iter_mut().for_each(|p| *p = false);
         self.injected_step = 0.0;
-        for r in self.rows.iter().filter(|r| r.pn > 0.0) {
-            self.stats.rebounds += r.bounce as u64;
+        for r in quads::pushing(&self.quads) {
+            let tag = self.tags[r.row as usize];
+            self.stats.rebounds += tag.bounce as u64;
             self.pushed[r.i as usize] = true;
             self.pushed[(r.j as usize).min(n)] = true;
-            match r.kind {
+            match tag.kind {
                 Kind::Pair => {
-                    self.warm[r.slot as usize] = (r.pn, r.pt);
+                    self.warm[tag.slot as usize] = (r.pn, r.pt);
                     self.counts.pair += 1;
-                    self.virial += self.separations[r.slot as usize][2] * r.pn;
+                    self.virial += self.separations[tag.slot as usize][2] * r.pn;
                 }
                 Kind::Floor => {
                     self.warm_floor[r.i as usize] = (r.pn, r.pt);
                     self.counts.floor += 1;
-                    let work = r.pn * r.vb.1;
+                    let work = r.pn * r.vby;
                     self.flow.injected += work;
                     self.injected_step += work;
                     self.flow.floor_impulse += r.pn;
@@ -1306,7 +1333,8 @@ impl<F: Flight> Integrator for Contact<F> {
                 + 8 * self.pairs.capacity()
                 + 16 * (self.warm.capacity() + self.warm_floor.capacity())
                 + 8 * (self.built_x.capacity() + self.built_y.capacity())
-                + std::mem::size_of::<Row>() * self.rows.capacity(),
+                + std::mem::size_of::<quads::Quad>() * self.quads.capacity()
+                + std::mem::size_of::<Tag>() * self.tags.capacity(),
             threads: Some(1),
         }
     }

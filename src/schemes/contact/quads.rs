@@ -108,51 +108,98 @@ impl Quad {
     }
 }
 
-/// Packs `rows`, in order, into `quads`: a row that would share a disk with the quad being
-/// filled, or find it full, starts the next. `boundary`: the velocities' entry of a boundary.
-/// Each row's impulses are applied as they are as it is packed (the warm start, in the rows'
-/// order; `vel` and `sf` as [`sweep`]'s).
-pub(super) fn pack(
-    rows: &[Row],
+/// Packs a step's rows, as they are gathered, into quads: a row that would share a disk with
+/// the quad being filled, or find it full, starts the next. Each row's impulses are applied as
+/// it is packed (the warm start, in the rows' order; `vel` and `sf` as [`sweep`]'s). The rows
+/// themselves are not kept: the quads hold what the sweep and the booking read, and each lane
+/// its row's number in the order pushed.
+pub(super) struct Packer<'a> {
+    quads: &'a mut Vec<Quad>,
+    vel: &'a mut [[f64; 4]],
+    /// The velocities' entry of a boundary.
     boundary: u32,
-    quads: &mut Vec<Quad>,
-    vel: &mut [[f64; 4]],
     sf: f64,
-) {
-    // The quads are filled in place (a new one copied in only when the last step had fewer),
-    // and a quad's lanes left over are emptied when the next one starts.
-    let mut used = 0;
-    let mut lanes = 4;
-    for (k, r) in rows.iter().enumerate() {
-        if lanes == 4 || quads[used - 1].touches(lanes, r, boundary) {
-            if used > 0 {
-                (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
-            }
-            if used == quads.len() {
-                quads.push(Quad::empty(boundary));
-            }
-            used += 1;
-            lanes = 0;
-        }
-        let q = &mut quads[used - 1];
-        q.set(lanes, r, k as u32);
-        apply(q, lanes, vel, sf, r.pn, r.pt);
-        lanes += 1;
-    }
-    if used > 0 {
-        (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
-    }
-    quads.truncate(used);
+    /// Quads filled so far, lanes of the last, rows pushed.
+    used: usize,
+    lanes: usize,
+    rows: u32,
 }
 
-/// The quads' impulses back to their rows.
-pub(super) fn unpack(quads: &[Quad], rows: &mut [Row]) {
-    for q in quads {
-        for l in (0..4).filter(|&l| q.row[l] != NO_ROW) {
-            let r = &mut rows[q.row[l] as usize];
-            (r.pn, r.pt) = (q.pn[l], q.pt[l]);
+impl<'a> Packer<'a> {
+    /// Packs into `quads` in place (a new quad copied in only when the last step had fewer).
+    pub(super) fn new(
+        quads: &'a mut Vec<Quad>,
+        vel: &'a mut [[f64; 4]],
+        boundary: u32,
+        sf: f64,
+    ) -> Packer<'a> {
+        Packer {
+            quads,
+            vel,
+            boundary,
+            sf,
+            used: 0,
+            lanes: 4,
+            rows: 0,
         }
     }
+
+    /// The next row.
+    #[inline]
+    pub(super) fn push(&mut self, r: &Row) {
+        let boundary = self.boundary;
+        if self.lanes == 4 || self.quads[self.used - 1].touches(self.lanes, r, boundary) {
+            if self.used > 0 {
+                (self.lanes..4).for_each(|l| self.quads[self.used - 1].clear(l, boundary));
+            }
+            if self.used == self.quads.len() {
+                self.quads.push(Quad::empty(boundary));
+            }
+            self.used += 1;
+            self.lanes = 0;
+        }
+        let q = &mut self.quads[self.used - 1];
+        q.set(self.lanes, r, self.rows);
+        apply(q, self.lanes, self.vel, self.sf, r.pn, r.pt);
+        self.lanes += 1;
+        self.rows += 1;
+    }
+
+    /// Empties the last quad's lanes left over and drops the quads not filled.
+    pub(super) fn finish(self) {
+        if self.used > 0 {
+            (self.lanes..4).for_each(|l| self.quads[self.used - 1].clear(l, self.boundary));
+        }
+        self.quads.truncate(self.used);
+    }
+}
+
+/// A contact that pushed in the solve: its row's number (in the order pushed), its disks, its
+/// impulses, and the boundary's vertical velocity (0 for pairs).
+pub(super) struct Pushed {
+    pub row: u32,
+    pub i: u32,
+    pub j: u32,
+    pub pn: f64,
+    pub pt: f64,
+    pub vby: f64,
+}
+
+/// The contacts whose normal impulse is positive, in the rows' order (the quads hold them in
+/// that order, a quad's empty lanes last).
+pub(super) fn pushing(quads: &[Quad]) -> impl Iterator<Item = Pushed> + '_ {
+    quads.iter().flat_map(|q| {
+        (0..4)
+            .filter(|&l| q.row[l] != NO_ROW && q.pn[l] > 0.0)
+            .map(|l| Pushed {
+                row: q.row[l],
+                i: q.i[l],
+                j: q.j[l],
+                pn: q.pn[l],
+                pt: q.pt[l],
+                vby: q.vby[l],
+            })
+    })
 }
 
 /// One Gauss–Seidel sweep: each contact's impulses set so that it meets its bound (the normal
@@ -329,9 +376,26 @@ unsafe fn sweep_avx2(quads: &mut [Quad], vel: &mut [[f64; 4]], sf: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Kind, Row};
+    use super::super::Row;
     use super::*;
     use rand::{Rng, SeedableRng};
+
+    /// Packs `rows` in order ([`Packer`]).
+    fn pack(rows: &[Row], boundary: u32, quads: &mut Vec<Quad>, vel: &mut [[f64; 4]], sf: f64) {
+        let mut packer = Packer::new(quads, vel, boundary, sf);
+        rows.iter().for_each(|r| packer.push(r));
+        packer.finish();
+    }
+
+    /// The quads' impulses back to their rows.
+    fn unpack(quads: &[Quad], rows: &mut [Row]) {
+        for q in quads {
+            for l in (0..4).filter(|&l| q.row[l] != NO_ROW) {
+                let r = &mut rows[q.row[l] as usize];
+                (r.pn, r.pt) = (q.pn[l], q.pt[l]);
+            }
+        }
+    }
 
     /// The sweep as one loop over the rows in order, one at a time (the sweep before quads).
     fn sweep_rows(rows: &mut [Row], vel: &mut [[f64; 4]], sf: f64) -> f64 {
@@ -375,7 +439,6 @@ mod tests {
             Row {
                 i,
                 j,
-                kind: if j == n { Kind::Floor } else { Kind::Pair },
                 n: (angle.cos(), angle.sin()),
                 vb: if j == n {
                     (0.0, rng.random_range(-0.1..0.1))
@@ -389,7 +452,6 @@ mod tests {
                 mn: 1.0 / w,
                 mt: 1.0 / wt,
                 target: rng.random_range(-0.2..0.2),
-                bounce: false,
                 mu,
                 pn: if rng.random_bool(0.5) {
                     rng.random_range(0.0..0.3)
@@ -401,7 +463,6 @@ mod tests {
                 } else {
                     0.0
                 },
-                slot: 0,
             }
         };
         for i in 0..n {
@@ -499,6 +560,18 @@ mod tests {
                     .collect()
             };
             assert_eq!(impulses(&got), impulses(&rows), "case {case}: impulses");
+            let pushed: Vec<(u32, u64, u64)> = pushing(quads_one)
+                .map(|p| (p.row, p.pn.to_bits(), p.pt.to_bits()))
+                .collect();
+            let want: Vec<(u32, u64, u64)> = (rows.iter().enumerate())
+                .filter(|(_, r)| r.pn > 0.0)
+                .map(|(k, r)| (k as u32, r.pn.to_bits(), r.pt.to_bits()))
+                .collect();
+            assert!(!want.is_empty(), "case {case}: some contact pushes");
+            assert_eq!(
+                pushed, want,
+                "case {case}: the contacts that pushed, in order"
+            );
             if avx2 {
                 assert_eq!(
                     bits(&vel_four),
