@@ -48,7 +48,6 @@ use crate::physics::walls::{SideBounds, Top};
 use crate::platform::cpu::Lanes;
 use crate::scenario::Engine;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Gauss–Seidel sweeps per step, at most. A bed of a few layers does not converge in a step
@@ -176,6 +175,45 @@ impl Inertia {
             self.masses = (mi, mj);
         }
         self.w
+    }
+}
+
+/// The impulses of the pairs that pushed at the last step, carried over a rebuild of the Verlet
+/// list: each pair under its lower-numbered disk, the disks' entries in one array (a pair is
+/// found among the few of its disk, without hashing).
+struct Carried {
+    /// Where each disk's entries start (one more for the end).
+    start: Vec<u32>,
+    /// The other disk and the impulses.
+    entries: Vec<(u32, (f64, f64))>,
+}
+
+impl Carried {
+    /// The pushing pairs of `pairs` (impulses `warm`) among `n` disks.
+    fn new(n: usize, pairs: &[(u32, u32)], warm: &[(f64, f64)]) -> Carried {
+        let pushing = || (pairs.iter().zip(warm)).filter(|(_, p)| p.0 > 0.0);
+        let mut start = vec![0u32; n + 1];
+        for (&(i, j), _) in pushing() {
+            start[i.min(j) as usize + 1] += 1;
+        }
+        for k in 0..n {
+            start[k + 1] += start[k];
+        }
+        let mut entries = vec![(0, (0.0, 0.0)); start[n] as usize];
+        let mut at = start.clone();
+        for (&(i, j), &p) in pushing() {
+            let low = i.min(j) as usize;
+            entries[at[low] as usize] = (i.max(j), p);
+            at[low] += 1;
+        }
+        Carried { start, entries }
+    }
+
+    /// The impulses of the pair of disks `i` and `j` (either way round), if it pushed.
+    fn impulses(&self, (i, j): (u32, u32)) -> Option<(f64, f64)> {
+        let (low, high) = (i.min(j) as usize, i.max(j));
+        let own = &self.entries[self.start[low] as usize..self.start[low + 1] as usize];
+        own.iter().find(|e| e.0 == high).map(|e| e.1)
     }
 }
 
@@ -620,10 +658,7 @@ impl<F: Flight> Contact<F> {
     /// Rebuilds the cell list and the Verlet list, carrying each kept pair's impulses over.
     fn rebuild(&mut self) {
         let n = self.disks.len();
-        let old: HashMap<(u32, u32), (f64, f64), ahash::RandomState> = (self.pairs.iter().copied())
-            .zip(self.warm.iter().copied())
-            .filter(|(_, p)| p.0 > 0.0)
-            .collect();
+        let old = Carried::new(n, &self.pairs, &self.warm);
         let motion = &self.disks.motion;
         self.cells.build(
             n,
@@ -645,11 +680,8 @@ impl<F: Flight> Contact<F> {
         });
         order_pairs(&mut self.pairs, motion, 2.0 * self.disks.radius_range().1);
         self.warm.clear();
-        self.warm.extend(
-            (self.pairs.iter())
-                .map(|&(i, j)| old.get(&(i, j)).or(old.get(&(j, i))).copied())
-                .map(|p| p.unwrap_or((0.0, 0.0))),
-        );
+        self.warm
+            .extend((self.pairs.iter()).map(|&pair| old.impulses(pair).unwrap_or((0.0, 0.0))));
         for (k, m) in motion.iter().enumerate() {
             (self.built_x[k], self.built_y[k]) = (m.x, m.y);
         }
