@@ -1400,6 +1400,41 @@ mod tests {
         *pairs = keyed.iter().map(|&(_, _, k)| pairs[k as usize]).collect();
     }
 
+    /// A rebuild carries the impulses of exactly the pairs that pushed, found either way round,
+    /// and of no other pair.
+    #[test]
+    fn carried_impulses_are_the_pushing_pairs_own() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let n = 50u32;
+        let mut pairs = Vec::new();
+        for i in 0..n {
+            for j in (i + 1)..n {
+                if rng.random_bool(0.1) {
+                    pairs.push(if rng.random_bool(0.5) { (i, j) } else { (j, i) });
+                }
+            }
+        }
+        let warm: Vec<(f64, f64)> = (0..pairs.len())
+            .map(|k| match k % 3 {
+                0 => (0.0, 0.0),
+                _ => (1.0 + k as f64, -(k as f64)),
+            })
+            .collect();
+        let carried = Carried::new(n as usize, &pairs, &warm);
+        for (&(i, j), &p) in pairs.iter().zip(&warm) {
+            let want = (p.0 > 0.0).then_some(p);
+            assert_eq!(carried.impulses((i, j)), want);
+            assert_eq!(carried.impulses((j, i)), want);
+        }
+        let listed = |i, j| pairs.contains(&(i, j)) || pairs.contains(&(j, i));
+        for i in 0..n {
+            for j in (0..n).filter(|&j| j != i && !listed(i, j)) {
+                assert_eq!(carried.impulses((i, j)), None);
+            }
+        }
+    }
+
     /// The counting order gives the sorts' order on random beds: heights with ties, negative
     /// heights (a floor below zero), a disk in many pairs (colours up to 31), and a pair of
     /// disks whose heights are not numbers (the bands out of order).
