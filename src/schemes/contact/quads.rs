@@ -109,11 +109,10 @@ impl Quad {
 }
 
 /// Packs a step's rows into quads as they are gathered, a batch at a time: a row that would
-/// share a disk with
-/// the quad being filled, or find it full, starts the next. Each row's impulses are applied as
-/// it is packed (the warm start, in the rows' order; `vel` and `sf` as [`sweep`]'s). The rows
-/// themselves are not kept: the quads hold what the sweep and the booking read, and each lane
-/// its row's number in the order pushed.
+/// share a disk with the quad being filled, or find it full, starts the next. Each row's
+/// impulses are applied as it is packed (the warm start, in the rows' order; `vel` and `sf` as
+/// [`sweep`]'s). The rows themselves are not kept: the quads hold what the sweep and the booking
+/// read, and each lane its row's number in the order pushed.
 pub(super) struct Packer<'a> {
     quads: &'a mut Vec<Quad>,
     vel: &'a mut [[f64; 4]],
