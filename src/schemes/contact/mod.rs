@@ -95,9 +95,6 @@ pub const IMPACT_REACH: f64 = 0.012;
 /// The default step's range: from the coarse step ([`default_step`]) down to this part of it.
 pub const STEP_RANGE: f64 = 8.0;
 
-/// No disk (the other side of a boundary contact).
-const NONE: u32 = u32::MAX;
-
 /// What a contact touches, for the tallies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -136,15 +133,12 @@ struct Row {
     pt: f64,
 }
 
-/// What the booking needs of a step's row beyond its impulses: what it touches, whether its
-/// bound is a rebound by Newton's law (not closing to touching), and where its impulses are kept
-/// for the next step's warm start (the Verlet list's index for a pair, the disk's number for the
-/// floor; `NONE`: not kept).
+/// What the booking needs of a step's boundary contact beyond its impulses: what it touches,
+/// and whether its bound is a rebound by Newton's law (not closing to touching).
 #[derive(Debug, Clone, Copy)]
 struct Tag {
     kind: Kind,
     bounce: bool,
-    slot: u32,
 }
 
 /// A contact's inverse masses and effective masses (see [`Row`]), kept for the last two masses
@@ -265,9 +259,13 @@ pub struct Contact<F: Flight> {
     warm_floor: Vec<(f64, f64)>,
     built_x: Vec<f64>,
     built_y: Vec<f64>,
-    /// The step's rows packed for the sweep ([`quads`]), each row's tag, and how the sweep runs
-    /// on this processor.
-    quads: Vec<quads::Quad>,
+    /// The Verlet pairs packed for the sweep once a list ([`quads::lay_out`]; each step sets
+    /// what changes, [`quads::refresh`]), and whether each rebounds in the step; the step's
+    /// boundary contacts packed as they are gathered, with their tags; how the sweep runs on
+    /// this processor.
+    pair_quads: Vec<quads::Quad>,
+    bounces: Vec<bool>,
+    boundary_quads: Vec<quads::Quad>,
     tags: Vec<Tag>,
     lanes: Lanes,
     /// The step's overlaps and their pseudo-velocities ([`recovery`]).
@@ -398,7 +396,9 @@ impl<F: Flight> Contact<F> {
             warm_floor: vec![(0.0, 0.0); n],
             built_x: vec![0.0; n],
             built_y: vec![0.0; n],
-            quads: Vec::new(),
+            pair_quads: Vec::new(),
+            bounces: Vec::new(),
+            boundary_quads: Vec::new(),
             tags: Vec::new(),
             lanes: Lanes::found(),
             recovery: recovery::Recovery::new(n, a_min),
@@ -534,6 +534,7 @@ impl<F: Flight> Contact<F> {
             rebounds: state.rebounds,
             ..SchemeStats::default()
         };
+        self.lay_out();
         self.look_ahead();
         Ok(())
     }
@@ -685,7 +686,24 @@ impl<F: Flight> Contact<F> {
         for (k, m) in motion.iter().enumerate() {
             (self.built_x[k], self.built_y[k]) = (m.x, m.y);
         }
+        self.lay_out();
         self.counts.rebuild += 1;
+    }
+
+    /// Packs the Verlet pairs for the sweep, once a list ([`quads::lay_out`]).
+    fn lay_out(&mut self) {
+        let (mu, q) = match &self.rough {
+            Some(r) => (r.pair.mu, r.inertia_factor),
+            None => (0.0, f64::INFINITY),
+        };
+        let mut inertia = Inertia::new(1.0 + 1.0 / q);
+        let mass = &self.disks.mass;
+        let boundary = self.disks.len() as u32;
+        quads::lay_out(&self.pairs, &mut self.pair_quads, boundary, mu, |i, j| {
+            inertia.of(mass[i as usize], mass[j as usize])
+        });
+        self.bounces.clear();
+        self.bounces.resize(self.pairs.len(), false);
     }
 
     /// Whole steps up to absolute time `target`.
@@ -778,9 +796,10 @@ impl<F: Flight> Contact<F> {
             }
         }
         let mut held = [0u64; 4];
-        for p in quads::pushing(&self.quads) {
+        for p in quads::pushing(&self.boundary_quads) {
             held[self.tags[p.row as usize].kind as usize] += 1;
         }
+        held[Kind::Pair as usize] += quads::pushing(&self.pair_quads).count() as u64;
         self.asleep = Some(Asleep { held, slide });
         self.at_rest = n;
         self.rest_since = self.rest_since.or(Some(t1));
@@ -921,7 +940,7 @@ impl<F: Flight> Contact<F> {
     fn gather_rows(&mut self, t0: f64, t1: f64, warm_scale: f64) {
         let dt = self.dt;
         let (mut quads, mut vel) = (
-            std::mem::take(&mut self.quads),
+            std::mem::take(&mut self.boundary_quads),
             std::mem::take(&mut self.vel),
         );
         let mut tags = std::mem::take(&mut self.tags);
@@ -939,9 +958,9 @@ impl<F: Flight> Contact<F> {
             .fold(0.0f64, f64::max);
         let (a_min, _) = self.disks.radius_range();
         let reach = 4.0 * vmax * dt + self.g() * dt * dt + HAIR * a_min;
-        let (mu_pair, mu_floor, mu_walls, q) = match &self.rough {
-            Some(r) => (r.pair.mu, r.floor.mu, r.walls.mu, r.inertia_factor),
-            None => (0.0, 0.0, 0.0, f64::INFINITY),
+        let (mu_floor, mu_walls, q) = match &self.rough {
+            Some(r) => (r.floor.mu, r.walls.mu, r.inertia_factor),
+            None => (0.0, 0.0, f64::INFINITY),
         };
         let mut inertia = Inertia::new(1.0 + 1.0 / q);
         let rest_pair = self.rest_speed(false);
@@ -979,12 +998,12 @@ impl<F: Flight> Contact<F> {
                     e,
                     self.rest_speed(kind == Kind::Floor),
                 );
-                let (pn, pt, slot) = match kind {
+                let (pn, pt) = match kind {
                     Kind::Floor => {
                         let (pn, pt) = self.warm_floor[i];
-                        (pn * warm_scale, pt * warm_scale, i as u32)
+                        (pn * warm_scale, pt * warm_scale)
                     }
-                    _ => (0.0, 0.0, NONE),
+                    _ => (0.0, 0.0),
                 };
                 let [wi, wj, wn, wt, mn, mt] = inertia.of(mass, f64::INFINITY);
                 recovery.add((i as u32, n_disks), n, (wi, wj, mn), gap, dt);
@@ -1007,7 +1026,6 @@ impl<F: Flight> Contact<F> {
                 tags.push(Tag {
                     kind,
                     bounce: bound.bounce,
-                    slot,
                 });
             };
             if let Some((h0, hd, e)) = floor_at {
@@ -1046,51 +1064,45 @@ impl<F: Flight> Contact<F> {
                 );
             }
         }
-        self.max_overlap = deepest;
-        for (k, (&(i, j), &[dx, dy, dist])) in self.pairs.iter().zip(&self.separations).enumerate()
-        {
+        rows.finish();
+        let mut pair_quads = std::mem::take(&mut self.pair_quads);
+        let mut bounces = std::mem::take(&mut self.bounces);
+        let mut deep_overlaps = 0;
+        let this = &*self;
+        quads::refresh(&mut pair_quads, &mut vel, this.spin_factor, |k| {
+            let k = k as usize;
+            let (i, j) = this.pairs[k];
             let (iu, ju) = (i as usize, j as usize);
+            let [dx, dy, dist] = this.separations[k];
             let (mi, mj) = (d.motion[iu], d.motion[ju]);
             let s = d.radius[iu] + d.radius[ju];
             let gap = dist - s;
             if gap > reach {
-                continue;
+                bounces[k] = false;
+                return None;
             }
             let n = (dx / dist, dy / dist);
             let u = (mi.vx - mj.vx) * n.0 + (mi.vy - mj.vy) * n.1;
-            self.max_overlap = self.max_overlap.max(-gap);
+            deepest = deepest.max(-gap);
             if -gap > DEEP_OVERLAP * s {
-                self.stats.deep_overlaps += 1;
+                deep_overlaps += 1;
             }
-            let [wi, wj, wn, wt, mn, mt] = inertia.of(d.mass[iu], d.mass[ju]);
-            let (pn, pt) = self.warm[k];
-            let (pn, pt) = (pn * warm_scale, pt * warm_scale);
-            let bound = self.target(gap, 0.0, (u, 0.0), self.e, rest_pair);
+            let [wi, wj, _, _, mn, _] = inertia.of(d.mass[iu], d.mass[ju]);
+            let (pn, pt) = this.warm[k];
+            let bound = this.target(gap, 0.0, (u, 0.0), this.e, rest_pair);
             recovery.add((i, j), n, (wi, wj, mn), gap, dt);
-            rows.push(&Row {
-                i,
-                j,
+            bounces[k] = bound.bounce;
+            Some(quads::Fresh {
                 n,
-                vb: (0.0, 0.0),
-                wi,
-                wj,
-                wn,
-                wt,
-                mn,
-                mt,
                 target: bound.target,
-                mu: mu_pair,
-                pn,
-                pt,
-            });
-            tags.push(Tag {
-                kind: Kind::Pair,
-                bounce: bound.bounce,
-                slot: k as u32,
-            });
-        }
-        rows.finish();
-        (self.quads, self.vel, self.tags) = (quads, vel, tags);
+                pn: pn * warm_scale,
+                pt: pt * warm_scale,
+            })
+        });
+        self.max_overlap = deepest;
+        self.stats.deep_overlaps += deep_overlaps;
+        (self.pair_quads, self.bounces) = (pair_quads, bounces);
+        (self.boundary_quads, self.vel, self.tags) = (quads, vel, tags);
         self.recovery = recovery;
     }
 
@@ -1114,7 +1126,10 @@ impl<F: Flight> Contact<F> {
         let tol = TOLERANCE * (0.5 * self.rest_speed(true)).max(1e-12);
         for _ in 0..MAX_SWEEPS {
             self.sweeps += 1;
-            if quads::sweep(self.lanes, &mut self.quads, &mut self.vel, sf) <= tol {
+            let (lanes, vel) = (self.lanes, &mut self.vel);
+            let boundaries = quads::sweep(lanes, &mut self.boundary_quads, vel, sf);
+            let pairs = quads::sweep(lanes, &mut self.pair_quads, vel, sf);
+            if quads::larger(pairs, boundaries) <= tol {
                 break;
             }
         }
@@ -1131,17 +1146,13 @@ impl<F: Flight> Contact<F> {
         self.warm.iter_mut().for_each(|w| *w = (0.0, 0.0));
         self.pushed.iter_mut().for_each(|p| *p = false);
         self.injected_step = 0.0;
-        for r in quads::pushing(&self.quads) {
+        for r in quads::pushing(&self.boundary_quads) {
             let tag = self.tags[r.row as usize];
             self.stats.rebounds += tag.bounce as u64;
             self.pushed[r.i as usize] = true;
             self.pushed[(r.j as usize).min(n)] = true;
             match tag.kind {
-                Kind::Pair => {
-                    self.warm[tag.slot as usize] = (r.pn, r.pt);
-                    self.counts.pair += 1;
-                    self.virial += self.separations[tag.slot as usize][2] * r.pn;
-                }
+                Kind::Pair => unreachable!("pairs are laid out apart"),
                 Kind::Floor => {
                     self.warm_floor[r.i as usize] = (r.pn, r.pt);
                     self.counts.floor += 1;
@@ -1153,6 +1164,15 @@ impl<F: Flight> Contact<F> {
                 Kind::Wall => self.counts.wall += 1,
                 Kind::Lid => self.counts.lid += 1,
             }
+        }
+        for r in quads::pushing(&self.pair_quads) {
+            let k = r.row as usize;
+            self.stats.rebounds += self.bounces[k] as u64;
+            self.pushed[r.i as usize] = true;
+            self.pushed[r.j as usize] = true;
+            self.warm[k] = (r.pn, r.pt);
+            self.counts.pair += 1;
+            self.virial += self.separations[k][2] * r.pn;
         }
         if let Some(spins) = &mut self.disks.spins {
             for (k, v) in self.vel[..spins.omega.len()].iter().enumerate() {
@@ -1365,7 +1385,9 @@ impl<F: Flight> Integrator for Contact<F> {
                 + 8 * self.pairs.capacity()
                 + 16 * (self.warm.capacity() + self.warm_floor.capacity())
                 + 8 * (self.built_x.capacity() + self.built_y.capacity())
-                + std::mem::size_of::<quads::Quad>() * self.quads.capacity()
+                + std::mem::size_of::<quads::Quad>()
+                    * (self.pair_quads.capacity() + self.boundary_quads.capacity())
+                + self.bounces.capacity()
                 + std::mem::size_of::<Tag>() * self.tags.capacity(),
             threads: Some(1),
         }

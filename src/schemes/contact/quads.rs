@@ -99,12 +99,114 @@ impl Quad {
         (self.i[l], self.j[l], self.row[l]) = (r.i, r.j, row);
     }
 
-    /// Whether the lanes before `lanes` touch a disk of `r` (`boundary` is no disk).
-    fn touches(&self, lanes: usize, r: &Row, boundary: u32) -> bool {
+    /// Whether the lanes before `lanes` touch disk `i` or `j` (`boundary` is no disk).
+    fn touches(&self, lanes: usize, (ri, rj): (u32, u32), boundary: u32) -> bool {
         (0..lanes).any(|l| {
             let (i, j) = (self.i[l], self.j[l]);
-            i == r.i || j == r.i || (r.j != boundary && (i == r.j || j == r.j))
+            i == ri || j == ri || (rj != boundary && (i == rj || j == rj))
         })
+    }
+}
+
+/// Where the next contact of disks `(i, j)` goes: the last quad's next lane, or a new quad's
+/// first where that one is full or would share a disk (`used` quads filled, `lanes` lanes of the
+/// last; a quad's empty lanes cleared as it is left).
+fn place(
+    quads: &mut Vec<Quad>,
+    (used, lanes): (&mut usize, &mut usize),
+    ij: (u32, u32),
+    boundary: u32,
+) -> (usize, usize) {
+    if *lanes == 4 || quads[*used - 1].touches(*lanes, ij, boundary) {
+        if *used > 0 {
+            (*lanes..4).for_each(|l| quads[*used - 1].clear(l, boundary));
+        }
+        if *used == quads.len() {
+            quads.push(Quad::empty(boundary));
+        }
+        *used += 1;
+        *lanes = 0;
+    }
+    *lanes += 1;
+    (*used - 1, *lanes - 1)
+}
+
+/// The Verlet pairs of a list, packed into quads once for all the steps until the next list, in
+/// the list's order (the sweep's): each lane holds its pair's disks, inverse and effective
+/// masses (`inertia`, from the disks' numbers: `[wi, wj, wn, wt, mn, mt]` as a [`Row`]'s) and
+/// Coulomb's coefficient `mu`, and as its row the pair's index in the list. What a step changes
+/// is set by [`refresh`].
+pub(super) fn lay_out(
+    pairs: &[(u32, u32)],
+    quads: &mut Vec<Quad>,
+    boundary: u32,
+    mu: f64,
+    mut inertia: impl FnMut(u32, u32) -> [f64; 6],
+) {
+    let (mut used, mut lanes) = (0, 4);
+    for (k, &(i, j)) in pairs.iter().enumerate() {
+        let (at, l) = place(quads, (&mut used, &mut lanes), (i, j), boundary);
+        let [wi, wj, wn, wt, mn, mt] = inertia(i, j);
+        quads[at].set(
+            l,
+            &Row {
+                i,
+                j,
+                n: (0.0, 0.0),
+                vb: (0.0, 0.0),
+                wi,
+                wj,
+                wn,
+                wt,
+                mn,
+                mt,
+                target: f64::NEG_INFINITY,
+                mu,
+                pn: 0.0,
+                pt: 0.0,
+            },
+            k as u32,
+        );
+    }
+    if used > 0 {
+        (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
+    }
+    quads.truncate(used);
+}
+
+/// What a step sets of a laid-out pair that can close within it: its normal, the bound on its
+/// normal velocity after the step, and its warm-start impulses.
+pub(super) struct Fresh {
+    pub n: (f64, f64),
+    pub target: f64,
+    pub pn: f64,
+    pub pt: f64,
+}
+
+/// Sets each laid-out pair's lane for the step, in the list's order, from `fresh` (given the
+/// pair's index) and applies its warm start to `vel` as [`Packer`] does. A pair that cannot
+/// close within the step (`None`) neither pushes nor keeps impulses: its bound is −∞, which no
+/// relative velocity falls below, so that its lane changes nothing in the sweep.
+pub(super) fn refresh(
+    quads: &mut [Quad],
+    vel: &mut [[f64; 4]],
+    sf: f64,
+    mut fresh: impl FnMut(u32) -> Option<Fresh>,
+) {
+    for q in quads {
+        for l in 0..4 {
+            if q.row[l] == NO_ROW {
+                continue;
+            }
+            match fresh(q.row[l]) {
+                Some(f) => {
+                    (q.nx[l], q.ny[l]) = f.n;
+                    (q.target[l], q.pn[l], q.pt[l]) = (f.target, f.pn, f.pt);
+                    apply(q, l, vel, sf, f.pn, f.pt);
+                }
+                None => (q.target[l], q.pn[l], q.pt[l]) = (f64::NEG_INFINITY, 0.0, 0.0),
+            }
+        }
     }
 }
 
@@ -174,21 +276,11 @@ impl<'a> Packer<'a> {
     /// Packs one row.
     #[inline(always)]
     fn pack(&mut self, r: &Row) {
-        let boundary = self.boundary;
-        if self.lanes == 4 || self.quads[self.used - 1].touches(self.lanes, r, boundary) {
-            if self.used > 0 {
-                (self.lanes..4).for_each(|l| self.quads[self.used - 1].clear(l, boundary));
-            }
-            if self.used == self.quads.len() {
-                self.quads.push(Quad::empty(boundary));
-            }
-            self.used += 1;
-            self.lanes = 0;
-        }
-        let q = &mut self.quads[self.used - 1];
-        q.set(self.lanes, r, self.rows);
-        apply(q, self.lanes, self.vel, self.sf, r.pn, r.pt);
-        self.lanes += 1;
+        let lanes = (&mut self.used, &mut self.lanes);
+        let (at, l) = place(self.quads, lanes, (r.i, r.j), self.boundary);
+        let q = &mut self.quads[at];
+        q.set(l, r, self.rows);
+        apply(q, l, self.vel, self.sf, r.pn, r.pt);
         self.rows += 1;
     }
 
@@ -268,7 +360,7 @@ fn sweep_one_by_one(quads: &mut [Quad], vel: &mut [[f64; 4]], sf: f64) -> f64 {
 /// `a` if it is the larger, else `b` (so `b` where either is a NaN, and where they are zeros of
 /// either sign): the rule of the processor's `max`, in both paths.
 #[inline(always)]
-fn larger(a: f64, b: f64) -> f64 {
+pub(super) fn larger(a: f64, b: f64) -> f64 {
     if a > b {
         a
     } else {
