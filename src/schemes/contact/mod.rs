@@ -28,11 +28,14 @@
 //! On one thread: the Gauss–Seidel sweep takes the contacts in one order (the boundaries by disk
 //! number, then the pairs from the lowest up, so that a stack's weight reaches the floor within a
 //! sweep), four at a time where four in a row share no disk (`quads`), and runs repeat bit for
-//! bit on any processor.
+//! bit on any processor. The pairs are laid out in quads once a Verlet list (`pairs`; smooth
+//! disks' in quads of what a smooth pair reads, `smooth`), the boundaries each step.
 
+mod pairs;
 mod quads;
 mod recovery;
 mod separations;
+mod smooth;
 
 use super::cells::CellList;
 use super::time_step::{default_dt, DEEP_OVERLAP, DEFAULT_SKIN};
@@ -259,11 +262,11 @@ pub struct Contact<F: Flight> {
     warm_floor: Vec<(f64, f64)>,
     built_x: Vec<f64>,
     built_y: Vec<f64>,
-    /// The Verlet pairs packed for the sweep once a list ([`quads::lay_out`]; each step sets
-    /// what changes, [`quads::refresh`]), and whether each rebounds in the step; the step's
+    /// The Verlet pairs packed for the sweep once a list ([`pairs::lay_out`]; each step sets
+    /// what changes, [`pairs::refresh`]), and whether each rebounds in the step; the step's
     /// boundary contacts packed as they are gathered, with their tags; how the sweep runs on
     /// this processor.
-    pair_quads: Vec<quads::Quad>,
+    pair_quads: pairs::Pairs,
     bounces: Vec<bool>,
     boundary_quads: Vec<quads::Quad>,
     tags: Vec<Tag>,
@@ -396,7 +399,7 @@ impl<F: Flight> Contact<F> {
             warm_floor: vec![(0.0, 0.0); n],
             built_x: vec![0.0; n],
             built_y: vec![0.0; n],
-            pair_quads: Vec::new(),
+            pair_quads: pairs::Pairs::new(scene.rough.is_some()),
             bounces: Vec::new(),
             boundary_quads: Vec::new(),
             tags: Vec::new(),
@@ -690,7 +693,7 @@ impl<F: Flight> Contact<F> {
         self.counts.rebuild += 1;
     }
 
-    /// Packs the Verlet pairs for the sweep, once a list ([`quads::lay_out`]).
+    /// Packs the Verlet pairs for the sweep, once a list ([`pairs::lay_out`]).
     fn lay_out(&mut self) {
         let (mu, q) = match &self.rough {
             Some(r) => (r.pair.mu, r.inertia_factor),
@@ -699,7 +702,7 @@ impl<F: Flight> Contact<F> {
         let mut inertia = Inertia::new(1.0 + 1.0 / q);
         let mass = &self.disks.mass;
         let boundary = self.disks.len() as u32;
-        quads::lay_out(&self.pairs, &mut self.pair_quads, boundary, mu, |i, j| {
+        (self.pair_quads).lay_out(&self.pairs, boundary, mu, |i, j| {
             inertia.of(mass[i as usize], mass[j as usize])
         });
         self.bounces.clear();
@@ -799,7 +802,8 @@ impl<F: Flight> Contact<F> {
         for p in quads::pushing(&self.boundary_quads) {
             held[self.tags[p.row as usize].kind as usize] += 1;
         }
-        held[Kind::Pair as usize] += quads::pushing(&self.pair_quads).count() as u64;
+        self.pair_quads
+            .each_pushing(|_| held[Kind::Pair as usize] += 1);
         self.asleep = Some(Asleep { held, slide });
         self.at_rest = n;
         self.rest_since = self.rest_since.or(Some(t1));
@@ -1065,11 +1069,11 @@ impl<F: Flight> Contact<F> {
             }
         }
         rows.finish();
-        let mut pair_quads = std::mem::take(&mut self.pair_quads);
+        let mut pair_quads = std::mem::replace(&mut self.pair_quads, pairs::Pairs::new(false));
         let mut bounces = std::mem::take(&mut self.bounces);
         let mut deep_overlaps = 0;
         let this = &*self;
-        quads::refresh(&mut pair_quads, &mut vel, this.spin_factor, |k| {
+        pair_quads.refresh(&mut vel, this.spin_factor, |k| {
             let k = k as usize;
             let (i, j) = this.pairs[k];
             let (iu, ju) = (i as usize, j as usize);
@@ -1128,7 +1132,7 @@ impl<F: Flight> Contact<F> {
             self.sweeps += 1;
             let (lanes, vel) = (self.lanes, &mut self.vel);
             let boundaries = quads::sweep(lanes, &mut self.boundary_quads, vel, sf);
-            let pairs = quads::sweep(lanes, &mut self.pair_quads, vel, sf);
+            let pairs = self.pair_quads.sweep(lanes, vel, sf);
             if quads::larger(pairs, boundaries) <= tol {
                 break;
             }
@@ -1165,7 +1169,7 @@ impl<F: Flight> Contact<F> {
                 Kind::Lid => self.counts.lid += 1,
             }
         }
-        for r in quads::pushing(&self.pair_quads) {
+        self.pair_quads.each_pushing(|r| {
             let k = r.row as usize;
             self.stats.rebounds += self.bounces[k] as u64;
             self.pushed[r.i as usize] = true;
@@ -1173,7 +1177,7 @@ impl<F: Flight> Contact<F> {
             self.warm[k] = (r.pn, r.pt);
             self.counts.pair += 1;
             self.virial += self.separations[k][2] * r.pn;
-        }
+        });
         if let Some(spins) = &mut self.disks.spins {
             for (k, v) in self.vel[..spins.omega.len()].iter().enumerate() {
                 let dw = v[2] / self.disks.radius[k] - spins.omega[k];
@@ -1385,8 +1389,8 @@ impl<F: Flight> Integrator for Contact<F> {
                 + 8 * self.pairs.capacity()
                 + 16 * (self.warm.capacity() + self.warm_floor.capacity())
                 + 8 * (self.built_x.capacity() + self.built_y.capacity())
-                + std::mem::size_of::<quads::Quad>()
-                    * (self.pair_quads.capacity() + self.boundary_quads.capacity())
+                + self.pair_quads.bytes()
+                + std::mem::size_of::<quads::Quad>() * self.boundary_quads.capacity()
                 + self.bounces.capacity()
                 + std::mem::size_of::<Tag>() * self.tags.capacity(),
             threads: Some(1),

@@ -13,7 +13,7 @@ use super::Row;
 use crate::platform::cpu::Lanes;
 
 /// The lane of a quad that holds no row.
-const NO_ROW: u32 = u32::MAX;
+pub(super) const NO_ROW: u32 = u32::MAX;
 
 /// Four contacts that share no disk: each field one value per lane (a [`Row`]'s, see there).
 #[derive(Debug, Clone, Copy)]
@@ -39,8 +39,36 @@ pub(super) struct Quad {
     row: [u32; 4],
 }
 
-impl Quad {
-    /// Four empty lanes ([`Quad::clear`]).
+/// What packing, the pairs' layout and the booking need of a quad of four contacts that share
+/// no disk, whatever else it keeps: a full [`Quad`] (boundaries, rough pairs) or a smooth
+/// pair's ([`Smooth`](super::smooth::Smooth)).
+pub(super) trait Packed: Copy {
+    /// Four empty lanes ([`Packed::clear`]).
+    fn empty(boundary: u32) -> Self;
+    /// Empties lane `l`: a contact of the boundary's entry with itself, without mass or bound,
+    /// which never pushes.
+    fn clear(&mut self, l: usize, boundary: u32);
+    /// Sets lane `l` to row `r`, numbered `row`.
+    fn set(&mut self, l: usize, r: &Row, row: u32);
+    /// Lane `l`'s disks and row (`NO_ROW`: empty).
+    fn lane(&self, l: usize) -> (u32, u32, u32);
+    /// Sets lane `l`'s normal, bound and impulses for the step.
+    fn refresh(&mut self, l: usize, f: &Fresh);
+    /// Lane `l`'s impulses applied to its disks' velocities (`sf` as [`sweep`]'s).
+    fn apply(&self, l: usize, vel: &mut [[f64; 4]], sf: f64, pn: f64, pt: f64);
+    /// Lane `l`'s contact if it pushed.
+    fn pushed(&self, l: usize) -> Option<Pushed>;
+
+    /// Whether the lanes before `lanes` touch disk `i` or `j` (`boundary` is no disk).
+    fn touches(&self, lanes: usize, (ri, rj): (u32, u32), boundary: u32) -> bool {
+        (0..lanes).any(|l| {
+            let (i, j, _) = self.lane(l);
+            i == ri || j == ri || (rj != boundary && (i == rj || j == rj))
+        })
+    }
+}
+
+impl Packed for Quad {
     fn empty(boundary: u32) -> Quad {
         let mut q = Quad {
             nx: [0.0; 4],
@@ -65,8 +93,6 @@ impl Quad {
         q
     }
 
-    /// Empties lane `l`: a contact of the boundary's entry with itself, without mass or bound,
-    /// which never pushes.
     fn clear(&mut self, l: usize, boundary: u32) {
         for field in [
             &mut self.nx,
@@ -99,11 +125,27 @@ impl Quad {
         (self.i[l], self.j[l], self.row[l]) = (r.i, r.j, row);
     }
 
-    /// Whether the lanes before `lanes` touch disk `i` or `j` (`boundary` is no disk).
-    fn touches(&self, lanes: usize, (ri, rj): (u32, u32), boundary: u32) -> bool {
-        (0..lanes).any(|l| {
-            let (i, j) = (self.i[l], self.j[l]);
-            i == ri || j == ri || (rj != boundary && (i == rj || j == rj))
+    fn lane(&self, l: usize) -> (u32, u32, u32) {
+        (self.i[l], self.j[l], self.row[l])
+    }
+
+    fn refresh(&mut self, l: usize, f: &Fresh) {
+        (self.nx[l], self.ny[l]) = f.n;
+        (self.target[l], self.pn[l], self.pt[l]) = (f.target, f.pn, f.pt);
+    }
+
+    fn apply(&self, l: usize, vel: &mut [[f64; 4]], sf: f64, pn: f64, pt: f64) {
+        apply(self, l, vel, sf, pn, pt);
+    }
+
+    fn pushed(&self, l: usize) -> Option<Pushed> {
+        (self.row[l] != NO_ROW && self.pn[l] > 0.0).then(|| Pushed {
+            row: self.row[l],
+            i: self.i[l],
+            j: self.j[l],
+            pn: self.pn[l],
+            pt: self.pt[l],
+            vby: self.vby[l],
         })
     }
 }
@@ -111,8 +153,8 @@ impl Quad {
 /// Where the next contact of disks `(i, j)` goes: the last quad's next lane, or a new quad's
 /// first where that one is full or would share a disk (`used` quads filled, `lanes` lanes of the
 /// last; a quad's empty lanes cleared as it is left).
-fn place(
-    quads: &mut Vec<Quad>,
+pub(super) fn place<Q: Packed>(
+    quads: &mut Vec<Q>,
     (used, lanes): (&mut usize, &mut usize),
     ij: (u32, u32),
     boundary: u32,
@@ -122,7 +164,7 @@ fn place(
             (*lanes..4).for_each(|l| quads[*used - 1].clear(l, boundary));
         }
         if *used == quads.len() {
-            quads.push(Quad::empty(boundary));
+            quads.push(Q::empty(boundary));
         }
         *used += 1;
         *lanes = 0;
@@ -131,83 +173,14 @@ fn place(
     (*used - 1, *lanes - 1)
 }
 
-/// The Verlet pairs of a list, packed into quads once for all the steps until the next list, in
-/// the list's order (the sweep's): each lane holds its pair's disks, inverse and effective
-/// masses (`inertia`, from the disks' numbers: `[wi, wj, wn, wt, mn, mt]` as a [`Row`]'s) and
-/// Coulomb's coefficient `mu`, and as its row the pair's index in the list. What a step changes
-/// is set by [`refresh`].
-pub(super) fn lay_out(
-    pairs: &[(u32, u32)],
-    quads: &mut Vec<Quad>,
-    boundary: u32,
-    mu: f64,
-    mut inertia: impl FnMut(u32, u32) -> [f64; 6],
-) {
-    let (mut used, mut lanes) = (0, 4);
-    for (k, &(i, j)) in pairs.iter().enumerate() {
-        let (at, l) = place(quads, (&mut used, &mut lanes), (i, j), boundary);
-        let [wi, wj, wn, wt, mn, mt] = inertia(i, j);
-        quads[at].set(
-            l,
-            &Row {
-                i,
-                j,
-                n: (0.0, 0.0),
-                vb: (0.0, 0.0),
-                wi,
-                wj,
-                wn,
-                wt,
-                mn,
-                mt,
-                target: f64::NEG_INFINITY,
-                mu,
-                pn: 0.0,
-                pt: 0.0,
-            },
-            k as u32,
-        );
-    }
-    if used > 0 {
-        (lanes..4).for_each(|l| quads[used - 1].clear(l, boundary));
-    }
-    quads.truncate(used);
-}
-
 /// What a step sets of a laid-out pair that can close within it: its normal, the bound on its
 /// normal velocity after the step, and its warm-start impulses.
+#[derive(Debug, Clone, Copy)]
 pub(super) struct Fresh {
     pub n: (f64, f64),
     pub target: f64,
     pub pn: f64,
     pub pt: f64,
-}
-
-/// Sets each laid-out pair's lane for the step, in the list's order, from `fresh` (given the
-/// pair's index) and applies its warm start to `vel` as [`Packer`] does. A pair that cannot
-/// close within the step (`None`) neither pushes nor keeps impulses: its bound is −∞, which no
-/// relative velocity falls below, so that its lane changes nothing in the sweep.
-pub(super) fn refresh(
-    quads: &mut [Quad],
-    vel: &mut [[f64; 4]],
-    sf: f64,
-    mut fresh: impl FnMut(u32) -> Option<Fresh>,
-) {
-    for q in quads {
-        for l in 0..4 {
-            if q.row[l] == NO_ROW {
-                continue;
-            }
-            match fresh(q.row[l]) {
-                Some(f) => {
-                    (q.nx[l], q.ny[l]) = f.n;
-                    (q.target[l], q.pn[l], q.pt[l]) = (f.target, f.pn, f.pt);
-                    apply(q, l, vel, sf, f.pn, f.pt);
-                }
-                None => (q.target[l], q.pn[l], q.pt[l]) = (f64::NEG_INFINITY, 0.0, 0.0),
-            }
-        }
-    }
 }
 
 /// Packs a step's rows into quads as they are gathered, a batch at a time: a row that would
@@ -307,19 +280,10 @@ pub(super) struct Pushed {
 
 /// The contacts whose normal impulse is positive, in the rows' order (the quads hold them in
 /// that order, a quad's empty lanes last).
-pub(super) fn pushing(quads: &[Quad]) -> impl Iterator<Item = Pushed> + '_ {
-    quads.iter().flat_map(|q| {
-        (0..4)
-            .filter(|&l| q.row[l] != NO_ROW && q.pn[l] > 0.0)
-            .map(|l| Pushed {
-                row: q.row[l],
-                i: q.i[l],
-                j: q.j[l],
-                pn: q.pn[l],
-                pt: q.pt[l],
-                vby: q.vby[l],
-            })
-    })
+pub(super) fn pushing<Q: Packed>(quads: &[Q]) -> impl Iterator<Item = Pushed> + '_ {
+    quads
+        .iter()
+        .flat_map(|q| (0..4).filter_map(|l| q.pushed(l)))
 }
 
 /// One Gauss–Seidel sweep: each contact's impulses set so that it meets its bound (the normal
