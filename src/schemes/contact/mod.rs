@@ -333,6 +333,60 @@ pub struct ContactState {
     asleep: Option<Asleep>,
 }
 
+/// What a step sets of each laid-out pair ([`Fresher::pair`]), with what it books on the way.
+struct Fresher<'a, F: Flight> {
+    this: &'a Contact<F>,
+    /// The gap beyond which a pair cannot close within the step.
+    reach: f64,
+    warm_scale: f64,
+    /// The rest speed of a pair.
+    rest: f64,
+    bounces: Vec<bool>,
+    recovery: &'a mut recovery::Recovery,
+    deepest: f64,
+    deep_overlaps: u64,
+}
+
+impl<F: Flight> Fresher<'_, F> {
+    /// Pair `k`'s normal, bound and warm start for the step (`None`: it cannot close within it);
+    /// its overlap noted, and whether it rebounds.
+    #[inline(always)]
+    fn pair(&mut self, k: u32) -> Option<quads::Fresh> {
+        let (c, k) = (self.this, k as usize);
+        let d = &c.disks;
+        let (i, j) = c.pairs[k];
+        let (iu, ju) = (i as usize, j as usize);
+        let [dx, dy, dist] = c.separations[k];
+        let s = d.radius[iu] + d.radius[ju];
+        let gap = dist - s;
+        if gap > self.reach {
+            self.bounces[k] = false;
+            return None;
+        }
+        let (mi, mj) = (d.motion[iu], d.motion[ju]);
+        let n = (dx / dist, dy / dist);
+        let u = (mi.vx - mj.vx) * n.0 + (mi.vy - mj.vy) * n.1;
+        self.deepest = self.deepest.max(-gap);
+        if -gap > DEEP_OVERLAP * s {
+            self.deep_overlaps += 1;
+        }
+        let (pn, pt) = c.warm[k];
+        let bound = c.target(gap, 0.0, (u, 0.0), c.e, self.rest);
+        if self.recovery.opens(gap) {
+            let (wi, wj) = (1.0 / d.mass[iu], 1.0 / d.mass[ju]);
+            self.recovery
+                .add((i, j), n, (wi, wj, 1.0 / (wi + wj)), gap, c.dt);
+        }
+        self.bounces[k] = bound.bounce;
+        Some(quads::Fresh {
+            n,
+            target: bound.target,
+            pn: pn * self.warm_scale,
+            pt: pt * self.warm_scale,
+        })
+    }
+}
+
 impl<F: Flight> Contact<F> {
     /// Sets up the scheme for `scene` with its knobs from `engine` (`dt`, `verlet_skin`,
     /// `cell_size`).
@@ -1070,39 +1124,29 @@ impl<F: Flight> Contact<F> {
         }
         rows.finish();
         let mut pair_quads = std::mem::replace(&mut self.pair_quads, pairs::Pairs::new(false));
-        let mut bounces = std::mem::take(&mut self.bounces);
-        let mut deep_overlaps = 0;
-        let this = &*self;
-        pair_quads.refresh(&mut vel, this.spin_factor, |k| {
-            let k = k as usize;
-            let (i, j) = this.pairs[k];
-            let (iu, ju) = (i as usize, j as usize);
-            let [dx, dy, dist] = this.separations[k];
-            let (mi, mj) = (d.motion[iu], d.motion[ju]);
-            let s = d.radius[iu] + d.radius[ju];
-            let gap = dist - s;
-            if gap > reach {
-                bounces[k] = false;
-                return None;
-            }
-            let n = (dx / dist, dy / dist);
-            let u = (mi.vx - mj.vx) * n.0 + (mi.vy - mj.vy) * n.1;
-            deepest = deepest.max(-gap);
-            if -gap > DEEP_OVERLAP * s {
-                deep_overlaps += 1;
-            }
-            let [wi, wj, _, _, mn, _] = inertia.of(d.mass[iu], d.mass[ju]);
-            let (pn, pt) = this.warm[k];
-            let bound = this.target(gap, 0.0, (u, 0.0), this.e, rest_pair);
-            recovery.add((i, j), n, (wi, wj, mn), gap, dt);
-            bounces[k] = bound.bounce;
-            Some(quads::Fresh {
-                n,
-                target: bound.target,
-                pn: pn * warm_scale,
-                pt: pt * warm_scale,
-            })
-        });
+        let bounces = std::mem::take(&mut self.bounces);
+        let mut fresh = Fresher {
+            this: self,
+            reach,
+            warm_scale,
+            rest: rest_pair,
+            bounces,
+            recovery: &mut recovery,
+            deepest,
+            deep_overlaps: 0,
+        };
+        let sf = self.spin_factor;
+        // Two closures, each inlined into its own layout's loop.
+        match &mut pair_quads {
+            pairs::Pairs::Smooth(q) => pairs::refresh(q, &mut vel, sf, |k| fresh.pair(k)),
+            pairs::Pairs::Rough(q) => pairs::refresh(q, &mut vel, sf, |k| fresh.pair(k)),
+        }
+        let Fresher {
+            bounces,
+            deepest,
+            deep_overlaps,
+            ..
+        } = fresh;
         self.max_overlap = deepest;
         self.stats.deep_overlaps += deep_overlaps;
         (self.pair_quads, self.bounces) = (pair_quads, bounces);

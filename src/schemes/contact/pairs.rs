@@ -39,19 +39,6 @@ impl Pairs {
         }
     }
 
-    /// [`refresh`].
-    pub(super) fn refresh(
-        &mut self,
-        vel: &mut [[f64; 4]],
-        sf: f64,
-        fresh: impl FnMut(u32) -> Option<Fresh>,
-    ) {
-        match self {
-            Pairs::Smooth(q) => refresh(q, vel, sf, fresh),
-            Pairs::Rough(q) => refresh(q, vel, sf, fresh),
-        }
-    }
-
     /// One sweep ([`quads::sweep`]).
     pub(super) fn sweep(&mut self, lanes: Lanes, vel: &mut [[f64; 4]], sf: f64) -> f64 {
         match self {

@@ -66,6 +66,12 @@ impl Recovery {
         }
     }
 
+    /// Whether a contact at `gap` overlaps beyond the slop, so that [`Recovery::add`] keeps it.
+    #[inline]
+    pub fn opens(&self, gap: f64) -> bool {
+        -gap - self.slop > 0.0
+    }
+
     /// A contact of the step with gap `gap` (negative: an overlap), inverse masses `wi`, `wj`
     /// and effective normal mass `mn`, in a step `dt` long: kept if it overlaps beyond the slop.
     #[inline]
@@ -77,10 +83,10 @@ impl Recovery {
         gap: f64,
         dt: f64,
     ) {
-        let overlap = -gap - self.slop;
-        if overlap <= 0.0 {
+        if !self.opens(gap) {
             return;
         }
+        let overlap = -gap - self.slop;
         self.overlaps.push(Overlap {
             i,
             j,
