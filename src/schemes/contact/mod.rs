@@ -273,9 +273,9 @@ pub struct Contact<F: Flight> {
     lanes: Lanes,
     /// The step's overlaps and their pseudo-velocities ([`recovery`]).
     recovery: recovery::Recovery,
-    /// The solve's copy of each disk's velocity and rim speed `ω a` (0 for smooth disks), and
-    /// one more entry that stays 0: the other side of a boundary contact (whose inverse mass is
-    /// 0), so that every contact reads alike.
+    /// The solve's copy of each disk's velocity, rim speed `ω a` (0 for smooth disks) and
+    /// inverse mass, and one more entry that stays 0: the other side of a boundary contact (whose
+    /// inverse mass is 0), so that every contact reads alike.
     vel: Vec<[f64; 4]>,
     /// `1/q` of rough disks' `I = q m a²` (0 for smooth disks).
     spin_factor: f64,
@@ -482,6 +482,7 @@ impl<F: Flight> Contact<F> {
             m.t = 0.0;
         }
         wrap_positions(c.sides, c.top, &mut c.disks);
+        c.load_inverse_masses();
         c.rebuild();
         c.look_ahead();
         c.energy = c.total_energy();
@@ -567,6 +568,7 @@ impl<F: Flight> Contact<F> {
             ));
         }
         self.disks = state.disks;
+        self.load_inverse_masses();
         self.dt = state.dt;
         self.dt_range = state.dt_range;
         self.t = state.t;
@@ -1152,6 +1154,13 @@ impl<F: Flight> Contact<F> {
         (self.pair_quads, self.bounces) = (pair_quads, bounces);
         (self.boundary_quads, self.vel, self.tags) = (quads, vel, tags);
         self.recovery = recovery;
+    }
+
+    /// The solve's copy of the disks' inverse masses (which the velocities' loads leave alone).
+    fn load_inverse_masses(&mut self) {
+        for k in 0..self.disks.len() {
+            self.vel[k][3] = 1.0 / self.disks.mass[k];
+        }
     }
 
     /// The solve's copy of the disks' velocities and rim speeds.

@@ -8,8 +8,8 @@ use super::smooth::{self, Smooth};
 use super::Row;
 use crate::platform::cpu::Lanes;
 
-/// The Verlet pairs laid out for the sweep: in [`Smooth`] quads where the disks are smooth (about
-/// half the bytes to stream), in full quads where they are rough.
+/// The Verlet pairs laid out for the sweep: in [`Smooth`] quads where the disks are smooth (fewer
+/// than half the bytes to stream), in full quads where they are rough.
 #[derive(Debug)]
 pub(super) enum Pairs {
     Smooth(Vec<Smooth>),
@@ -180,13 +180,14 @@ mod tests {
                     })
                 })
                 .collect();
+            // The solve's copy: velocities, no spin, inverse masses (the smooth quads read them).
             let vel: Vec<[f64; 4]> = (0..=n)
                 .map(|k| match k < n {
                     true => [
                         rng.random_range(-1.0..1.0),
                         rng.random_range(-1.0..1.0),
                         0.0,
-                        0.0,
+                        1.0 / mass[k as usize],
                     ],
                     false => [0.0; 4],
                 })

@@ -1,8 +1,9 @@
 //! Smooth pairs' quads: what the sweep of a pair of smooth disks reads, and nothing else.
 //!
 //! A pair of smooth disks has no tangential impulse, no spin and no moving boundary, so its
-//! quad keeps the normal, the masses, the bound and the normal impulse: 288 bytes against a full
-//! [`Quad`]'s 512. The sweep streams the step's quads from memory eight times a step (the deep
+//! quad keeps the normal, the effective mass, the bound and the normal impulse: 224 bytes
+//! against a full [`Quad`]'s 512. Each disk's inverse mass is read with its velocity, from the
+//! solve's copy (`vel[k][3]`, which the disks' own rows leave alone). The sweep streams the step's quads from memory eight times a step (the deep
 //! bed: about 14 000 quads), and reading fewer bytes is what makes it cheaper. Each lane does the
 //! operations a full quad's lane does with no tangent, so the impulses and velocities are the
 //! same bit for bit (tested against [`quads::sweep`]).
@@ -21,8 +22,6 @@ use crate::platform::cpu::Lanes;
 pub(super) struct Smooth {
     nx: [f64; 4],
     ny: [f64; 4],
-    wi: [f64; 4],
-    wj: [f64; 4],
     wn: [f64; 4],
     mn: [f64; 4],
     target: [f64; 4],
@@ -37,8 +36,6 @@ impl Packed for Smooth {
         let mut q = Smooth {
             nx: [0.0; 4],
             ny: [0.0; 4],
-            wi: [0.0; 4],
-            wj: [0.0; 4],
             wn: [0.0; 4],
             mn: [0.0; 4],
             target: [0.0; 4],
@@ -55,8 +52,6 @@ impl Packed for Smooth {
         for field in [
             &mut self.nx,
             &mut self.ny,
-            &mut self.wi,
-            &mut self.wj,
             &mut self.wn,
             &mut self.mn,
             &mut self.target,
@@ -67,9 +62,10 @@ impl Packed for Smooth {
         (self.i[l], self.j[l], self.row[l]) = (boundary, boundary, NO_ROW);
     }
 
+    /// The row's inverse masses must be its disks' in the solve's velocities (`vel[k][3]`).
     fn set(&mut self, l: usize, r: &Row, row: u32) {
         (self.nx[l], self.ny[l]) = r.n;
-        (self.wi[l], self.wj[l], self.wn[l]) = (r.wi, r.wj, r.wn);
+        self.wn[l] = r.wn;
         (self.mn[l], self.target[l], self.pn[l]) = (r.mn, r.target, r.pn);
         (self.i[l], self.j[l], self.row[l]) = (r.i, r.j, row);
     }
@@ -99,15 +95,15 @@ impl Packed for Smooth {
     }
 }
 
-/// Applies impulse `pn` along the normal to lane `l`'s disks.
+/// Applies impulse `pn` along the normal to lane `l`'s disks (each disk's inverse mass its
+/// velocity's fourth entry).
 #[inline(always)]
 fn apply(q: &Smooth, l: usize, vel: &mut [[f64; 4]], pn: f64) {
     let (px, py) = (pn * q.nx[l], pn * q.ny[l]);
-    let (wi, wj) = (q.wi[l], q.wj[l]);
     let vi = &mut vel[q.i[l] as usize];
-    (vi[0], vi[1]) = (vi[0] + px * wi, vi[1] + py * wi);
+    (vi[0], vi[1]) = (vi[0] + px * vi[3], vi[1] + py * vi[3]);
     let vj = &mut vel[q.j[l] as usize];
-    (vj[0], vj[1]) = (vj[0] - px * wj, vj[1] - py * wj);
+    (vj[0], vj[1]) = (vj[0] - px * vj[3], vj[1] - py * vj[3]);
 }
 
 /// One Gauss–Seidel sweep over smooth pairs: each contact's normal impulse set so that it is at
@@ -158,7 +154,7 @@ unsafe fn sweep_avx2(quads: &mut [Smooth], vel: &mut [[f64; 4]]) -> f64 {
     let mut change = zero;
     let load = |a: &[f64; 4]| _mm256_load_pd(a.as_ptr());
     for q in quads.iter_mut() {
-        // Each disk's (vx, vy, _, _) to columns, and back.
+        // Each disk's (vx, vy, _, 1/m) to columns, and back.
         let gather = |ks: [u32; 4], vel: &[[f64; 4]]| {
             transpose(ks.map(|k| _mm256_loadu_pd(vel[k as usize].as_ptr())))
         };
@@ -185,7 +181,7 @@ unsafe fn sweep_avx2(quads: &mut [Smooth], vel: &mut [[f64; 4]]) -> f64 {
             continue;
         }
         let (px, py) = (_mm256_mul_pd(dpn, nx), _mm256_mul_pd(dpn, ny));
-        let (wi, wj) = (load(&q.wi), load(&q.wj));
+        let (wi, wj) = (vi[3], vj[3]);
         let moved_i = [
             _mm256_add_pd(vi[0], _mm256_mul_pd(px, wi)),
             _mm256_add_pd(vi[1], _mm256_mul_pd(py, wi)),
