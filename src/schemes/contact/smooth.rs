@@ -1,12 +1,13 @@
 //! Smooth pairs' quads: what the sweep of a pair of smooth disks reads, and nothing else.
 //!
 //! A pair of smooth disks has no tangential impulse, no spin and no moving boundary, so its
-//! quad keeps the normal, the effective mass, the bound and the normal impulse: 224 bytes
+//! quad keeps the normal, the effective mass, the bound and the normal impulse: 192 bytes
 //! against a full [`Quad`]'s 512. Each disk's inverse mass is read with its velocity, from the
-//! solve's copy (`vel[k][3]`, which the disks' own rows leave alone). The sweep streams the step's quads from memory eight times a step (the deep
-//! bed: about 14 000 quads), and reading fewer bytes is what makes it cheaper. Each lane does the
-//! operations a full quad's lane does with no tangent, so the impulses and velocities are the
-//! same bit for bit (tested against [`quads::sweep`]).
+//! fourth entry of the solve's copy (`vel[k][3]`, which only these quads read). The sweep
+//! streams the step's quads from memory eight times a step (the deep bed: about 14 000 quads),
+//! and reading fewer bytes is what makes it cheaper. Each lane does the operations a full quad's
+//! lane does with no tangent, so the impulses and velocities are the same bit for bit (tested
+//! against [`quads::sweep`]).
 //!
 //! [`Quad`]: super::quads::Quad
 //! [`quads::sweep`]: super::quads::sweep
@@ -22,7 +23,6 @@ use crate::platform::cpu::Lanes;
 pub(super) struct Smooth {
     nx: [f64; 4],
     ny: [f64; 4],
-    wn: [f64; 4],
     mn: [f64; 4],
     target: [f64; 4],
     pn: [f64; 4],
@@ -36,7 +36,6 @@ impl Packed for Smooth {
         let mut q = Smooth {
             nx: [0.0; 4],
             ny: [0.0; 4],
-            wn: [0.0; 4],
             mn: [0.0; 4],
             target: [0.0; 4],
             pn: [0.0; 4],
@@ -52,7 +51,6 @@ impl Packed for Smooth {
         for field in [
             &mut self.nx,
             &mut self.ny,
-            &mut self.wn,
             &mut self.mn,
             &mut self.target,
             &mut self.pn,
@@ -65,7 +63,6 @@ impl Packed for Smooth {
     /// The row's inverse masses must be its disks' in the solve's velocities (`vel[k][3]`).
     fn set(&mut self, l: usize, r: &Row, row: u32) {
         (self.nx[l], self.ny[l]) = r.n;
-        self.wn[l] = r.wn;
         (self.mn[l], self.target[l], self.pn[l]) = (r.mn, r.target, r.pn);
         (self.i[l], self.j[l], self.row[l]) = (r.i, r.j, row);
     }
@@ -131,7 +128,8 @@ fn sweep_one_by_one(quads: &mut [Smooth], vel: &mut [[f64; 4]]) -> f64 {
             if dpn != 0.0 {
                 apply(q, l, vel, dpn);
                 q.pn[l] = pn;
-                change = larger((dpn * q.wn[l]).abs(), change);
+                let wn = vel[q.i[l] as usize][3] + vel[q.j[l] as usize][3];
+                change = larger((dpn * wn).abs(), change);
             }
         }
     }
@@ -201,7 +199,8 @@ unsafe fn sweep_avx2(quads: &mut [Smooth], vel: &mut [[f64; 4]]) -> f64 {
         scatter(q.j, pick(vj, moved_j), vel);
         _mm256_store_pd(q.pn.as_mut_ptr(), _mm256_blendv_pd(pn0, pn, changed));
         // A lane that did not change adds zeros.
-        let n_change = _mm256_andnot_pd(sign, _mm256_mul_pd(dpn, load(&q.wn)));
+        let wn = _mm256_add_pd(wi, wj);
+        let n_change = _mm256_andnot_pd(sign, _mm256_mul_pd(dpn, wn));
         change = _mm256_max_pd(n_change, change);
     }
     let mut lanes = [0.0; 4];
