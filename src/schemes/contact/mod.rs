@@ -109,8 +109,9 @@ enum Kind {
 
 /// One contact of a step, as the solve reads it: disk `i` against disk `j`, or against a
 /// boundary (`j` is then one past the last disk, an entry of the solve that never moves); unit
-/// normal `n` from `j` (or the boundary) to `i`. A row goes straight into the quads
-/// ([`quads::Packer`]); what the booking needs besides is its [`Tag`].
+/// normal `n` from `j` (or the boundary) to `i`. A boundary's row goes straight into the quads
+/// ([`quads::Packer`]), and what the booking needs besides is its [`Tag`]; the pairs' rows are
+/// laid out once a Verlet list ([`pairs::lay_out`]).
 #[derive(Debug, Clone, Copy)]
 struct Row {
     i: u32,
