@@ -16,7 +16,7 @@ use crate::platform::cpu::Lanes;
 pub(super) const NO_ROW: u32 = u32::MAX;
 
 /// Four contacts that share no disk: each field one value per lane (a [`Row`]'s, see there).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(32))]
 pub(super) struct Quad {
     nx: [f64; 4],
@@ -42,9 +42,7 @@ pub(super) struct Quad {
 /// What packing, the pairs' layout and the booking need of a quad of four contacts that share
 /// no disk, whatever else it keeps: a full [`Quad`] (boundaries, rough pairs) or a smooth
 /// pair's ([`Smooth`](super::smooth::Smooth)).
-pub(super) trait Packed: Copy {
-    /// Four empty lanes ([`Packed::clear`]).
-    fn empty(boundary: u32) -> Self;
+pub(super) trait Packed: Copy + Default {
     /// Empties lane `l`: a contact of the boundary's entry with itself, without mass or bound,
     /// which never pushes.
     fn clear(&mut self, l: usize, boundary: u32);
@@ -56,8 +54,29 @@ pub(super) trait Packed: Copy {
     fn refresh(&mut self, l: usize, f: &Fresh);
     /// Lane `l`'s impulses applied to its disks' velocities (`sf` as [`sweep`]'s).
     fn apply(&self, l: usize, vel: &mut [[f64; 4]], sf: f64, pn: f64, pt: f64);
+    /// Lane `l`'s normal and tangential impulses and its boundary's vertical velocity.
+    fn impulses(&self, l: usize) -> (f64, f64, f64);
+
+    /// Four empty lanes ([`Packed::clear`]).
+    fn empty(boundary: u32) -> Self {
+        let mut q = Self::default();
+        (0..4).for_each(|l| q.clear(l, boundary));
+        q
+    }
+
     /// Lane `l`'s contact if it pushed.
-    fn pushed(&self, l: usize) -> Option<Pushed>;
+    fn pushed(&self, l: usize) -> Option<Pushed> {
+        let (i, j, row) = self.lane(l);
+        let (pn, pt, vby) = self.impulses(l);
+        (row != NO_ROW && pn > 0.0).then_some(Pushed {
+            row,
+            i,
+            j,
+            pn,
+            pt,
+            vby,
+        })
+    }
 
     /// Whether the lanes before `lanes` touch disk `i` or `j` (`boundary` is no disk).
     fn touches(&self, lanes: usize, (ri, rj): (u32, u32), boundary: u32) -> bool {
@@ -69,30 +88,6 @@ pub(super) trait Packed: Copy {
 }
 
 impl Packed for Quad {
-    fn empty(boundary: u32) -> Quad {
-        let mut q = Quad {
-            nx: [0.0; 4],
-            ny: [0.0; 4],
-            vbx: [0.0; 4],
-            vby: [0.0; 4],
-            wi: [0.0; 4],
-            wj: [0.0; 4],
-            wn: [0.0; 4],
-            wt: [0.0; 4],
-            mn: [0.0; 4],
-            mt: [0.0; 4],
-            target: [0.0; 4],
-            mu: [0.0; 4],
-            pn: [0.0; 4],
-            pt: [0.0; 4],
-            i: [0; 4],
-            j: [0; 4],
-            row: [0; 4],
-        };
-        (0..4).for_each(|l| q.clear(l, boundary));
-        q
-    }
-
     fn clear(&mut self, l: usize, boundary: u32) {
         for field in [
             &mut self.nx,
@@ -138,15 +133,8 @@ impl Packed for Quad {
         apply(self, l, vel, sf, pn, pt);
     }
 
-    fn pushed(&self, l: usize) -> Option<Pushed> {
-        (self.row[l] != NO_ROW && self.pn[l] > 0.0).then(|| Pushed {
-            row: self.row[l],
-            i: self.i[l],
-            j: self.j[l],
-            pn: self.pn[l],
-            pt: self.pt[l],
-            vby: self.vby[l],
-        })
+    fn impulses(&self, l: usize) -> (f64, f64, f64) {
+        (self.pn[l], self.pt[l], self.vby[l])
     }
 }
 

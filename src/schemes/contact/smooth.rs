@@ -12,13 +12,13 @@
 //! [`Quad`]: super::quads::Quad
 //! [`quads::sweep`]: super::quads::sweep
 
-use super::quads::{larger, Fresh, Packed, Pushed, NO_ROW};
+use super::quads::{larger, Fresh, Packed, NO_ROW};
 use super::Row;
 use crate::platform::cpu::Lanes;
 
 /// Four contacts of smooth disks that share no disk, each field one value per lane (a
 /// [`Row`]'s).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(32))]
 pub(super) struct Smooth {
     nx: [f64; 4],
@@ -32,21 +32,6 @@ pub(super) struct Smooth {
 }
 
 impl Packed for Smooth {
-    fn empty(boundary: u32) -> Smooth {
-        let mut q = Smooth {
-            nx: [0.0; 4],
-            ny: [0.0; 4],
-            mn: [0.0; 4],
-            target: [0.0; 4],
-            pn: [0.0; 4],
-            i: [0; 4],
-            j: [0; 4],
-            row: [0; 4],
-        };
-        (0..4).for_each(|l| q.clear(l, boundary));
-        q
-    }
-
     fn clear(&mut self, l: usize, boundary: u32) {
         for field in [
             &mut self.nx,
@@ -80,15 +65,8 @@ impl Packed for Smooth {
         apply(self, l, vel, pn);
     }
 
-    fn pushed(&self, l: usize) -> Option<Pushed> {
-        (self.row[l] != NO_ROW && self.pn[l] > 0.0).then(|| Pushed {
-            row: self.row[l],
-            i: self.i[l],
-            j: self.j[l],
-            pn: self.pn[l],
-            pt: 0.0,
-            vby: 0.0,
-        })
+    fn impulses(&self, l: usize) -> (f64, f64, f64) {
+        (self.pn[l], 0.0, 0.0)
     }
 }
 
