@@ -10,13 +10,6 @@ use super::streams::{Given, Streams, Takes};
 use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
 use super::{CheckpointPlan, RunOptions};
 use crate::engine::{Progress, Scene, Snapshot};
-
-/// From this many disks on, a sample's measurements read the engine's states instead of a copy:
-/// the copy (32 bytes a disk) raised the peak memory of a run of 10⁶ disks by a fifth (142 →
-/// 173 MB), while the extra reads cost nothing measurable there. Below, the copy is cheaper (a
-/// sample of the shipped bed reads every state five times or more). Both give the same
-/// measurements bit for bit: the same states, in the scenario's order.
-const ON_THE_FLY_FROM: usize = 1 << 18;
 use crate::error::Result;
 use crate::measure::phase::{PhaseBins, PhaseClock};
 use crate::measure::Observables;
@@ -29,6 +22,13 @@ use crate::schemes::Integrator;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
+
+/// From this many disks on, a sample's measurements read the engine's states instead of a copy:
+/// the copy (32 bytes a disk) raised the peak memory of a run of 10⁶ disks by a fifth (142 →
+/// 173 MB), while the extra reads cost nothing measurable there. Below, the copy is cheaper (a
+/// sample of the shipped bed reads every state four times). Both give the same
+/// measurements bit for bit: the same states, in the scenario's order.
+const ON_THE_FLY_FROM: usize = 1 << 18;
 
 /// One run of an engine from the start to its ending: the engine, where its frames go, and what
 /// is measured along the way.
