@@ -293,6 +293,13 @@ impl<F: Flight> Simulation<F> {
         self.rest.riders.stacked()
     }
 
+    /// `true` once the engine numbers its disks otherwise than the scenario (tests of the
+    /// visits' order).
+    #[cfg(test)]
+    pub(crate) fn renumbered(&self) -> bool {
+        self.map.numbering.ids().is_some()
+    }
+
     /// Calls `visit(i, [x, y, vx, vy])` with every disk's state at absolute time
     /// `t ≥` [`time`](Self::time), in the scenario's numbering and order (so that sums over the
     /// disks do not depend on renumbering), positions wrapped into a periodic box, without

@@ -78,8 +78,9 @@ impl Averages {
         }
     }
 
-    /// Adds one sample (after the warm-up only).
-    pub(super) fn add(&mut self, states: &impl States, disks: &Disks, o: &Observables) {
+    /// Measures one sample of `states` under gravity `g` and adds it (after the warm-up only).
+    pub(super) fn add(&mut self, states: &impl States, disks: &Disks, g: f64) {
+        let o = Observables::of(states, disks, g);
         self.temperature[0] += o.temperature[0];
         self.temperature[1] += o.temperature[1];
         if let Some(t) = o.rotational_temperature(disks.len()) {

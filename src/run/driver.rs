@@ -7,7 +7,7 @@ use super::failures::Failures;
 use super::frames::{trajectory_frame, Frames};
 use super::stops::Stops;
 use super::streams::{Given, Streams, Takes};
-use super::views::{fill_snapshot, floor_tally, Snapped, StatesAt, Taken};
+use super::views::{fill_snapshot, floor_tally, holds, Snapped, StatesAt, Taken};
 use super::{CheckpointPlan, RunOptions};
 use crate::engine::{Progress, Scene, Snapshot};
 use crate::error::Result;
@@ -292,12 +292,11 @@ impl<'a, E: Integrator> Driver<'a, E> {
     /// filled once, or, from [`ON_THE_FLY_FROM`] disks on (one thread, no frame's copy at this
     /// stop), from the engine itself each time.
     fn measure(&mut self) {
-        let copied = self.snap.time == self.now && !self.snap.x.is_empty();
         let threads = self.sim.has_threads();
+        let copied = holds(&self.snap, self.now);
         if !threads && !copied && self.sim.disks().len() >= ON_THE_FLY_FROM {
             let states = StatesAt(&self.sim, self.now);
-            let o = Observables::of(&states, self.sim.disks(), self.g);
-            self.averages.add(&states, self.sim.disks(), &o);
+            self.averages.add(&states, self.sim.disks(), self.g);
             return;
         }
         fill_snapshot(&self.sim, self.now, &mut self.snap);
@@ -309,8 +308,7 @@ impl<'a, E: Integrator> Driver<'a, E> {
             ));
         } else {
             let states = Snapped(&self.snap, &self.sim);
-            let o = Observables::of(&states, self.sim.disks(), self.g);
-            self.averages.add(&states, self.sim.disks(), &o);
+            self.averages.add(&states, self.sim.disks(), self.g);
         }
     }
 
