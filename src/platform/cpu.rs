@@ -1,11 +1,13 @@
 //! The vector path of the engine's short hot loops, chosen at run time on the processor found:
-//! four `f64` lanes (eight `u32` slots) at a time where it has AVX2, one at a time elsewhere.
-//! Every path does the same operations in the same order, so the events are the same bit for
-//! bit whichever runs (the tests run scenes on both and compare).
+//! four `f64` lanes (eight `u32` slots) at a time where it has AVX2, one at a time elsewhere;
+//! where it also has AVX-512 (F and VL), the prediction's pair loop runs its four lanes with the
+//! 32 vector registers and the mask registers AVX-512 adds. Every path does the same operations
+//! in the same order, so the events are the same bit for bit whichever runs (the tests run
+//! scenes on each and compare).
 //!
 //! `VIBROBED_CPU=scalar` in the environment asks for the one-at-a-time path on any processor
-//! (`avx2` asks for the four lanes, an error where the processor lacks them; unset or `auto`:
-//! the widest found).
+//! (`avx2` and `avx512` ask for theirs, an error where the processor lacks them; unset or
+//! `auto`: the widest found).
 
 use std::sync::OnceLock;
 
@@ -24,6 +26,9 @@ enum Width {
     One,
     /// Four neighbours, eight slots at a time: x86-64 processors with AVX2.
     Avx2,
+    /// As `Avx2`, the pair loop with AVX-512's registers: x86-64 processors with AVX-512F and
+    /// AVX-512VL (Intel from Skylake-SP, AMD from Zen 4).
+    Avx512,
 }
 
 impl Lanes {
@@ -41,7 +46,9 @@ impl Lanes {
     pub fn widest() -> Lanes {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
-            return Lanes(Width::Avx2);
+            let avx512 = std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl");
+            return Lanes(if avx512 { Width::Avx512 } else { Width::Avx2 });
         }
         Lanes::ONE_BY_ONE
     }
@@ -55,10 +62,12 @@ impl Lanes {
             Ok(v) => match v.as_str() {
                 "" | "auto" => Ok(Lanes::widest()),
                 "scalar" => Ok(Lanes::ONE_BY_ONE),
-                "avx2" if Lanes::widest().avx2() => Ok(Lanes::widest()),
+                "avx2" if Lanes::widest().avx2() => Ok(Lanes(Width::Avx2)),
                 "avx2" => Err("this processor has no AVX2".into()),
+                "avx512" if Lanes::widest().avx512() => Ok(Lanes::widest()),
+                "avx512" => Err("this processor has no AVX-512 (F and VL)".into()),
                 _ => Err(format!(
-                    "unknown path {:?}: expected auto, scalar or avx2",
+                    "unknown path {:?}: expected auto, scalar, avx2 or avx512",
                     v.chars().take(80).collect::<String>()
                 )),
             },
@@ -68,7 +77,24 @@ impl Lanes {
     /// Whether the four AVX2 lanes run (then the processor has them).
     #[inline(always)]
     pub fn avx2(self) -> bool {
-        self.0 == Width::Avx2
+        self.0 != Width::One
+    }
+
+    /// Whether the pair loop's four lanes run with AVX-512's registers (then the processor has
+    /// them).
+    #[inline(always)]
+    pub fn avx512(self) -> bool {
+        self.0 == Width::Avx512
+    }
+
+    /// Every path this processor runs, the narrowest first: for the tests that compare them.
+    pub fn all_here() -> Vec<Lanes> {
+        let widest = Lanes::widest().0;
+        [Width::One, Width::Avx2, Width::Avx512]
+            .into_iter()
+            .filter(|&w| w as u8 <= widest as u8)
+            .map(Lanes)
+            .collect()
     }
 
     /// The path's name, as [`OVERRIDE`] takes it.
@@ -76,6 +102,7 @@ impl Lanes {
         match self.0 {
             Width::One => "scalar",
             Width::Avx2 => "avx2",
+            Width::Avx512 => "avx512",
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The vector paths of the engine's hot loops (`src/platform/cpu.rs`): the same scenes run
-//! four AVX2 lanes at a time and one by one end in the same state, bit for bit, with the same
-//! event counts and summaries; `VIBROBED_CPU` chooses the path on the command line, and a value
+//! four AVX2 lanes at a time (with AVX-512's registers too, where the processor has them) and
+//! one by one end in the same state, bit for bit, with the same event counts and summaries; `VIBROBED_CPU` chooses the path on the command line, and a value
 //! it does not take exits 2 naming it.
 
 use crate::common::same_run::{final_state_on, same_states};
@@ -53,23 +53,22 @@ fn pairs(counts: &str) -> u64 {
 
 #[test]
 fn four_lanes_and_one_by_one_end_in_the_same_state() {
-    let widest = Lanes::widest();
-    if !widest.avx2() {
+    let wider = &Lanes::all_here()[1..];
+    if wider.is_empty() {
         eprintln!("no AVX2 on this processor: one path only, nothing to compare");
         return;
     }
     for &(stem, sets) in SCENES {
-        let what = format!("{stem} {sets:?}");
         let s = scenario(stem, sets);
-        let (lanes, one) = (
-            final_state_on(&s, widest),
-            final_state_on(&s, Lanes::ONE_BY_ONE),
-        );
+        let one = final_state_on(&s, Lanes::ONE_BY_ONE);
         assert!(
             pairs(&one.1) > 1000,
-            "{what}: too few collisions to compare"
+            "{stem} {sets:?}: too few collisions to compare"
         );
-        same_states(&what, lanes, one);
+        for &lanes in wider {
+            let what = format!("{stem} {sets:?} on {}", lanes.name());
+            same_states(&what, final_state_on(&s, lanes), one.clone());
+        }
     }
 }
 
@@ -126,11 +125,17 @@ fn the_environment_chooses_the_path_and_the_summary_stays() {
     if Lanes::widest().avx2() {
         assert_eq!(summary(Some("avx2"), &out), found, "avx2");
     }
-    // Values it does not take, and AVX2 where there is none: exit 2 naming the variable, and
+    if Lanes::widest().avx512() {
+        assert_eq!(summary(Some("avx512"), &out), found, "avx512");
+    }
+    // Values it does not take, and paths the processor lacks: exit 2 naming the variable, and
     // nothing written.
     let mut bad = vec!["sse9", "SCALAR"];
     if !Lanes::widest().avx2() {
         bad.push("avx2");
+    }
+    if !Lanes::widest().avx512() {
+        bad.push("avx512");
     }
     for value in bad {
         let _ = std::fs::remove_file(&out);

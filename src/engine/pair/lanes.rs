@@ -9,11 +9,13 @@
 //! [`Flight`](crate::physics::flight::Flight) gives (IEEE arithmetic is exact per lane, and Rust
 //! never contracts a product and a sum): the same results bit for bit as the scalar loop, which
 //! stays for other processors (tests compare the two). Run only where the processor has AVX2
-//! ([`Lanes`](crate::platform::cpu::Lanes) says so).
+//! ([`Lanes`](crate::platform::cpu::Lanes) says so); where it has AVX-512 too, the same source
+//! is compiled with its 32 registers and mask registers, and that copy runs.
 
 use crate::engine::event::code;
 use crate::engine::images::lanes::nearest_image;
 use crate::physics::disks::Motion;
+use crate::platform::cpu::Lanes;
 use std::arch::x86_64::*;
 
 /// What the four-lane search needs to know of the disk that predicts and of the domain.
@@ -44,29 +46,77 @@ pub(in crate::engine) struct Probe {
     pub period: [f64; 2],
 }
 
-/// Earliest contact of `probe`'s disk with a neighbour of `list` from now: (time from now,
-/// partner), (∞, `code::NONE`) if none. `WITHIN`: pairs that cannot touch within `horizon` are left
-/// out, as by `paths_meet_within`. The radii: `common_radius` if the disks share one, else
-/// `each_radius`. `counter`: the collision counters, asked for (prefetched) for each neighbour
-/// when `prefetch` is set.
+/// The neighbours a search runs over, and what it reads of them.
+#[derive(Debug, Clone, Copy)]
+pub(in crate::engine) struct Neighbours<'a> {
+    /// The disk's list, in its order.
+    pub list: &'a [u32],
+    /// Every disk's state (`repr(C)`; every entry of `list` indexes it).
+    pub motion: &'a [Motion],
+    /// The radius every disk has, where they share one; else `each_radius` holds them.
+    pub common_radius: Option<f64>,
+    /// See `common_radius`.
+    pub each_radius: &'a [f64],
+    /// The collision counters, asked for (prefetched) for each neighbour if `prefetch`.
+    pub counter: &'a [u32],
+    /// See `counter`.
+    pub prefetch: bool,
+}
+
+/// [`earliest_contact`] on the path `lanes` names: as written (AVX2's 16 registers), or compiled
+/// with AVX-512's 32 and its mask registers where `lanes` says the processor has them — the
+/// same operations lane by lane, fewer values spilled to the stack and reloaded.
 ///
 /// # Safety
 ///
-/// Only where the processor has AVX2; `motion` holds a `repr(C)` [`Motion`] per disk, and every
-/// entry of `list` indexes it (indexing is checked).
+/// As [`earliest_contact`]; `lanes` is the AVX2 path or wider.
+#[inline(always)]
+pub(in crate::engine) unsafe fn earliest_contact_on<const WITHIN: bool>(
+    lanes: Lanes,
+    p: &Probe,
+    n: &Neighbours,
+    horizon: f64,
+) -> (f64, u32) {
+    if lanes.avx512() {
+        wide::<WITHIN>(p, n, horizon)
+    } else {
+        earliest_contact::<WITHIN>(p, n, horizon)
+    }
+}
+
+/// [`earliest_contact`] compiled with AVX-512F and AVX-512VL.
+///
+/// # Safety
+///
+/// Only where the processor has AVX2, AVX-512F and AVX-512VL; as [`earliest_contact`].
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+unsafe fn wide<const WITHIN: bool>(p: &Probe, n: &Neighbours, horizon: f64) -> (f64, u32) {
+    earliest_contact::<WITHIN>(p, n, horizon)
+}
+
+/// Earliest contact of `probe`'s disk with one of the neighbours `n` from now: (time from now,
+/// partner), (∞, `code::NONE`) if none. `WITHIN`: pairs that cannot touch within `horizon` are left
+/// out, as by `paths_meet_within`.
+///
+/// # Safety
+///
+/// Only where the processor has AVX2; `n.motion` holds a `repr(C)` [`Motion`] per disk, and
+/// every entry of `n.list` indexes it (indexing is checked).
 #[cfg_attr(target_feature = "avx2", inline(always))]
 #[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
-#[allow(clippy::too_many_arguments)]
-pub(in crate::engine) unsafe fn earliest_contact<const WITHIN: bool>(
+unsafe fn earliest_contact<const WITHIN: bool>(
     p: &Probe,
-    list: &[u32],
-    motion: &[Motion],
-    common_radius: Option<f64>,
-    each_radius: &[f64],
+    n: &Neighbours,
     horizon: f64,
-    counter: &[u32],
-    prefetch: bool,
 ) -> (f64, u32) {
+    let Neighbours {
+        list,
+        motion,
+        common_radius,
+        each_radius,
+        counter,
+        prefetch,
+    } = *n;
     let set1 = |v: f64| _mm256_set1_pd(v);
     let (now, xi, yi, vxi, vyi) = (set1(p.now), set1(p.x), set1(p.y), set1(p.vx), set1(p.vy));
     let speed_i = set1(p.speed);
@@ -242,6 +292,7 @@ pub(in crate::engine) unsafe fn earliest_contact<const WITHIN: bool>(
 mod tests {
     use crate::engine::{Scene, Simulation};
     use crate::physics::flight::{Ballistic, Flight, Straight};
+    use crate::platform::cpu::Lanes;
     use crate::Scenario;
 
     fn engine<F: Flight>(json: &str, flight: impl Fn(&Scene) -> F) -> Simulation<F> {
@@ -250,29 +301,34 @@ mod tests {
         Simulation::new(flight(&scene), &scene, disks).expect("engine starts")
     }
 
-    /// Every disk's earliest contact, four lanes against one by one, with and without horizons:
-    /// bit for bit the same time and partner. Returns how many disks had a contact.
-    fn compare<F: Flight>(sim: &Simulation<F>, what: &str) -> usize {
+    /// Every disk's earliest contact, four lanes (on each of the processor's wider paths) against
+    /// one by one, with and without horizons: bit for bit the same time and partner. Returns
+    /// how many disks had a contact.
+    fn compare<F: Flight>(sim: &mut Simulation<F>, what: &str) -> usize {
         let mut found = 0;
-        for i in 0..sim.disks.len() {
-            for horizon in [f64::INFINITY, 0.05, 1.0] {
-                let (lanes, one) = if horizon.is_finite() {
-                    (
-                        sim.pair_event_in_flight::<true>(i, sim.map.lists.of(i), horizon),
-                        sim.pair_event_one_by_one::<true>(i, sim.map.lists.of(i), horizon),
-                    )
-                } else {
-                    (
-                        sim.pair_event_in_flight::<false>(i, sim.map.lists.of(i), horizon),
-                        sim.pair_event_one_by_one::<false>(i, sim.map.lists.of(i), horizon),
-                    )
-                };
-                assert_eq!(
-                    (lanes.0.to_bits(), lanes.1),
-                    (one.0.to_bits(), one.1),
-                    "{what}: disk {i}, horizon {horizon}: {lanes:?} against {one:?}"
-                );
-                found += (one.0 < f64::INFINITY) as usize;
+        for lanes in Lanes::all_here().into_iter().skip(1) {
+            sim.control.lanes = lanes;
+            for i in 0..sim.disks.len() {
+                for horizon in [f64::INFINITY, 0.05, 1.0] {
+                    let list = sim.map.lists.of(i);
+                    let (lanes, one) = if horizon.is_finite() {
+                        (
+                            sim.pair_event_in_flight::<true>(i, list, horizon),
+                            sim.pair_event_one_by_one::<true>(i, list, horizon),
+                        )
+                    } else {
+                        (
+                            sim.pair_event_in_flight::<false>(i, list, horizon),
+                            sim.pair_event_one_by_one::<false>(i, list, horizon),
+                        )
+                    };
+                    assert_eq!(
+                        (lanes.0.to_bits(), lanes.1),
+                        (one.0.to_bits(), one.1),
+                        "{what}: disk {i}, horizon {horizon}: {lanes:?} against {one:?}"
+                    );
+                    found += (one.0 < f64::INFINITY) as usize;
+                }
             }
         }
         found
@@ -309,7 +365,7 @@ mod tests {
                 let mut found = 0;
                 for t in [0.0, 0.5, 2.0] {
                     sim.advance_to(t).expect("runs");
-                    found += compare(&sim, what);
+                    found += compare(&mut sim, what);
                 }
                 assert!(
                     found > sim.disks.len(),
@@ -323,7 +379,7 @@ mod tests {
         });
         for t in [0.0, 1.0, 3.0] {
             sim.advance_to(t).expect("runs");
-            assert!(compare(&sim, "vibrated_bed") > 0);
+            assert!(compare(&mut sim, "vibrated_bed") > 0);
         }
     }
 
@@ -359,7 +415,7 @@ mod tests {
                     "run": {{"duration": 1.0}}}}"#,
                     positions.len()
                 );
-                let sim = engine(&json, |_| Straight);
+                let mut sim = engine(&json, |_| Straight);
                 let centre = (0..sim.disks.len())
                     .find(|&i| (sim.disks.motion[i].x, sim.disks.motion[i].y) == (10.0, 10.0))
                     .expect("the centre disk is where it was put");
@@ -372,7 +428,7 @@ mod tests {
                     t, 0.5,
                     "subset {subset}: the axes' disks touch the centre at 0.5"
                 );
-                compare(&sim, &format!("subset {subset}, fill {fill}"));
+                compare(&mut sim, &format!("subset {subset}, fill {fill}"));
             }
         }
     }

@@ -167,18 +167,23 @@ impl<F: Flight> Simulation<F> {
                 half: self.bounds.images.half(),
                 period: self.bounds.images.period(),
             };
-            // SAFETY: the processor has AVX2 (the engine's lanes say so); the states are
-            // `repr(C)` and every listed neighbour is a disk (indexing is checked).
+            let neighbours = super::lanes::Neighbours {
+                list,
+                motion: &self.disks.motion,
+                common_radius: self.disks.radius.common(),
+                each_radius: self.disks.radius.each(),
+                counter: &self.disks.counter,
+                prefetch: self.control.prefetching,
+            };
+            // SAFETY: the processor has AVX2, and AVX-512 where the lanes are its (the engine's
+            // lanes say so); the states are `repr(C)` and every listed neighbour is a disk
+            // (indexing is checked).
             return unsafe {
-                super::lanes::earliest_contact::<WITHIN>(
+                super::lanes::earliest_contact_on::<WITHIN>(
+                    self.control.lanes,
                     &probe,
-                    list,
-                    &self.disks.motion,
-                    self.disks.radius.common(),
-                    self.disks.radius.each(),
+                    &neighbours,
                     horizon,
-                    &self.disks.counter,
-                    self.control.prefetching,
                 )
             };
         }
