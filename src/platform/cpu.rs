@@ -20,6 +20,7 @@ pub const OVERRIDE: &str = "VIBROBED_CPU";
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lanes(Width);
 
+/// Declared narrowest first (`all_here` compares them in this order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Width {
     /// One neighbour, one slot at a time: any processor.

@@ -1,7 +1,8 @@
 //! The vector paths of the engine's hot loops (`src/platform/cpu.rs`): the same scenes run
 //! four AVX2 lanes at a time (with AVX-512's registers too, where the processor has them) and
-//! one by one end in the same state, bit for bit, with the same event counts and summaries; `VIBROBED_CPU` chooses the path on the command line, and a value
-//! it does not take exits 2 naming it.
+//! one by one end in the same state, bit for bit, with the same event counts and summaries;
+//! `VIBROBED_CPU` chooses the path on the command line, and a value it does not take exits 2
+//! naming it.
 
 use crate::common::same_run::{final_state_on, same_states};
 use serde_json::Value;
