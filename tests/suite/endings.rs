@@ -256,9 +256,9 @@ fn a_long_run_off_a_terminal_says_how_far_it_is() {
 
 /// A real run freezing into an inelastic collapse between two stops gives the note on its
 /// growing cost, once, naming the cures, and its progress lines go on meanwhile: the hard case's
-/// 1000 disks at φ = 0.7 without its TC model, at e = 0.4, crawl from t ≈ 6.7 and collapse near
-/// t = 7.3, while the first stop (a frame and a sample) is at t = 50 — the progress report
-/// reads the clock the engine publishes as it goes.
+/// 1000 disks at φ = 0.7 without its TC model, at e = 0.4, crawl from t ≈ 6.7 on (15 M
+/// collisions take them to t ≈ 8), while the first stop (a frame and a sample) is at t = 50 — the
+/// progress report reads the clock the engine publishes as it goes.
 #[test]
 fn a_run_freezing_into_a_collapse_says_so_naming_the_cures() {
     let dir = scratch("collapse-note");
@@ -303,7 +303,10 @@ fn a_run_freezing_into_a_collapse_says_so_naming_the_cures() {
     let summary: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).expect("summary"))
             .expect("JSON");
-    assert!(summary["sim_time"].as_f64().unwrap() < 8.0, "{summary}");
+    // Stopped before the first stop at t = 50, so every progress line read the published clock.
+    // (How far the crawl gets in the 3 wall seconds depends on the machine's speed: past the
+    // collapse it still creeps on, t ≈ 8.0 after 3 s and 10.9 after 12 on an Intel Xeon.)
+    assert!(summary["sim_time"].as_f64().unwrap() < 50.0, "{summary}");
 }
 
 /// On a terminal a sweep draws its own bar in place of its runs' progress lines, and a run's note
