@@ -308,8 +308,8 @@ mod tests {
     /// how many disks had a contact.
     fn compare<F: Flight>(sim: &mut Simulation<F>, what: &str) -> usize {
         let mut found = 0;
-        for lanes in Lanes::all_here().into_iter().skip(1) {
-            sim.control.lanes = lanes;
+        for path in Lanes::all_here().into_iter().skip(1) {
+            sim.control.lanes = path;
             for i in 0..sim.disks.len() {
                 for horizon in [f64::INFINITY, 0.05, 1.0] {
                     let list = sim.map.lists.of(i);
