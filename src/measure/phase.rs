@@ -67,7 +67,7 @@ impl PhaseClock {
     pub fn next_edge(&self, k: u64) -> u64 {
         let (b, next) = (self.bins as u64, self.first + k + 1);
         let group = next / b / GROUP as u64;
-        if next % b != 0 || group % self.stride == 0 {
+        if next % b != 0 || group.is_multiple_of(self.stride) {
             return k + 1;
         }
         group.div_ceil(self.stride) * self.stride * GROUP as u64 * b - self.first
@@ -587,7 +587,7 @@ mod tests {
     #[test]
     fn undulations_are_the_shape_that_alternates_between_periods() {
         let c = PhaseClock::of(&floor(0.0), 4, 0.1).unwrap();
-        let sign = |column: usize| if column % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = |column: usize| if column.is_multiple_of(2) { 1.0 } else { -1.0 };
         // Arches of amplitude 0.7 (in half the bins) that swap every period, or every second
         // period from an even or an odd place; and a static heap.
         let arches = |flips: [f64; 4]| {

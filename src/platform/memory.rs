@@ -136,7 +136,7 @@ mod tests {
     use super::huge::{enable, BLOCK, PAGE};
 
     fn aligned<T>(v: &[T]) -> bool {
-        v.as_ptr() as usize % PAGE == 0
+        (v.as_ptr() as usize).is_multiple_of(PAGE)
     }
 
     #[test]

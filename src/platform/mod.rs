@@ -4,6 +4,8 @@
 
 pub mod binary;
 pub mod cpu;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod masks;
 pub mod memory;
 pub mod prefetch;
 pub mod signals;

@@ -415,7 +415,7 @@ impl CalendarQueue {
         for &t in &times[..n] {
             if old.place(t) == Place::Overflow {
                 t_min = t_min.min(t);
-                if count % stride == 0 {
+                if count.is_multiple_of(stride) {
                     self.sample.push(t);
                 }
                 count += 1;

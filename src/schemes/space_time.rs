@@ -407,7 +407,7 @@ impl<F: Flight> SpaceTime<F> {
     fn split(&mut self) {
         let s = self.strips.len();
         let nx = self.cells.columns();
-        let shift = if self.stats.steps % 2 == 0 {
+        let shift = if self.stats.steps.is_multiple_of(2) {
             nx / (2 * s)
         } else {
             0

@@ -7,25 +7,27 @@
 
 use super::Images;
 use crate::physics::disks::PerDisk;
+use crate::platform::masks::{Masks, Vectors};
 use std::arch::x86_64::*;
 
 /// Minimum image of separations `d` along one direction, lane by lane, as `Images::wrap`: one
-/// period off where beyond half of it (`half` = ∞ where the direction is not periodic).
+/// period off where beyond half of it (`half` = ∞ where the direction is not periodic); the
+/// lanes' flags kept as `K` keeps them.
 ///
 /// # Safety
 ///
-/// Only inside a function that runs with AVX2 enabled (inlined there).
+/// Only inside a function that runs with `K`'s instructions enabled (inlined there).
 #[inline(always)]
-pub(in crate::engine) unsafe fn nearest_image(
+pub(in crate::engine) unsafe fn nearest_image<K: Masks>(
     d: __m256d,
     half: __m256d,
     neg_half: __m256d,
     period: __m256d,
 ) -> __m256d {
-    let above = _mm256_cmp_pd::<_CMP_GT_OQ>(d, half);
-    let below = _mm256_cmp_pd::<_CMP_LT_OQ>(d, neg_half);
-    let d_up = _mm256_blendv_pd(d, _mm256_add_pd(d, period), below);
-    _mm256_blendv_pd(d_up, _mm256_sub_pd(d, period), above)
+    let above = K::cmp::<_CMP_GT_OQ>(d, half);
+    let below = K::cmp::<_CMP_LT_OQ>(d, neg_half);
+    let d_up = K::select(below, _mm256_add_pd(d, period), d);
+    K::select(above, _mm256_sub_pd(d, period), d_up)
 }
 
 /// [`within_reach`](super::within_reach) four candidates at a time: the same
@@ -138,13 +140,13 @@ unsafe fn keep_near(
         let a13 = _mm256_set_m128d(a[3], a[1]);
         let xs = _mm256_unpacklo_pd(a02, a13);
         let ys = _mm256_unpackhi_pd(a02, a13);
-        let dx = nearest_image(
+        let dx = nearest_image::<Vectors>(
             _mm256_sub_pd(around.x, xs),
             around.half_x,
             around.neg_half_x,
             around.period_x,
         );
-        let dy = nearest_image(
+        let dy = nearest_image::<Vectors>(
             _mm256_sub_pd(around.y, ys),
             around.half_y,
             around.neg_half_y,

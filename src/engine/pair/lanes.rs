@@ -16,6 +16,7 @@ use crate::engine::event::code;
 use crate::engine::images::lanes::nearest_image;
 use crate::physics::disks::Motion;
 use crate::platform::cpu::Lanes;
+use crate::platform::masks::{Masks, Vectors};
 use std::arch::x86_64::*;
 
 /// What the four-lane search needs to know of the disk that predicts and of the domain.
@@ -80,20 +81,23 @@ pub(in crate::engine) unsafe fn earliest_contact_on<const WITHIN: bool>(
     if lanes.avx512() {
         wide::<WITHIN>(p, n, horizon)
     } else {
-        earliest_contact::<WITHIN>(p, n, horizon)
+        earliest_contact::<Vectors, WITHIN>(p, n, horizon)
     }
 }
 
-/// [`earliest_contact`] compiled with AVX-512F and AVX-512VL. (In a build for baseline x86-64
-/// the loop is a function of its own, compiled for AVX2, and this only calls it: the shipped
-/// x86-64-v3 build inlines it here.)
+/// [`earliest_contact`] compiled with AVX-512F and AVX-512VL, its lanes' flags in mask
+/// registers. (In a build for baseline x86-64 the loop is a function of its own, compiled for
+/// AVX2, and this only calls its AVX2 form: the shipped x86-64-v3 build inlines it here.)
 ///
 /// # Safety
 ///
 /// Only where the processor has AVX2, AVX-512F and AVX-512VL; as [`earliest_contact`].
 #[target_feature(enable = "avx2,avx512f,avx512vl")]
 unsafe fn wide<const WITHIN: bool>(p: &Probe, n: &Neighbours, horizon: f64) -> (f64, u32) {
-    earliest_contact::<WITHIN>(p, n, horizon)
+    #[cfg(target_feature = "avx2")]
+    return earliest_contact::<crate::platform::masks::Registers, WITHIN>(p, n, horizon);
+    #[cfg(not(target_feature = "avx2"))]
+    return earliest_contact::<Vectors, WITHIN>(p, n, horizon);
 }
 
 /// Earliest contact of `probe`'s disk with one of the neighbours `n` from now: (time from now,
@@ -106,7 +110,7 @@ unsafe fn wide<const WITHIN: bool>(p: &Probe, n: &Neighbours, horizon: f64) -> (
 /// every entry of `n.list` indexes it (indexing is checked).
 #[cfg_attr(target_feature = "avx2", inline(always))]
 #[cfg_attr(not(target_feature = "avx2"), target_feature(enable = "avx2"), inline)]
-unsafe fn earliest_contact<const WITHIN: bool>(
+unsafe fn earliest_contact<K: Masks, const WITHIN: bool>(
     p: &Probe,
     n: &Neighbours,
     horizon: f64,
@@ -179,8 +183,8 @@ unsafe fn earliest_contact<const WITHIN: bool>(
         } else {
             (_mm256_add_pd(y, _mm256_mul_pd(vy, dt)), vy)
         };
-        let dx = nearest_image(_mm256_sub_pd(xi, xj), half_x, neg_half_x, period_x);
-        let dy = nearest_image(_mm256_sub_pd(yi, yj), half_y, neg_half_y, period_y);
+        let dx = nearest_image::<K>(_mm256_sub_pd(xi, xj), half_x, neg_half_x, period_x);
+        let dy = nearest_image::<K>(_mm256_sub_pd(yi, yj), half_y, neg_half_y, period_y);
         let s = match s_common {
             Some(s) => s,
             None => _mm256_add_pd(
@@ -209,17 +213,17 @@ unsafe fn earliest_contact<const WITHIN: bool>(
         let dv2 = _mm256_add_pd(_mm256_mul_pd(dvx, dvx), _mm256_mul_pd(dvy, dvy));
         let bb = _mm256_mul_pd(b, b);
         let disc = _mm256_sub_pd(bb, _mm256_mul_pd(dv2, c));
-        let mut meet = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_LT_OQ>(b, zero),
-            _mm256_cmp_pd::<_CMP_GE_OQ>(disc, zero),
+        let mut meet = K::and(
+            K::cmp::<_CMP_LT_OQ>(b, zero),
+            K::cmp::<_CMP_GE_OQ>(disc, zero),
         );
         if WITHIN {
             let limit = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(minus_two, b), reach), slack);
-            let beyond = _mm256_and_pd(
-                _mm256_cmp_pd::<_CMP_GT_OQ>(c, zero),
-                _mm256_cmp_pd::<_CMP_GE_OQ>(c, limit),
+            let beyond = K::and(
+                K::cmp::<_CMP_GT_OQ>(c, zero),
+                K::cmp::<_CMP_GE_OQ>(c, limit),
             );
-            meet = _mm256_andnot_pd(beyond, meet);
+            meet = K::and_not(beyond, meet);
         }
         // In contact and approaching only within round-off: not a collision.
         let s_scale = _mm256_mul_pd(_mm256_mul_pd(t_shell, s), s);
@@ -227,45 +231,34 @@ unsafe fn earliest_contact<const WITHIN: bool>(
             _mm256_mul_pd(_mm256_mul_pd(t_touch, s), s),
             _mm256_max_pd(_mm256_mul_pd(speed, speed), dv2),
         );
-        let touching = _mm256_and_pd(
-            _mm256_cmp_pd::<_CMP_LE_OQ>(c, s_scale),
-            _mm256_cmp_pd::<_CMP_LE_OQ>(bb, v_scale),
+        let touching = K::and(
+            K::cmp::<_CMP_LE_OQ>(c, s_scale),
+            K::cmp::<_CMP_LE_OQ>(bb, v_scale),
         );
         let root = _mm256_sub_pd(_mm256_sqrt_pd(disc), b);
         let t = _mm256_max_pd(_mm256_div_pd(c, root), zero);
-        let t = _mm256_blendv_pd(inf, t, _mm256_andnot_pd(touching, meet));
+        let t = K::select(K::and_not(touching, meet), t, inf);
         // Lane by lane, the earliest in list order.
-        let earlier = _mm256_cmp_pd::<_CMP_LT_OQ>(t, best);
-        best = _mm256_blendv_pd(best, t, earlier);
+        let earlier = K::cmp::<_CMP_LT_OQ>(t, best);
+        best = K::select(earlier, t, best);
         let ids = _mm256_or_si256(
             position,
             _mm256_set_epi64x(js[3] as i64, js[2] as i64, js[1] as i64, js[0] as i64),
         );
-        key = _mm256_castpd_si256(_mm256_blendv_pd(
-            _mm256_castsi256_pd(key),
-            _mm256_castsi256_pd(ids),
-            earlier,
-        ));
+        key = K::select_i64(earlier, ids, key);
         position = _mm256_add_epi64(position, step);
     }
     // The earliest of the lanes (of equal times the one earliest in the list): halves, then
     // pairs, in registers. Keys are positive (positions below 2³¹), so signed comparison orders
     // them.
     let pick = |best: __m256d, key: __m256i, other_t: __m256d, other_k: __m256i| {
-        let earlier = _mm256_or_pd(
-            _mm256_cmp_pd::<_CMP_LT_OQ>(other_t, best),
-            _mm256_and_pd(
-                _mm256_cmp_pd::<_CMP_EQ_OQ>(other_t, best),
-                _mm256_castsi256_pd(_mm256_cmpgt_epi64(key, other_k)),
-            ),
+        let earlier = K::or(
+            K::cmp::<_CMP_LT_OQ>(other_t, best),
+            K::and(K::cmp::<_CMP_EQ_OQ>(other_t, best), K::gt_i64(key, other_k)),
         );
         (
-            _mm256_blendv_pd(best, other_t, earlier),
-            _mm256_castpd_si256(_mm256_blendv_pd(
-                _mm256_castsi256_pd(key),
-                _mm256_castsi256_pd(other_k),
-                earlier,
-            )),
+            K::select(earlier, other_t, best),
+            K::select_i64(earlier, other_k, key),
         )
     };
     let (best, key) = pick(
