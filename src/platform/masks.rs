@@ -109,3 +109,84 @@ impl Masks for Registers {
         _mm256_mask_blend_epi64(m, no, yes)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// Every comparison, combination and selection of the two kinds of masks on the same
+    /// lanes: the bits of what each selects, as `[u64; 4]`.
+    unsafe fn outcomes<K: Masks>(a: __m256d, b: __m256d, x: __m256d, y: __m256d) -> Vec<[u64; 4]> {
+        let bits = |v: __m256d| std::mem::transmute::<__m256d, [u64; 4]>(v);
+        let bits_i = |v: __m256i| std::mem::transmute::<__m256i, [u64; 4]>(v);
+        let (lt, le) = (K::cmp::<_CMP_LT_OQ>(a, b), K::cmp::<_CMP_LE_OQ>(a, b));
+        let (gt, ge) = (K::cmp::<_CMP_GT_OQ>(a, b), K::cmp::<_CMP_GE_OQ>(a, b));
+        let eq = K::cmp::<_CMP_EQ_OQ>(a, b);
+        let (xi, yi) = (_mm256_castpd_si256(x), _mm256_castpd_si256(y));
+        let above = K::gt_i64(xi, yi);
+        let mut out = vec![];
+        for m in [
+            lt,
+            le,
+            gt,
+            ge,
+            eq,
+            above,
+            K::and(lt, ge),
+            K::or(gt, eq),
+            K::and_not(le, ge),
+        ] {
+            out.push(bits(K::select(m, x, y)));
+            out.push(bits_i(K::select_i64(m, xi, yi)));
+        }
+        out
+    }
+
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    unsafe fn registers(a: __m256d, b: __m256d, x: __m256d, y: __m256d) -> Vec<[u64; 4]> {
+        outcomes::<Registers>(a, b, x, y)
+    }
+
+    #[target_feature(enable = "avx2")]
+    unsafe fn vectors(a: __m256d, b: __m256d, x: __m256d, y: __m256d) -> Vec<[u64; 4]> {
+        outcomes::<Vectors>(a, b, x, y)
+    }
+
+    #[test]
+    fn mask_registers_select_the_lanes_vectors_of_flags_select() {
+        if !crate::platform::cpu::Lanes::widest().avx512() {
+            eprintln!("no AVX-512 here: nothing to compare");
+            return;
+        }
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        // Small integers (equal values often), signed zeros, infinities and NaN among them.
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let value = |rng: &mut rand_xoshiro::Xoshiro256PlusPlus| {
+            if rng.random_bool(0.3) {
+                special[rng.random_range(0..special.len())]
+            } else {
+                rng.random_range(-3..=3) as f64
+            }
+        };
+        for _ in 0..2000 {
+            let mut lanes = [[0.0; 4]; 4];
+            for v in lanes.iter_mut().flatten() {
+                *v = value(&mut rng);
+            }
+            // SAFETY: the processor has AVX2, AVX-512F and VL (checked above).
+            unsafe {
+                let [a, b, x, y] = lanes.map(|l| _mm256_loadu_pd(l.as_ptr()));
+                assert_eq!(registers(a, b, x, y), vectors(a, b, x, y), "{lanes:?}");
+            }
+        }
+    }
+}
