@@ -9,8 +9,9 @@
 //! [`Flight`](crate::physics::flight::Flight) gives (IEEE arithmetic is exact per lane, and Rust
 //! never contracts a product and a sum): the same results bit for bit as the scalar loop, which
 //! stays for other processors (tests compare the two). Run only where the processor has AVX2
-//! ([`Lanes`](crate::platform::cpu::Lanes) says so); where it has AVX-512 too, the same source
-//! is compiled with its 32 registers and mask registers, and that copy runs.
+//! ([`Lanes`](crate::platform::cpu::Lanes) says so); where `Lanes` takes AVX-512 (an Intel
+//! processor that has it, or when asked), the same source compiled with its 32 registers and
+//! mask registers runs.
 
 use crate::engine::event::code;
 use crate::engine::images::lanes::nearest_image;
