@@ -48,7 +48,7 @@ enum Width {
     /// Four neighbours, eight slots at a time: x86-64 processors with AVX2.
     Avx2,
     /// As `Avx2`, the pair loop with AVX-512's registers: x86-64 processors with AVX-512F and
-    /// AVX-512VL (Intel from Skylake-SP, AMD from Zen 4).
+    /// AVX-512VL (Intel from Skylake-SP, AMD from Zen 4), taken unasked on Intel only.
     Avx512,
 }
 
