@@ -65,9 +65,10 @@ impl Lanes {
     }
 
     /// The path taken where none is asked for: the widest, but AVX-512's only on Intel
-    /// processors, where it was measured to win (Xeon, family 6 model 167: 0.96–0.98 of AVX2's
-    /// time); on AMD's Zen 5 (family 26) both of its forms took 1.01–1.09 of AVX2's time, and
-    /// Zen 4 was never measured on it.
+    /// processors, where it was measured to win (Xeon, family 6 model 167: its 32 registers took
+    /// 0.96–0.97 of AVX2's time, its mask registers 0.97–0.98 of that); on AMD's Zen 5 (family
+    /// 26) it took 1.01–1.03 of AVX2's time (1.06–1.09 without the mask registers), and Zen 4
+    /// was never measured on it.
     pub fn preferred() -> Lanes {
         let widest = Lanes::widest();
         if widest.avx512() && !made_by_intel() {
