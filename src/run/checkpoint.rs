@@ -30,7 +30,7 @@ use std::sync::LazyLock;
 
 const MAGIC: &[u8; 8] = b"VBEDCKPT";
 /// Bumped whenever the payload's layout or meaning changes.
-const FORMAT_VERSION: u32 = 24;
+const FORMAT_VERSION: u32 = 25;
 const HEADER: usize = 8 + 4 + 8 + 8 + 8;
 
 /// Everything a resumed run needs.

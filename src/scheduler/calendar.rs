@@ -4,7 +4,8 @@
 //! future bucket sits, unsorted, in that bucket's linked list; a disk whose event falls beyond
 //! the calendar's span sits in an overflow list; a disk whose event falls in the current bucket
 //! (or earlier) sits in a short array, which alone is kept in order (latest first: the earliest
-//! leaves from the end). When the array runs dry the next non-empty bucket is poured into it and
+//! leaves from the end). The overflow is the list after the last bucket's, so that an event bound
+//! for either is filed by one path, without a branch on which. When the array runs dry the next non-empty bucket is poured into it and
 //! sorted; when the last bucket is done the calendar wraps:
 //! Δt and the span are tuned again from the overflow's times and the overflow is spread over
 //! the new buckets.
@@ -63,10 +64,9 @@ enum Place {
     Nowhere,
     /// The current bucket or earlier: the sorted array.
     Current,
-    /// A future bucket.
-    Bucket(usize),
-    /// Beyond the calendar's span.
-    Overflow,
+    /// A future bucket's list, or the overflow's, which is list `buckets`: beyond the
+    /// calendar's span.
+    List(usize),
 }
 
 /// The calendar's shape, which alone says where an event belongs.
@@ -95,10 +95,11 @@ impl Params {
         // and `f64` convert in several on x86-64 without AVX-512.
         if x < (self.cur + 1) as f64 {
             Place::Current
-        } else if x < self.buckets as u32 as f64 {
-            Place::Bucket(x as u32 as usize)
         } else {
-            Place::Overflow
+            // Past the last bucket, the overflow's list: a minimum, not a branch (whether an
+            // event overflows is a toss-up, known late, when its time is).
+            let last = self.buckets as u32 as f64;
+            Place::List((if x < last { x } else { last }) as u32 as usize)
         }
     }
 }
@@ -131,10 +132,9 @@ pub struct CalendarQueue {
     inv_width: f64,
     /// The current bucket: events of buckets ≤ `cur` are in `current`.
     cur: u32,
-    /// First disk of each bucket's list (`NIL` if empty).
+    /// First disk of each bucket's list (`NIL` if empty), then of the overflow's.
     head: Vec<u32>,
-    /// First disk of the overflow list, and its length.
-    over_head: u32,
+    /// Length of the overflow's list.
     over_len: u32,
     /// Per disk.
     node: Vec<Node>,
@@ -163,24 +163,21 @@ impl CalendarQueue {
         let Some(n) = times.len().checked_sub(1) else {
             return false;
         };
-        let nb = self.head.len();
+        // 0 for a queue never built: the checks below then fail before `place` is asked.
+        let nb = self.head.len().saturating_sub(1);
         let disk_ok = |d: u32| d == NIL || (d as usize) < n;
         self.node.len() == n
             && n < MAX_BUCKETS
             && (self.shift as usize) < n.max(1)
-            && (1..=MAX_BUCKETS).contains(&nb)
+            && (2..=MAX_BUCKETS + 1).contains(&self.head.len())
             && (self.cur as usize) < nb
             && self.inv_width.is_finite()
             && self.inv_width > 0.0
             && self.origin.is_finite()
-            && disk_ok(self.over_head)
             && disk_ok(self.pending)
             // An entry waiting to be linked belongs to a future bucket or the overflow.
             && (self.pending == NIL
-                || matches!(
-                    self.place(times[self.pending as usize]),
-                    Place::Bucket(_) | Place::Overflow
-                ))
+                || matches!(self.place(times[self.pending as usize]), Place::List(_)))
             && self.head.iter().all(|&d| disk_ok(d))
             && self.current.iter().all(|e| {
                 (e.disk as usize) < n
@@ -242,7 +239,6 @@ impl CalendarQueue {
         self.current.clear();
         self.pending = NIL;
         self.ahead = (0, NIL);
-        self.over_head = NIL;
         self.over_len = 0;
 
         let mut t_min = f64::INFINITY;
@@ -302,7 +298,7 @@ impl CalendarQueue {
         let buckets = (count as f64 * SPAN_MEDIANS / (2.0 * EVENTS_PER_BUCKET)).ceil() as usize;
         let buckets = buckets.clamp(1, MAX_BUCKETS);
         self.head.clear();
-        self.head.resize(buckets, NIL);
+        self.head.resize(buckets + 1, NIL);
     }
 
     /// Where an event at `t` belongs now.
@@ -319,27 +315,25 @@ impl CalendarQueue {
             Place::Nowhere => {}
             Place::Current if bulk => self.current.push(self.entry(i, t)),
             Place::Current => self.insert_current(self.entry(i, t)),
-            Place::Bucket(b) => {
-                let h = self.head[b];
-                self.head[b] = self.link(i, h);
-            }
-            Place::Overflow => {
-                self.over_len += 1;
-                let h = self.over_head;
-                self.over_head = self.link(i, h);
+            Place::List(l) => {
+                self.over_len += (l == self.buckets()) as u32;
+                let h = self.head[l];
+                self.head[l] = self.link(i, h);
             }
         }
     }
 
-    /// Puts disk `i` in front of the list starting at `first`; returns the new first.
+    /// Puts disk `i` in front of the list starting at `first`; returns the new first. Without a
+    /// branch on whether the list was empty (a toss-up, known late: the list is the event's):
+    /// then `i`'s own back link is the one written, with the same `NIL`.
     #[inline(always)]
     fn link(&mut self, i: u32, first: u32) -> u32 {
         let node = &mut self.node[i as usize];
         node.next = first;
         node.prev = NIL;
-        if first != NIL {
-            self.node[first as usize].prev = i;
-        }
+        let empty = first == NIL;
+        let (at, back) = if empty { (i, NIL) } else { (first, i) };
+        self.node[at as usize].prev = back;
         i
     }
 
@@ -350,20 +344,16 @@ impl CalendarQueue {
         match at {
             Place::Nowhere => {}
             Place::Current => self.remove_current(self.entry(i, old)),
-            Place::Bucket(_) | Place::Overflow => {
+            Place::List(l) => {
                 if prev != NIL {
                     self.node[prev as usize].next = next;
-                } else if let Place::Bucket(b) = at {
-                    self.head[b] = next;
                 } else {
-                    self.over_head = next;
+                    self.head[l] = next;
                 }
                 if next != NIL {
                     self.node[next as usize].prev = prev;
                 }
-                if at == Place::Overflow {
-                    self.over_len -= 1;
-                }
+                self.over_len -= (l == self.buckets()) as u32;
             }
         }
     }
@@ -373,7 +363,7 @@ impl CalendarQueue {
     /// bucket into it (and sorts it), wrapping the calendar when the buckets are done.
     fn refill(&mut self, times: &[f64]) {
         while self.current.len() < self.least() {
-            if (self.cur as usize) + 1 < self.head.len() {
+            if (self.cur as usize) + 1 < self.buckets() {
                 self.cur += 1;
                 let mut d = std::mem::replace(&mut self.head[self.cur as usize], NIL);
                 while d != NIL {
@@ -397,7 +387,7 @@ impl CalendarQueue {
     /// done fell past their end). Along its list the overflow is one cache miss after another
     /// (in large scenes a sizeable share of the run), so it is read in disk order, by a pass
     /// over all times: an event is in the overflow when its place under the
-    /// calendar being wrapped is [`Place::Overflow`] (every bucket is done, so every other
+    /// calendar being wrapped is the overflow's list (every bucket is done, so every other
     /// filed event is in the current bucket; no entry is pending, as one is linked before a
     /// refill), every disk being filed at its time (each change of a time is followed by its
     /// [`update`](Self::update) before the next). Should the pass find another number of
@@ -408,12 +398,13 @@ impl CalendarQueue {
         }
         let n = self.node.len();
         let old = self.params();
+        let overflow = Place::List(old.buckets);
         let stride = (self.over_len as usize / SAMPLE).max(1);
         let mut t_min = f64::INFINITY;
         let mut count = 0usize;
         self.sample.clear();
         for &t in &times[..n] {
-            if old.place(t) == Place::Overflow {
+            if old.place(t) == overflow {
                 t_min = t_min.min(t);
                 if count.is_multiple_of(stride) {
                     self.sample.push(t);
@@ -425,10 +416,9 @@ impl CalendarQueue {
             return self.wrap_along_the_list(times);
         }
         self.tune(t_min, count);
-        self.over_head = NIL;
         self.over_len = 0;
         for (i, &t) in times[..n].iter().enumerate() {
-            if old.place(t) == Place::Overflow {
+            if old.place(t) == overflow {
                 self.file(i as u32, t, true);
             }
         }
@@ -442,7 +432,8 @@ impl CalendarQueue {
         let stride = (count / SAMPLE).max(1);
         let mut t_min = f64::INFINITY;
         self.sample.clear();
-        let mut d = self.over_head;
+        let first = self.head[self.buckets()];
+        let mut d = first;
         let mut k = 0;
         while d != NIL {
             let (t, next) = (times[d as usize], self.node[d as usize].next);
@@ -453,8 +444,9 @@ impl CalendarQueue {
             k += 1;
             d = next;
         }
+        // The new calendar's lists start empty; the old overflow's entries keep their links.
         self.tune(t_min, count);
-        let mut d = std::mem::replace(&mut self.over_head, NIL);
+        let mut d = first;
         self.over_len = 0;
         while d != NIL {
             let next = self.node[d as usize].next;
@@ -471,8 +463,14 @@ impl CalendarQueue {
             origin: self.origin,
             inv_width: self.inv_width,
             cur: self.cur,
-            buckets: self.head.len(),
+            buckets: self.buckets(),
         }
+    }
+
+    /// Number of buckets (the overflow's list comes after theirs).
+    #[inline(always)]
+    fn buckets(&self) -> usize {
+        self.head.len() - 1
     }
 
     /// `true` where events are kept ahead and entries linked late.
@@ -529,7 +527,7 @@ impl CalendarQueue {
             return;
         }
         self.unfile(i as u32, from, old);
-        if self.keeps_ahead() && matches!(to, Place::Bucket(_) | Place::Overflow) {
+        if self.keeps_ahead() && matches!(to, Place::List(_)) {
             self.pending = i as u32;
         } else {
             self.file(i as u32, t, false);
@@ -568,7 +566,7 @@ impl CalendarQueue {
         let (mut bucket, disk) = self.ahead;
         let next = if disk != NIL
             && (disk as usize) < self.node.len()
-            && self.place(times[disk as usize]) == Place::Bucket(bucket as usize)
+            && self.place(times[disk as usize]) == Place::List(bucket as usize)
         {
             self.node[disk as usize].next
         } else {
@@ -586,12 +584,13 @@ impl CalendarQueue {
         } else {
             self.cur + 1
         };
-        let first = self.head.get(bucket as usize).copied().unwrap_or(NIL);
-        self.ahead = if (bucket as usize) < self.head.len() {
-            (bucket, first)
+        let first = if (bucket as usize) < self.buckets() {
+            self.head[bucket as usize]
         } else {
-            (self.cur, NIL)
+            bucket = self.cur;
+            NIL
         };
+        self.ahead = (bucket, first);
         if first != NIL {
             crate::platform::prefetch::prefetch(&self.node, first as usize);
             crate::platform::prefetch::prefetch(times, first as usize);
@@ -614,7 +613,7 @@ impl CalendarQueue {
         if self.head.len() < PREFETCH_HEADS_FROM {
             return;
         }
-        if let Place::Bucket(b) = self.place(t) {
+        if let Place::List(b) = self.place(t) {
             crate::platform::prefetch::prefetch(&self.head, b);
         }
     }
