@@ -5,8 +5,8 @@
 //! the calendar's span sits in an overflow list; a disk whose event falls in the current bucket
 //! (or earlier) sits in a short array, which alone is kept in order (latest first: the earliest
 //! leaves from the end). The overflow is the list after the last bucket's, so that an event bound
-//! for either is filed by one path, without a branch on which. When the array runs dry the next non-empty bucket is poured into it and
-//! sorted; when the last bucket is done the calendar wraps:
+//! for either is filed by one path, without a branch on which. When the array runs dry the next
+//! non-empty bucket is poured into it and sorted; when the last bucket is done the calendar wraps:
 //! Δt and the span are tuned again from the overflow's times and the overflow is spread over
 //! the new buckets.
 //!
